@@ -1,0 +1,167 @@
+// The cloth asset: the immutable, shareable description of one cloth that the solver steps.
+//
+// Three kinds of data are kept apart (as Jolt does):
+//   ClothAsset   - this file: topology, rest lengths, masses, constraint batches. Read-only,
+//                  shared by every instance of the same garment, never copied by the world.
+//   cloth state  - per instance, inside the world's memory block (positions, previous positions).
+//   step scratch - none: every pass works in place.
+//
+// An asset comes from `cook_cloth` (an in-memory triangle mesh, below) or, later, from a baked file
+// loaded in place. Both give the same plain struct of pointers into memory the caller owns.
+#pragma once
+
+#include <vector>
+
+#include "weft/types.h"
+
+namespace weft {
+
+// Lanes per SIMD batch. Runs are padded to a multiple of this so the AVX2 pass needs no tail loop.
+inline constexpr uint32_t kSimdWidth = 8;
+
+// Marks an internal particle slot that holds no caller particle (padding).
+inline constexpr uint32_t kNoParticle = 0xFFFFFFFFu;
+
+// Spring kinds (seed section 1.1). Each has its own compliance in the cloth instance.
+enum class ConstraintKind : uint8_t { stretch = 0, shear = 1, bend = 2 };
+inline constexpr uint32_t kConstraintKindCount = 3;
+
+// How a batch's lanes find their particles.
+enum class BatchLayout : uint8_t {
+    run = 0,      // lane k joins particle slots a0 + k and b0 + k: plain vector loads, no gathers
+    indexed = 1,  // lane k joins index_a[first + k] and index_b[first + k]: the general path
+};
+
+// A batch of particle-disjoint distance constraints: every lane can be projected at once.
+// Batches are solved in array order (Gauss-Seidel across batches, Jacobi inside one).
+struct ConstraintBatch {
+    uint32_t first_lane = 0;  // into the asset's lane arrays
+    uint32_t lane_count = 0;  // runs: a multiple of kSimdWidth (padding lanes have lane_weight 0)
+    uint32_t a0 = 0, b0 = 0;  // runs only: first particle slot of each side
+    ConstraintKind kind = ConstraintKind::stretch;
+    BatchLayout layout = BatchLayout::run;
+    uint16_t colour = 0;  // batches of one colour touch disjoint particles
+};
+
+// Long-range attachments (Kim, Chentanez, Mueller 2012): particles particle0 + k may not move
+// further than tether_rest[first_lane + k] from the pinned particle `anchor`.
+struct TetherBatch {
+    uint32_t first_lane = 0;
+    uint32_t lane_count = 0;  // a multiple of kSimdWidth; padding lanes have an infinite rest length
+    uint32_t particle0 = 0;
+    uint32_t anchor = 0;
+};
+
+// The asset proper. Every array is indexed by internal particle slot unless said otherwise; slots
+// are the order chosen at cook time so that constraint batches become contiguous runs.
+struct ClothAsset {
+    uint32_t particle_count = 0;  // caller particles
+    uint32_t slot_count = 0;      // length of every per-slot array (>= particle_count, padded)
+    const uint32_t* slot_of_particle = nullptr;  // [particle_count] caller index -> slot
+    const uint32_t* particle_of_slot = nullptr;  // [slot_count] slot -> caller index or kNoParticle
+
+    const float* start_x = nullptr;  // [slot_count] start positions, metres
+    const float* start_y = nullptr;
+    const float* start_z = nullptr;
+    const float* inverse_mass = nullptr;  // [slot_count] 1/kg; 0 = pinned (and for padding slots)
+
+    // Distance constraints, one lane each (runs include padding lanes).
+    uint32_t lane_count = 0;
+    const float* rest_length = nullptr;  // [lane_count] metres, measured on the rest (flat) mesh
+    const float* lane_weight = nullptr;  // [lane_count] 1 for a real constraint, 0 for padding
+    const uint32_t* index_a = nullptr;   // [lane_count] slots (runs too, for validation and metrics)
+    const uint32_t* index_b = nullptr;
+    uint32_t batch_count = 0;
+    const ConstraintBatch* batches = nullptr;
+    uint32_t colour_count = 0;
+
+    // Real constraints per kind (padding excluded) and how many sit on runs.
+    uint32_t constraint_count[kConstraintKindCount] = {};
+    uint32_t constraints_on_runs = 0;
+
+    uint32_t tether_lane_count = 0;
+    const float* tether_rest = nullptr;  // [tether_lane_count] metres, +infinity for padding lanes
+    uint32_t tether_batch_count = 0;
+    const TetherBatch* tether_batches = nullptr;
+    uint32_t tether_count = 0;  // real tethers
+
+    uint32_t triangle_count = 0;
+    const uint32_t* triangles = nullptr;  // [3 * triangle_count] slots, caller winding
+
+    uint32_t total_constraints() const {
+        return constraint_count[0] + constraint_count[1] + constraint_count[2];
+    }
+};
+
+// ---------------------------------------------------------------------------------------------
+// Cooking: an in-memory triangle mesh -> a ClothAsset. Allocates (it is creation-time work, the
+// in-memory twin of weft-bake); the result owns its arrays.
+
+struct ClothMeshDesc {
+    uint32_t particle_count = 0;
+    const Vec3* positions = nullptr;  // [particle_count] start pose, metres
+    uint32_t triangle_count = 0;
+    const uint32_t* triangles = nullptr;  // [3 * triangle_count] caller particle indices
+
+    // Exactly one of these: kg per particle, or 1/kg per particle. Mass 0 / inverse mass 0 pins.
+    const float* masses = nullptr;
+    const float* inverse_masses = nullptr;
+
+    // Optional rest pose (e.g. the flat 2-D panel, z = 0); rest lengths are measured on it.
+    const Vec3* rest_positions = nullptr;
+
+    // Optional integer lattice coordinates (i, j) per particle, 2 ints each; (-1, -1) for none.
+    // Particles on a lattice are ordered in four parity planes so that every spring family of the
+    // lattice becomes contiguous runs (docs/architecture.md). Without it the caller order is kept.
+    const int32_t* lattice = nullptr;
+};
+
+struct CookOptions {
+    // Tethers from each particle to this many nearest pinned particles (rest-mesh straight-line
+    // distance). 0 = no tethers in the asset.
+    uint32_t tethers_per_particle = 2;
+    // Allow runs to bridge gaps of up to this many missing constraints with padding lanes.
+    uint32_t max_run_gap = 4;
+    // Shortest run worth a SIMD batch; shorter sequences go to the indexed path.
+    uint32_t min_run_lanes = 2 * kSimdWidth;
+};
+
+// Owns the arrays a cooked ClothAsset points into. Move-only.
+class CookedCloth {
+public:
+    CookedCloth() = default;
+    CookedCloth(const CookedCloth&) = delete;
+    CookedCloth& operator=(const CookedCloth&) = delete;
+    CookedCloth(CookedCloth&&) noexcept;
+    CookedCloth& operator=(CookedCloth&&) noexcept;
+
+    const ClothAsset& asset() const { return asset_; }
+
+    // Storage; filled by cook_cloth. Public so tools can serialise it.
+    std::vector<uint32_t> slot_of_particle, particle_of_slot;
+    std::vector<float> start_x, start_y, start_z, inverse_mass;
+    std::vector<float> rest_length, lane_weight;
+    std::vector<uint32_t> index_a, index_b;
+    std::vector<ConstraintBatch> batches;
+    std::vector<float> tether_rest;
+    std::vector<TetherBatch> tether_batches;
+    std::vector<uint32_t> triangles;
+
+    // Points asset() at the vectors; call after changing them.
+    void refresh_asset(uint32_t particle_count, uint32_t colour_count, const uint32_t counts[3],
+                       uint32_t on_runs, uint32_t tether_count);
+
+private:
+    ClothAsset asset_;
+};
+
+// Derives stretch/shear springs on every edge and a bend spring across every interior edge (seed
+// section 1.1), orders particles for contiguous runs, colours the constraints into batches and
+// computes tethers. Fails with a message on malformed meshes (bad indices, NaN, negative mass).
+Result cook_cloth(const ClothMeshDesc& mesh, const CookOptions& options, CookedCloth* out);
+
+// Checks every invariant the solver relies on (indices in range, runs really contiguous and
+// particle-disjoint, finite rest lengths, ...). The world calls it before it uses an asset.
+Result validate_asset(const ClothAsset& asset);
+
+}  // namespace weft

@@ -1,0 +1,6 @@
+// Weft: real-time cloth. Include this one header for the whole public API.
+#pragma once
+
+#include "weft/cloth_asset.h"
+#include "weft/types.h"
+#include "weft/world.h"

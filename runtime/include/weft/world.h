@@ -1,0 +1,149 @@
+// The world: every cloth instance, collider and the wind, in one caller-provided memory block.
+//
+// Life cycle (all memory is sized up front; stepping never allocates, throws or locks):
+//   WorldDesc desc = ...;                                   // capacities and features
+//   MemoryRequirements need = world_memory_requirements(desc);
+//   void* block = aligned_alloc(need.alignment, need.bytes); // or a game's own pool
+//   World* world; create_world(desc, block, need.bytes, &world);
+//   add_cloth(world, cloth_desc, &cloth);  add_collider(world, collider_desc, &collider);
+//   every frame: set_collider_pose(...), set_wind(...), step(world, dt), read_positions(...)
+//   the block is the caller's: free it when done (there is nothing else to release).
+#pragma once
+
+#include "weft/cloth_asset.h"
+#include "weft/types.h"
+
+namespace weft {
+
+struct World;
+
+// Collider shapes (seed section 2.1, plus capsule and plane).
+enum class ColliderShape : uint8_t { sphere, capsule, cylinder, plane };
+
+struct ColliderDesc {
+    ColliderShape shape = ColliderShape::sphere;
+    // sphere: centre p0. capsule/cylinder: axis from p0 to p1. plane: point p0, normal p1 (unit).
+    Vec3 p0{};
+    Vec3 p1{0.0f, 1.0f, 0.0f};
+    float radius_m = 0.5f;     // sphere, capsule, cylinder
+    float inflation_m = 0.0f;  // collision skin added to the radius (seed figure 8); plane: offset
+    float friction = 0.0f;     // Coulomb coefficient; 0 = the seed's frictionless projection (7)/(8)
+};
+
+// What a world must hold. Every count is a hard capacity checked when things are added.
+struct WorldDesc {
+    uint32_t max_cloths = 1;
+    uint32_t max_particles = 0;    // summed over cloth instances (their asset's particle slots)
+    uint32_t max_constraints = 0;  // summed constraint lanes the step may project per sweep
+    uint32_t max_colliders = 0;
+
+    // Features: a pass that is not enabled is not in the step at all (and costs nothing).
+    bool wind = false;
+
+    Vec3 gravity_m_s2{0.0f, -9.81f, 0.0f};
+    float air_density_kg_m3 = 1.2f;  // rho in equations (2) and (3)
+
+    SimdPath simd = SimdPath::automatic;
+    bool profile = false;  // time every pass into WorldStats (one clock read per pass)
+};
+
+// Per-instance solver settings. Defaults reproduce the seed experiments: dt 0.033 s handled by
+// the caller, 3 iterations, hard constraints (compliance 0), tethers on.
+struct ClothDesc {
+    const ClothAsset* asset = nullptr;  // must outlive the world; never copied
+    Vec3 translation_m{};               // added to the asset's start positions
+
+    uint32_t substeps = 1;     // Verlet steps per step() call
+    uint32_t iterations = 3;   // constraint sweeps per substep
+    float relaxation = 1.0f;   // scales every spring correction; 1 = the seed's full correction
+
+    // XPBD compliance (inverse stiffness) per constraint kind, m/N. 0 = hard (the seed's method).
+    float compliance_m_per_n[kConstraintKindCount] = {0.0f, 0.0f, 0.0f};
+
+    // Velocity damping, 1/s: dv/dt = -damping * v (the seed's F_damp). Independent of the budget.
+    float damping_per_s = 0.1f;
+
+    bool tethers = true;          // use the asset's long-range attachments
+    float tether_slack = 0.0f;    // allowed extension before a tether acts, fraction of its length
+
+    // Wind (only when the world has the wind feature): drag and lift coefficients of (2), (3).
+    float drag_coefficient = 0.1f;
+    float lift_coefficient = 0.1f;
+};
+
+struct ColliderId {
+    uint32_t index = 0;
+};
+struct ClothId {
+    uint32_t index = 0;
+};
+
+// The passes of a step, in the order they run (seed section 2.3).
+enum class Pass : uint8_t { wind = 0, integrate, constraints, tethers, collide, count };
+const char* pass_name(Pass pass);
+
+struct WorldStats {
+    uint64_t steps = 0;
+    // Nanoseconds spent in each pass over all steps (only with WorldDesc::profile).
+    uint64_t pass_ns[static_cast<int>(Pass::count)] = {};
+    // Projections the last step ran on runs and on the indexed path (padding lanes excluded).
+    uint64_t run_projections = 0;
+    uint64_t indexed_projections = 0;
+};
+
+// --- creation -------------------------------------------------------------------------------
+
+MemoryRequirements world_memory_requirements(const WorldDesc& desc);
+
+// Creates a world inside `memory` (at least `world_memory_requirements(desc)`). Nothing else is
+// allocated, now or later.
+Result create_world(const WorldDesc& desc, void* memory, size_t bytes, World** out_world);
+
+// Adds a cloth instance; validates the asset and the settings first. Fails without changing the
+// world when a capacity would be exceeded.
+Result add_cloth(World* world, const ClothDesc& desc, ClothId* out_cloth);
+
+Result add_collider(World* world, const ColliderDesc& desc, ColliderId* out_collider);
+
+// --- every frame ----------------------------------------------------------------------------
+
+// Advances every cloth by dt seconds (0 < dt <= 1). Runs a fixed amount of work: substeps x
+// iterations sweeps per cloth. Refuses bad input without changing anything.
+Result step(World* world, float dt_s);
+
+// Moves a collider; the next step sees it (its motion over the step drives friction).
+Result set_collider(World* world, ColliderId collider, const ColliderDesc& desc);
+
+// Wind velocity u in equations (2) and (3), m/s. Needs the wind feature.
+Result set_wind(World* world, Vec3 velocity_m_s);
+Result set_gravity(World* world, Vec3 gravity_m_s2);
+
+// Changes a cloth's solver budget or stiffness between steps.
+Result set_cloth_settings(World* world, ClothId cloth, const ClothDesc& desc);
+
+// Particle access, in the caller's particle order (the asset's permutation is applied here).
+Result read_positions(const World* world, ClothId cloth, Vec3* out, uint32_t count);
+Result set_particle(World* world, ClothId cloth, uint32_t particle, Vec3 position_m,
+                    float inverse_mass_per_kg);
+// Puts the cloth back at its start pose, at rest.
+Result reset_cloth(World* world, ClothId cloth);
+
+// Internal-order views for renderers and metrics that want no copy: slot arrays of the asset's
+// layout (x, y, z separately), valid until the next step.
+struct ClothView {
+    const ClothAsset* asset = nullptr;
+    const float* x = nullptr;
+    const float* y = nullptr;
+    const float* z = nullptr;
+    const float* previous_x = nullptr;
+    const float* previous_y = nullptr;
+    const float* previous_z = nullptr;
+    const float* inverse_mass = nullptr;
+    float last_substep_s = 0.0f;  // duration of the last substep (velocity = (x - previous) / it)
+};
+Result view_cloth(const World* world, ClothId cloth, ClothView* out);
+
+WorldStats world_stats(const World* world);
+SimdPath world_simd_path(const World* world);
+
+}  // namespace weft

@@ -1,0 +1,130 @@
+// Stage 4 of the seed's step (section 2.3): particles against analytic colliders.
+//
+// Detection and response are the seed's: a particle inside the inflated shape is moved to the
+// closest point on its surface (sphere, eq. 5 and 7; finite cylinder without caps, eq. 6 and 8),
+// a hard, perfectly inelastic position constraint. Capsules and planes follow the same rule.
+// Friction (position-based Coulomb, Macklin et al. 2014, sec. 6.1): the particle's tangential
+// displacement over the substep, relative to the collider, is cancelled while it is below
+// friction * penetration depth (sticking) and shortened by that much otherwise (sliding).
+#pragma once
+
+#include "kernels.h"
+#include "simd/float_w.h"
+#include "weft/world.h"
+
+namespace weft {
+
+template <class F>
+struct Vec3W {
+    F x, y, z;
+};
+
+template <class F>
+inline F dot(const Vec3W<F>& a, const Vec3W<F>& b) {
+    return simd::mul_add(a.x, b.x, simd::mul_add(a.y, b.y, a.z * b.z));
+}
+
+// Moves the contact target against the tangential motion it would otherwise keep.
+template <class F>
+inline void apply_friction(Vec3W<F>& target, const Vec3W<F>& previous, const Vec3W<F>& normal,
+                           F penetration, const ColliderKernelArgs& c) {
+    using namespace simd;
+    const Vec3W<F> disp{target.x - previous.x - splat(c.motion.x, F{}),
+                        target.y - previous.y - splat(c.motion.y, F{}),
+                        target.z - previous.z - splat(c.motion.z, F{})};
+    const F normal_part = dot(disp, normal);
+    const Vec3W<F> tangent{neg_mul_add(normal_part, normal.x, disp.x),
+                           neg_mul_add(normal_part, normal.y, disp.y),
+                           neg_mul_add(normal_part, normal.z, disp.z)};
+    const F tangent_len = sqrt(dot(tangent, tangent));
+    const F limit = splat(c.friction, F{}) * penetration;
+    const F one = splat(1.0f, F{});
+    const F cancel = keep_if(tangent_len > splat(1e-12f, F{}), min(limit / tangent_len, one));
+    target.x = neg_mul_add(cancel, tangent.x, target.x);
+    target.y = neg_mul_add(cancel, tangent.y, target.y);
+    target.z = neg_mul_add(cancel, tangent.z, target.z);
+}
+
+// Sphere (p0 == p1), capsule, or finite cylinder (no contact beyond the axis ends, eq. 6).
+template <class F, bool kCylinder>
+void collide_segment(const Particles& p, const ColliderKernelArgs& c) {
+    using namespace simd;
+    const Vec3 axis{c.p1.x - c.p0.x, c.p1.y - c.p0.y, c.p1.z - c.p0.z};
+    const float axis_len2 = axis.x * axis.x + axis.y * axis.y + axis.z * axis.z;
+    const F inv_axis_len2 = splat(axis_len2 > 0.0f ? 1.0f / axis_len2 : 0.0f, F{});
+    const Vec3W<F> p0{splat(c.p0.x, F{}), splat(c.p0.y, F{}), splat(c.p0.z, F{})};
+    const Vec3W<F> ax{splat(axis.x, F{}), splat(axis.y, F{}), splat(axis.z, F{})};
+    const F radius = splat(c.radius, F{});
+    const F zero = splat(0.0f, F{}), one = splat(1.0f, F{});
+    const F min_distance = splat(1e-9f, F{});
+    const bool friction = c.friction > 0.0f;
+    for (uint32_t i = 0; i < p.slot_count; i += F::width) {
+        const Vec3W<F> x{load(p.x + i, F{}), load(p.y + i, F{}), load(p.z + i, F{})};
+        const Vec3W<F> rel{x.x - p0.x, x.y - p0.y, x.z - p0.z};
+        F t = dot(rel, ax) * inv_axis_len2;
+        auto contact = load(p.inverse_mass + i, F{}) > zero;
+        if constexpr (kCylinder) {
+            contact = contact & (t > zero) & (t < one);
+        } else {
+            t = max(zero, min(t, one));
+        }
+        const Vec3W<F> d{neg_mul_add(t, ax.x, rel.x), neg_mul_add(t, ax.y, rel.y),
+                         neg_mul_add(t, ax.z, rel.z)};
+        const F dist = sqrt(dot(d, d));
+        const F penetration = radius - dist;
+        contact = contact & (penetration > zero) & (dist > min_distance);
+        if (!any(contact)) continue;
+        const Vec3W<F> n{d.x / dist, d.y / dist, d.z / dist};
+        // Closest surface point: x + n * penetration (eq. 7 and 8 written as a push).
+        Vec3W<F> target{mul_add(n.x, penetration, x.x), mul_add(n.y, penetration, x.y),
+                        mul_add(n.z, penetration, x.z)};
+        if (friction) {
+            const Vec3W<F> previous{load(p.previous_x + i, F{}), load(p.previous_y + i, F{}),
+                                    load(p.previous_z + i, F{})};
+            apply_friction(target, previous, n, penetration, c);
+        }
+        store(p.x + i, select(contact, target.x, x.x));
+        store(p.y + i, select(contact, target.y, x.y));
+        store(p.z + i, select(contact, target.z, x.z));
+    }
+}
+
+// Half-space below a plane through p0 with unit normal, offset by the inflation.
+template <class F>
+void collide_plane(const Particles& p, const ColliderKernelArgs& c) {
+    using namespace simd;
+    const Vec3W<F> n{splat(c.normal.x, F{}), splat(c.normal.y, F{}), splat(c.normal.z, F{})};
+    const Vec3W<F> p0{splat(c.p0.x, F{}), splat(c.p0.y, F{}), splat(c.p0.z, F{})};
+    const F offset = splat(c.radius, F{});
+    const F zero = splat(0.0f, F{});
+    const bool friction = c.friction > 0.0f;
+    for (uint32_t i = 0; i < p.slot_count; i += F::width) {
+        const Vec3W<F> x{load(p.x + i, F{}), load(p.y + i, F{}), load(p.z + i, F{})};
+        const Vec3W<F> rel{x.x - p0.x, x.y - p0.y, x.z - p0.z};
+        const F penetration = offset - dot(rel, n);
+        const auto contact = (load(p.inverse_mass + i, F{}) > zero) & (penetration > zero);
+        if (!any(contact)) continue;
+        Vec3W<F> target{mul_add(n.x, penetration, x.x), mul_add(n.y, penetration, x.y),
+                        mul_add(n.z, penetration, x.z)};
+        if (friction) {
+            const Vec3W<F> previous{load(p.previous_x + i, F{}), load(p.previous_y + i, F{}),
+                                    load(p.previous_z + i, F{})};
+            apply_friction(target, previous, n, penetration, c);
+        }
+        store(p.x + i, select(contact, target.x, x.x));
+        store(p.y + i, select(contact, target.y, x.y));
+        store(p.z + i, select(contact, target.z, x.z));
+    }
+}
+
+template <class F>
+void collide(const Particles& p, const ColliderKernelArgs& c) {
+    switch (static_cast<ColliderShape>(c.shape)) {
+        case ColliderShape::plane: collide_plane<F>(p, c); break;
+        case ColliderShape::cylinder: collide_segment<F, true>(p, c); break;
+        case ColliderShape::sphere:
+        case ColliderShape::capsule: collide_segment<F, false>(p, c); break;
+    }
+}
+
+}  // namespace weft

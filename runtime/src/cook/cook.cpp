@@ -1,0 +1,438 @@
+// Cooking: an in-memory triangle mesh -> ClothAsset (the creation-time twin of weft-bake).
+//
+//   1. springs from topology (seed section 1.1): a stretch (or shear) spring on every edge, a bend
+//      spring across every interior edge joining the two vertices opposite it
+//   2. particle slots: lattice particles in four parity planes, so every spring family becomes a
+//      contiguous run (docs/architecture.md), the rest after them in caller order
+//   3. runs: springs with the same slot offset b - a and consecutive a, padded to kSimdWidth
+//   4. colouring: runs and leftover springs into particle-disjoint colours, greedily
+//   5. tethers to the nearest pinned particles, grouped by anchor into runs
+#include <algorithm>
+#include <cmath>
+#include <limits>
+#include <utility>
+
+#include "world_internal.h"
+
+namespace weft {
+
+CookedCloth::CookedCloth(CookedCloth&& other) noexcept { *this = std::move(other); }
+
+CookedCloth& CookedCloth::operator=(CookedCloth&& other) noexcept {
+    if (this == &other) return *this;
+    slot_of_particle = std::move(other.slot_of_particle);
+    particle_of_slot = std::move(other.particle_of_slot);
+    start_x = std::move(other.start_x);
+    start_y = std::move(other.start_y);
+    start_z = std::move(other.start_z);
+    inverse_mass = std::move(other.inverse_mass);
+    rest_length = std::move(other.rest_length);
+    lane_weight = std::move(other.lane_weight);
+    index_a = std::move(other.index_a);
+    index_b = std::move(other.index_b);
+    batches = std::move(other.batches);
+    tether_rest = std::move(other.tether_rest);
+    tether_batches = std::move(other.tether_batches);
+    triangles = std::move(other.triangles);
+    const ClothAsset& a = other.asset_;
+    refresh_asset(a.particle_count, a.colour_count, a.constraint_count, a.constraints_on_runs, a.tether_count);
+    other.asset_ = ClothAsset();
+    return *this;
+}
+
+void CookedCloth::refresh_asset(uint32_t particle_count, uint32_t colour_count, const uint32_t counts[3],
+                                uint32_t on_runs, uint32_t tether_count) {
+    ClothAsset& a = asset_;
+    a = ClothAsset();
+    a.particle_count = particle_count;
+    a.slot_count = uint32_t(particle_of_slot.size());
+    a.slot_of_particle = slot_of_particle.data();
+    a.particle_of_slot = particle_of_slot.data();
+    a.start_x = start_x.data();
+    a.start_y = start_y.data();
+    a.start_z = start_z.data();
+    a.inverse_mass = inverse_mass.data();
+    a.lane_count = uint32_t(rest_length.size());
+    a.rest_length = rest_length.data();
+    a.lane_weight = lane_weight.data();
+    a.index_a = index_a.data();
+    a.index_b = index_b.data();
+    a.batch_count = uint32_t(batches.size());
+    a.batches = batches.data();
+    a.colour_count = colour_count;
+    for (uint32_t k = 0; k < kConstraintKindCount; ++k) a.constraint_count[k] = counts[k];
+    a.constraints_on_runs = on_runs;
+    a.tether_lane_count = uint32_t(tether_rest.size());
+    a.tether_rest = tether_rest.data();
+    a.tether_batch_count = uint32_t(tether_batches.size());
+    a.tether_batches = tether_batches.data();
+    a.tether_count = tether_count;
+    a.triangle_count = uint32_t(triangles.size() / 3);
+    a.triangles = triangles.data();
+}
+
+namespace {
+
+constexpr uint16_t kOverflowColour = 0xFFFF;  // shares particles; solved last, one lane at a time
+constexpr uint32_t kMaxColours = 64;          // one bit each in a per-slot mask
+
+struct Spring {
+    uint32_t a, b;  // slots, a < b once ordered
+    ConstraintKind kind;
+    float rest;
+};
+
+// A unit of colouring: a run (first..first+count of the sorted springs, lanes a0 + k) or one spring.
+struct Unit {
+    uint32_t first, count;  // into the sorted springs
+    uint32_t a0, b0, lanes;  // run only (lanes includes gaps and padding); lanes == 0: single
+    ConstraintKind kind;
+    uint16_t colour;
+};
+
+uint32_t round_up(uint32_t v, uint32_t m) { return (v + m - 1) / m * m; }
+
+float distance(const Vec3& p, const Vec3& q) {
+    const double dx = double(p.x) - q.x, dy = double(p.y) - q.y, dz = double(p.z) - q.z;
+    return float(std::sqrt(dx * dx + dy * dy + dz * dz));
+}
+
+bool finite(const Vec3& v) { return std::isfinite(v.x) && std::isfinite(v.y) && std::isfinite(v.z); }
+
+Result check_mesh(const ClothMeshDesc& mesh) {
+    if (mesh.particle_count == 0 || mesh.positions == nullptr)
+        return make_error(ErrorCode::invalid_argument, "mesh has no particles");
+    if (mesh.particle_count > (1u << 26))
+        return make_error(ErrorCode::out_of_range, "mesh has %u particles (at most 2^26)", mesh.particle_count);
+    if (mesh.triangle_count > 0 && mesh.triangles == nullptr)
+        return make_error(ErrorCode::invalid_argument, "triangle_count > 0 but triangles is null");
+    if (mesh.triangle_count > (1u << 27))
+        return make_error(ErrorCode::out_of_range, "mesh has too many triangles");
+    if ((mesh.masses == nullptr) == (mesh.inverse_masses == nullptr))
+        return make_error(ErrorCode::invalid_argument, "give exactly one of masses and inverse_masses");
+    for (uint32_t i = 0; i < mesh.particle_count; ++i) {
+        if (!finite(mesh.positions[i]) || (mesh.rest_positions && !finite(mesh.rest_positions[i])))
+            return make_error(ErrorCode::non_finite, "particle %u has a non-finite position", i);
+        const Vec3& p = mesh.positions[i];
+        if (std::fabs(p.x) > 1e6f || std::fabs(p.y) > 1e6f || std::fabs(p.z) > 1e6f)
+            return make_error(ErrorCode::out_of_range, "particle %u lies beyond 1e6 m", i);
+        const float m = mesh.masses ? mesh.masses[i] : mesh.inverse_masses[i];
+        if (!std::isfinite(m)) return make_error(ErrorCode::non_finite, "particle %u has a non-finite mass", i);
+        if (m < 0.0f) return make_error(ErrorCode::out_of_range, "particle %u has a negative mass", i);
+    }
+    for (uint32_t t = 0; t < mesh.triangle_count; ++t) {
+        const uint32_t* v = mesh.triangles + 3 * t;
+        if (v[0] >= mesh.particle_count || v[1] >= mesh.particle_count || v[2] >= mesh.particle_count)
+            return make_error(ErrorCode::out_of_range, "triangle %u indexes a particle past %u", t,
+                              mesh.particle_count);
+        if (v[0] == v[1] || v[1] == v[2] || v[0] == v[2])
+            return make_error(ErrorCode::invalid_argument, "triangle %u repeats a vertex", t);
+    }
+    return {};
+}
+
+// Step 1: stretch/shear on every edge, bend across every interior edge (caller indices).
+std::vector<Spring> derive_springs(const ClothMeshDesc& mesh) {
+    struct HalfEdge {
+        uint64_t key;  // (min << 32) | max
+        uint32_t opposite;
+    };
+    std::vector<HalfEdge> edges;
+    edges.reserve(size_t(mesh.triangle_count) * 3);
+    for (uint32_t t = 0; t < mesh.triangle_count; ++t) {
+        const uint32_t* v = mesh.triangles + 3 * t;
+        for (int e = 0; e < 3; ++e) {
+            const uint32_t a = v[e], b = v[(e + 1) % 3], o = v[(e + 2) % 3];
+            edges.push_back({(uint64_t(std::min(a, b)) << 32) | std::max(a, b), o});
+        }
+    }
+    std::sort(edges.begin(), edges.end(), [](const HalfEdge& l, const HalfEdge& r) {
+        return l.key != r.key ? l.key < r.key : l.opposite < r.opposite;
+    });
+    std::vector<Spring> springs;
+    for (size_t i = 0; i < edges.size();) {
+        size_t j = i;
+        while (j < edges.size() && edges[j].key == edges[i].key) ++j;
+        springs.push_back({uint32_t(edges[i].key >> 32), uint32_t(edges[i].key), ConstraintKind::stretch, 0.0f});
+        for (size_t k = i; k + 1 < j; ++k)  // interior edge: bend between the opposite vertices
+            if (edges[k].opposite != edges[k + 1].opposite)
+                springs.push_back({std::min(edges[k].opposite, edges[k + 1].opposite),
+                                   std::max(edges[k].opposite, edges[k + 1].opposite), ConstraintKind::bend, 0.0f});
+        i = j;
+    }
+    // A bend pair can coincide with an edge or another bend pair on odd meshes: keep one.
+    std::sort(springs.begin(), springs.end(), [](const Spring& l, const Spring& r) {
+        return l.a != r.a ? l.a < r.a : (l.b != r.b ? l.b < r.b : l.kind < r.kind);
+    });
+    springs.erase(std::unique(springs.begin(), springs.end(),
+                              [](const Spring& l, const Spring& r) { return l.a == r.a && l.b == r.b; }),
+                  springs.end());
+    return springs;
+}
+
+// Step 2: slot of every particle. Lattice particles go to plane (i & 1, j & 1), row-major with a
+// common row width, so each spring family of the lattice joins two planes at one constant offset.
+void assign_slots(const ClothMeshDesc& mesh, std::vector<uint32_t>& slot_of_particle, uint32_t& slot_count) {
+    const uint32_t n = mesh.particle_count;
+    slot_of_particle.assign(n, kNoParticle);
+    uint32_t next = 0;
+    if (mesh.lattice != nullptr) {
+        int32_t min_i = std::numeric_limits<int32_t>::max(), min_j = min_i, max_i = -1, max_j = -1;
+        for (uint32_t p = 0; p < n; ++p) {
+            const int32_t i = mesh.lattice[2 * p], j = mesh.lattice[2 * p + 1];
+            if (i < 0 || j < 0) continue;
+            min_i = std::min(min_i, i), max_i = std::max(max_i, i);
+            min_j = std::min(min_j, j), max_j = std::max(max_j, j);
+        }
+        if (max_i >= 0) {
+            // Keep the parity of the coordinates (a shift by an odd amount would swap planes, which
+            // is harmless, but an even shift keeps slots predictable for tests).
+            min_i &= ~1, min_j &= ~1;
+            const uint64_t rows = uint64_t(max_i - min_i) / 2 + 1, cols = uint64_t(max_j - min_j) / 2 + 1;
+            const uint64_t plane = rows * cols;
+            if (plane * 4 <= uint64_t(n) * 8 + 64) {  // a sparse lattice would waste more than it gains
+                std::vector<uint8_t> taken(plane * 4, 0);
+                for (uint32_t p = 0; p < n; ++p) {
+                    const int32_t i = mesh.lattice[2 * p], j = mesh.lattice[2 * p + 1];
+                    if (i < 0 || j < 0) continue;
+                    const uint32_t li = uint32_t(i - min_i), lj = uint32_t(j - min_j);
+                    const uint64_t slot = ((li & 1) * 2 + (lj & 1)) * plane + (li >> 1) * cols + (lj >> 1);
+                    if (taken[slot]) continue;  // a duplicate coordinate: this particle goes last
+                    taken[slot] = 1;
+                    slot_of_particle[p] = uint32_t(slot);
+                }
+                next = uint32_t(plane * 4);
+            }
+        }
+    }
+    for (uint32_t p = 0; p < n; ++p)
+        if (slot_of_particle[p] == kNoParticle) slot_of_particle[p] = next++;
+    slot_count = next;
+}
+
+ConstraintKind classify(const ClothMeshDesc& mesh, uint32_t a, uint32_t b, ConstraintKind kind) {
+    if (kind != ConstraintKind::stretch || mesh.lattice == nullptr) return kind;
+    const int32_t ai = mesh.lattice[2 * a], aj = mesh.lattice[2 * a + 1];
+    const int32_t bi = mesh.lattice[2 * b], bj = mesh.lattice[2 * b + 1];
+    if (ai < 0 || aj < 0 || bi < 0 || bj < 0) return kind;
+    return (std::abs(ai - bi) == 1 && std::abs(aj - bj) == 1) ? ConstraintKind::shear : kind;
+}
+
+// Step 3: maximal runs among springs sorted by (kind, offset, a). A run's lanes (gaps and padding
+// included) must not reach from its a side into its b side: round_up(lanes) <= offset.
+std::vector<Unit> find_runs(const std::vector<Spring>& s, const CookOptions& options) {
+    std::vector<Unit> units;
+    for (size_t i = 0; i < s.size();) {
+        const uint32_t offset = s[i].b - s[i].a;
+        size_t j = i + 1;
+        while (j < s.size() && s[j].kind == s[i].kind && s[j].b - s[j].a == offset &&
+               s[j].a - s[j - 1].a <= options.max_run_gap + 1 &&
+               round_up(s[j].a - s[i].a + 1, kSimdWidth) <= offset)
+            ++j;
+        const uint32_t count = uint32_t(j - i);
+        if (count >= options.min_run_lanes && count >= 1) {
+            units.push_back({uint32_t(i), count, s[i].a, s[i].b,
+                             round_up(s[j - 1].a - s[i].a + 1, kSimdWidth), s[i].kind, 0});
+        } else {
+            for (size_t k = i; k < j; ++k) units.push_back({uint32_t(k), 1, s[k].a, s[k].b, 0, s[k].kind, 0});
+        }
+        i = j;
+    }
+    return units;
+}
+
+// Step 4: first-fit colouring. Stretch units first, then shear, then bend; long runs before short
+// ones. A unit that fits none of kMaxColours goes to the overflow colour.
+uint32_t colour_units(std::vector<Unit>& units, const std::vector<Spring>& s, uint32_t slot_count) {
+    std::stable_sort(units.begin(), units.end(), [](const Unit& l, const Unit& r) {
+        return l.kind != r.kind ? l.kind < r.kind : l.count > r.count;
+    });
+    std::vector<uint64_t> used(slot_count, 0);
+    uint32_t colours = 0;
+    for (Unit& u : units) {
+        uint64_t taken = 0;
+        for (uint32_t k = 0; k < u.count; ++k) taken |= used[s[u.first + k].a] | used[s[u.first + k].b];
+        if (taken == ~uint64_t(0)) {
+            u.colour = kOverflowColour;
+            continue;
+        }
+        uint32_t c = 0;
+        while (taken & (uint64_t(1) << c)) ++c;
+        u.colour = uint16_t(c);
+        colours = std::max(colours, c + 1);
+        for (uint32_t k = 0; k < u.count; ++k) {
+            used[s[u.first + k].a] |= uint64_t(1) << c;
+            used[s[u.first + k].b] |= uint64_t(1) << c;
+        }
+    }
+    return colours;
+}
+
+void emit_batches(const std::vector<Unit>& units, const std::vector<Spring>& s, uint32_t colours,
+                  CookedCloth& out, uint32_t& on_runs) {
+    on_runs = 0;
+    auto emit_lane = [&](uint32_t a, uint32_t b, float rest, float weight) {
+        out.index_a.push_back(a);
+        out.index_b.push_back(b);
+        out.rest_length.push_back(rest);
+        out.lane_weight.push_back(weight);
+    };
+    for (uint32_t c = 0; c <= colours; ++c) {
+        const uint16_t colour = c < colours ? uint16_t(c) : kOverflowColour;
+        for (const Unit& u : units) {  // runs of this colour
+            if (u.colour != colour || u.lanes == 0) continue;
+            ConstraintBatch batch;
+            batch.first_lane = uint32_t(out.rest_length.size());
+            batch.lane_count = u.lanes;
+            batch.a0 = u.a0;
+            batch.b0 = u.b0;
+            batch.kind = u.kind;
+            batch.layout = BatchLayout::run;
+            batch.colour = colour;
+            uint32_t next = 0;
+            for (uint32_t k = 0; k < u.count; ++k) {
+                const Spring& sp = s[u.first + k];
+                for (; u.a0 + next < sp.a; ++next) emit_lane(u.a0 + next, u.b0 + next, 0.0f, 0.0f);  // gap
+                emit_lane(sp.a, sp.b, sp.rest, 1.0f);
+                ++next;
+            }
+            for (; next < u.lanes; ++next) emit_lane(u.a0 + next, u.b0 + next, 0.0f, 0.0f);  // padding
+            on_runs += u.count;
+            out.batches.push_back(batch);
+        }
+        for (uint32_t kind = 0; kind < kConstraintKindCount; ++kind) {  // singles of this colour
+            ConstraintBatch batch;
+            batch.first_lane = uint32_t(out.rest_length.size());
+            batch.kind = ConstraintKind(kind);
+            batch.layout = BatchLayout::indexed;
+            batch.colour = colour;
+            for (const Unit& u : units) {
+                if (u.colour != colour || u.lanes != 0 || uint32_t(u.kind) != kind) continue;
+                const Spring& sp = s[u.first];
+                emit_lane(sp.a, sp.b, sp.rest, 1.0f);
+            }
+            batch.lane_count = uint32_t(out.rest_length.size()) - batch.first_lane;
+            if (batch.lane_count > 0) out.batches.push_back(batch);
+        }
+    }
+}
+
+// Step 5: tethers from every free particle to its nearest pinned particles (straight line on the
+// rest mesh), grouped by anchor into runs of consecutive slots.
+uint32_t build_tethers(const ClothMeshDesc& mesh, const std::vector<uint32_t>& slot_of_particle,
+                       const std::vector<float>& inverse_mass, const CookOptions& options, CookedCloth& out) {
+    const Vec3* rest = mesh.rest_positions ? mesh.rest_positions : mesh.positions;
+    std::vector<uint32_t> pinned;
+    for (uint32_t p = 0; p < mesh.particle_count; ++p)
+        if (inverse_mass[p] == 0.0f) pinned.push_back(p);
+    if (pinned.empty() || options.tethers_per_particle == 0) return 0;
+    const uint32_t per_particle = std::min<uint32_t>(options.tethers_per_particle, uint32_t(pinned.size()));
+
+    struct Tether {
+        uint32_t anchor_slot, slot;
+        float rest;
+    };
+    std::vector<Tether> tethers;
+    std::vector<std::pair<float, uint32_t>> nearest;
+    for (uint32_t p = 0; p < mesh.particle_count; ++p) {
+        if (inverse_mass[p] == 0.0f) continue;
+        nearest.clear();
+        for (uint32_t q : pinned) nearest.push_back({distance(rest[p], rest[q]), q});
+        std::partial_sort(nearest.begin(), nearest.begin() + per_particle, nearest.end());
+        for (uint32_t k = 0; k < per_particle; ++k)
+            tethers.push_back({slot_of_particle[nearest[k].second], slot_of_particle[p], nearest[k].first});
+    }
+    std::sort(tethers.begin(), tethers.end(), [](const Tether& l, const Tether& r) {
+        return l.anchor_slot != r.anchor_slot ? l.anchor_slot < r.anchor_slot : l.slot < r.slot;
+    });
+    const float padding = std::numeric_limits<float>::infinity();
+    for (size_t i = 0; i < tethers.size();) {
+        size_t j = i + 1;
+        while (j < tethers.size() && tethers[j].anchor_slot == tethers[i].anchor_slot &&
+               tethers[j].slot - tethers[j - 1].slot <= kSimdWidth)
+            ++j;
+        TetherBatch batch;
+        batch.first_lane = uint32_t(out.tether_rest.size());
+        batch.particle0 = tethers[i].slot;
+        batch.anchor = tethers[i].anchor_slot;
+        uint32_t next = 0;
+        for (size_t k = i; k < j; ++k) {
+            for (; batch.particle0 + next < tethers[k].slot; ++next) out.tether_rest.push_back(padding);
+            out.tether_rest.push_back(tethers[k].rest);
+            ++next;
+        }
+        batch.lane_count = round_up(next, kSimdWidth);
+        for (; next < batch.lane_count; ++next) out.tether_rest.push_back(padding);
+        out.tether_batches.push_back(batch);
+        i = j;
+    }
+    return uint32_t(tethers.size());
+}
+
+}  // namespace
+
+Result cook_cloth(const ClothMeshDesc& mesh, const CookOptions& options, CookedCloth* out) {
+    if (out == nullptr) return make_error(ErrorCode::invalid_argument, "out is null");
+    if (Result r = check_mesh(mesh); !r.ok()) return r;
+    const uint32_t n = mesh.particle_count;
+    const Vec3* rest = mesh.rest_positions ? mesh.rest_positions : mesh.positions;
+
+    std::vector<float> inverse_mass(n);
+    for (uint32_t p = 0; p < n; ++p)
+        inverse_mass[p] = mesh.masses ? (mesh.masses[p] > 0.0f ? 1.0f / mesh.masses[p] : 0.0f) : mesh.inverse_masses[p];
+
+    CookedCloth cooked;
+    uint32_t slot_count = 0;
+    assign_slots(mesh, cooked.slot_of_particle, slot_count);
+
+    // Springs in slots; a spring between two pinned particles never moves anything: dropped.
+    std::vector<Spring> springs;
+    uint32_t counts[kConstraintKindCount] = {};
+    for (const Spring& s : derive_springs(mesh)) {
+        if (inverse_mass[s.a] == 0.0f && inverse_mass[s.b] == 0.0f) continue;
+        const uint32_t sa = cooked.slot_of_particle[s.a], sb = cooked.slot_of_particle[s.b];
+        const ConstraintKind kind = classify(mesh, s.a, s.b, s.kind);
+        springs.push_back({std::min(sa, sb), std::max(sa, sb), kind, distance(rest[s.a], rest[s.b])});
+        counts[uint32_t(kind)] += 1;
+    }
+    std::sort(springs.begin(), springs.end(), [](const Spring& l, const Spring& r) {
+        if (l.kind != r.kind) return l.kind < r.kind;
+        if (l.b - l.a != r.b - r.a) return l.b - l.a < r.b - r.a;
+        return l.a < r.a;
+    });
+
+    std::vector<Unit> units = find_runs(springs, options);
+    const uint32_t colours = colour_units(units, springs, slot_count);
+    uint32_t on_runs = 0;
+    emit_batches(units, springs, colours, cooked, on_runs);
+    const uint32_t tether_count = build_tethers(mesh, cooked.slot_of_particle, inverse_mass, options, cooked);
+
+    // Slots: every index a padded lane may touch exists; padding slots are pinned and at the origin.
+    uint32_t touched = slot_count;
+    for (const ConstraintBatch& b : cooked.batches)
+        if (b.layout == BatchLayout::run) touched = std::max({touched, b.a0 + b.lane_count, b.b0 + b.lane_count});
+    for (const TetherBatch& b : cooked.tether_batches) touched = std::max(touched, b.particle0 + b.lane_count);
+    slot_count = round_up(touched, kSimdWidth);
+    cooked.particle_of_slot.assign(slot_count, kNoParticle);
+    cooked.start_x.assign(slot_count, 0.0f);
+    cooked.start_y.assign(slot_count, 0.0f);
+    cooked.start_z.assign(slot_count, 0.0f);
+    cooked.inverse_mass.assign(slot_count, 0.0f);
+    for (uint32_t p = 0; p < n; ++p) {
+        const uint32_t s = cooked.slot_of_particle[p];
+        cooked.particle_of_slot[s] = p;
+        cooked.start_x[s] = mesh.positions[p].x;
+        cooked.start_y[s] = mesh.positions[p].y;
+        cooked.start_z[s] = mesh.positions[p].z;
+        cooked.inverse_mass[s] = inverse_mass[p];
+    }
+    cooked.triangles.resize(size_t(mesh.triangle_count) * 3);
+    for (size_t i = 0; i < cooked.triangles.size(); ++i) cooked.triangles[i] = cooked.slot_of_particle[mesh.triangles[i]];
+
+    cooked.refresh_asset(n, colours, counts, on_runs, tether_count);
+    if (Result r = validate_asset(cooked.asset()); !r.ok()) return r;  // cooking bug: never hand it out
+    *out = std::move(cooked);
+    return {};
+}
+
+}  // namespace weft

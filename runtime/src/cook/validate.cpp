@@ -1,0 +1,181 @@
+// Asset validation: every invariant the step relies on, checked once before a cloth is added, so
+// the step itself needs no checks. A baked file that passes this cannot make the step read or write
+// out of bounds, divide by zero or see a NaN it did not make itself.
+#include <cmath>
+#include <vector>
+
+#include "world_internal.h"
+
+namespace weft {
+namespace {
+
+bool finite_nonnegative(float v) { return std::isfinite(v) && v >= 0.0f; }
+
+Result check_particles(const ClothAsset& a) {
+    if (a.particle_count == 0) return make_error(ErrorCode::corrupt_asset, "asset has no particles");
+    if (a.slot_count < a.particle_count || a.slot_count % kSimdWidth != 0 || a.slot_count > (1u << 28))
+        return make_error(ErrorCode::corrupt_asset, "slot count %u is not a padded multiple of %u >= %u",
+                          a.slot_count, kSimdWidth, a.particle_count);
+    if (!a.slot_of_particle || !a.particle_of_slot || !a.start_x || !a.start_y || !a.start_z || !a.inverse_mass)
+        return make_error(ErrorCode::corrupt_asset, "asset is missing a particle array");
+    for (uint32_t p = 0; p < a.particle_count; ++p) {
+        const uint32_t s = a.slot_of_particle[p];
+        if (s >= a.slot_count || a.particle_of_slot[s] != p)
+            return make_error(ErrorCode::corrupt_asset, "particle %u and its slot do not map both ways", p);
+    }
+    uint32_t mapped = 0;
+    for (uint32_t s = 0; s < a.slot_count; ++s) {
+        const float x = a.start_x[s], y = a.start_y[s], z = a.start_z[s];
+        if (!std::isfinite(x) || !std::isfinite(y) || !std::isfinite(z))
+            return make_error(ErrorCode::corrupt_asset, "slot %u has a non-finite start position", s);
+        if (std::fabs(x) > 1e6f || std::fabs(y) > 1e6f || std::fabs(z) > 1e6f)
+            return make_error(ErrorCode::corrupt_asset, "slot %u lies beyond 1e6 m", s);
+        if (!finite_nonnegative(a.inverse_mass[s]))
+            return make_error(ErrorCode::corrupt_asset, "slot %u has a bad inverse mass", s);
+        if (a.particle_of_slot[s] == kNoParticle) {
+            if (a.inverse_mass[s] != 0.0f)
+                return make_error(ErrorCode::corrupt_asset, "padding slot %u is not pinned", s);
+        } else {
+            ++mapped;
+        }
+    }
+    if (mapped != a.particle_count)
+        return make_error(ErrorCode::corrupt_asset, "%u slots hold particles, expected %u", mapped, a.particle_count);
+    return {};
+}
+
+Result check_lanes(const ClothAsset& a) {
+    if (a.lane_count > 0 && (!a.rest_length || !a.lane_weight || !a.index_a || !a.index_b))
+        return make_error(ErrorCode::corrupt_asset, "asset is missing a constraint array");
+    if (a.batch_count > 0 && a.batches == nullptr)
+        return make_error(ErrorCode::corrupt_asset, "asset is missing its batches");
+    for (uint32_t l = 0; l < a.lane_count; ++l) {
+        if (!finite_nonnegative(a.rest_length[l]) || a.rest_length[l] > 1e6f)
+            return make_error(ErrorCode::corrupt_asset, "lane %u has a bad rest length", l);
+        if (a.lane_weight[l] != 0.0f && a.lane_weight[l] != 1.0f)
+            return make_error(ErrorCode::corrupt_asset, "lane %u has weight other than 0 or 1", l);
+        if (a.index_a[l] >= a.slot_count || a.index_b[l] >= a.slot_count)
+            return make_error(ErrorCode::corrupt_asset, "lane %u indexes a slot past %u", l, a.slot_count);
+    }
+    uint32_t counted[kConstraintKindCount] = {}, on_runs = 0, next_lane = 0;
+    for (uint32_t i = 0; i < a.batch_count; ++i) {
+        const ConstraintBatch& b = a.batches[i];
+        if (uint32_t(b.kind) >= kConstraintKindCount)
+            return make_error(ErrorCode::corrupt_asset, "batch %u has an unknown kind", i);
+        if (b.first_lane != next_lane || b.lane_count > a.lane_count - b.first_lane)
+            return make_error(ErrorCode::corrupt_asset, "batch %u does not tile the lanes", i);
+        next_lane += b.lane_count;
+        if (b.layout == BatchLayout::run) {
+            if (b.lane_count % kSimdWidth != 0)
+                return make_error(ErrorCode::corrupt_asset, "run %u is not padded to %u lanes", i, kSimdWidth);
+            if (b.a0 > a.slot_count - b.lane_count || b.b0 > a.slot_count - b.lane_count)
+                return make_error(ErrorCode::corrupt_asset, "run %u reaches past the slots", i);
+            const uint32_t gap = b.a0 < b.b0 ? b.b0 - b.a0 : b.a0 - b.b0;
+            if (gap < b.lane_count)  // both sides stored from one vector each: they must not overlap
+                return make_error(ErrorCode::corrupt_asset, "run %u overlaps its own particles", i);
+            for (uint32_t k = 0; k < b.lane_count; ++k)
+                if (a.index_a[b.first_lane + k] != b.a0 + k || a.index_b[b.first_lane + k] != b.b0 + k)
+                    return make_error(ErrorCode::corrupt_asset, "run %u is not contiguous at lane %u", i, k);
+        } else if (b.layout != BatchLayout::indexed) {
+            return make_error(ErrorCode::corrupt_asset, "batch %u has an unknown layout", i);
+        }
+        for (uint32_t k = 0; k < b.lane_count; ++k) {
+            const uint32_t l = b.first_lane + k;
+            if (a.lane_weight[l] == 0.0f) continue;
+            if (a.index_a[l] == a.index_b[l])
+                return make_error(ErrorCode::corrupt_asset, "lane %u joins a particle to itself", l);
+            counted[uint32_t(b.kind)] += 1;
+            if (b.layout == BatchLayout::run) ++on_runs;
+        }
+    }
+    if (next_lane != a.lane_count) return make_error(ErrorCode::corrupt_asset, "batches do not cover every lane");
+    for (uint32_t k = 0; k < kConstraintKindCount; ++k)
+        if (counted[k] != a.constraint_count[k])
+            return make_error(ErrorCode::corrupt_asset, "constraint counts disagree with the batches");
+    if (on_runs != a.constraints_on_runs)
+        return make_error(ErrorCode::corrupt_asset, "run count disagrees with the batches");
+    return {};
+}
+
+// Batches of one colour must touch disjoint particles (that is what makes a colour parallel);
+// scratch[slot] holds the last colour (+1) that touched the slot.
+Result check_colours(const ClothAsset& a, uint32_t* scratch) {
+    for (uint32_t s = 0; s < a.slot_count; ++s) scratch[s] = 0;
+    uint32_t previous = 0;
+    for (uint32_t i = 0; i < a.batch_count; ++i) {
+        const ConstraintBatch& b = a.batches[i];
+        if (b.colour < previous) return make_error(ErrorCode::corrupt_asset, "batches are not in colour order");
+        previous = b.colour;
+        if (b.colour == 0xFFFF) continue;  // the overflow colour is solved serially
+        if (b.colour >= a.colour_count)
+            return make_error(ErrorCode::corrupt_asset, "batch %u has colour %u of %u", i, b.colour, a.colour_count);
+        const uint32_t stamp = uint32_t(b.colour) + 1;
+        for (uint32_t k = 0; k < b.lane_count; ++k) {
+            const uint32_t l = b.first_lane + k;
+            if (a.lane_weight[l] == 0.0f) continue;
+            for (uint32_t s : {a.index_a[l], a.index_b[l]}) {
+                if (scratch[s] == stamp)
+                    return make_error(ErrorCode::corrupt_asset, "colour %u touches slot %u twice", b.colour, s);
+                scratch[s] = stamp;
+            }
+        }
+    }
+    return {};
+}
+
+Result check_tethers(const ClothAsset& a) {
+    if (a.tether_batch_count > 0 && (!a.tether_batches || !a.tether_rest))
+        return make_error(ErrorCode::corrupt_asset, "asset is missing its tether arrays");
+    uint32_t next_lane = 0, real = 0;
+    for (uint32_t i = 0; i < a.tether_batch_count; ++i) {
+        const TetherBatch& t = a.tether_batches[i];
+        if (t.first_lane != next_lane || t.lane_count % kSimdWidth != 0 ||
+            t.lane_count > a.tether_lane_count - t.first_lane)
+            return make_error(ErrorCode::corrupt_asset, "tether batch %u does not tile the lanes", i);
+        next_lane += t.lane_count;
+        if (t.anchor >= a.slot_count || t.particle0 > a.slot_count - t.lane_count)
+            return make_error(ErrorCode::corrupt_asset, "tether batch %u reaches past the slots", i);
+        if (a.inverse_mass[t.anchor] != 0.0f)
+            return make_error(ErrorCode::corrupt_asset, "tether batch %u anchors to a free particle", i);
+        for (uint32_t k = 0; k < t.lane_count; ++k) {
+            const float r = a.tether_rest[t.first_lane + k];
+            if (std::isinf(r) && r > 0.0f) continue;  // padding
+            if (!finite_nonnegative(r)) return make_error(ErrorCode::corrupt_asset, "tether %u has a bad length", i);
+            ++real;
+        }
+    }
+    if (next_lane != a.tether_lane_count || real != a.tether_count)
+        return make_error(ErrorCode::corrupt_asset, "tether lanes disagree with their batches");
+    return {};
+}
+
+Result check_triangles(const ClothAsset& a) {
+    if (a.triangle_count > 0 && a.triangles == nullptr)
+        return make_error(ErrorCode::corrupt_asset, "asset is missing its triangles");
+    for (uint32_t i = 0; i < 3 * a.triangle_count; ++i)
+        if (a.triangles[i] >= a.slot_count || a.particle_of_slot[a.triangles[i]] == kNoParticle)
+            return make_error(ErrorCode::corrupt_asset, "triangle %u uses a slot without a particle", i / 3);
+    return {};
+}
+
+}  // namespace
+
+Result validate_asset_with_scratch(const ClothAsset& a, uint32_t* scratch, uint32_t scratch_count) {
+    if (Result r = check_particles(a); !r.ok()) return r;
+    if (a.slot_count > scratch_count)
+        return make_error(ErrorCode::capacity_exceeded, "asset has %u slots, world holds %u", a.slot_count,
+                          scratch_count);
+    if (Result r = check_lanes(a); !r.ok()) return r;
+    if (Result r = check_colours(a, scratch); !r.ok()) return r;
+    if (Result r = check_tethers(a); !r.ok()) return r;
+    return check_triangles(a);
+}
+
+Result validate_asset(const ClothAsset& asset) {
+    if (asset.slot_count > (1u << 28))
+        return make_error(ErrorCode::corrupt_asset, "slot count %u is absurd", asset.slot_count);
+    std::vector<uint32_t> scratch(asset.slot_count);
+    return validate_asset_with_scratch(asset, scratch.data(), asset.slot_count);
+}
+
+}  // namespace weft

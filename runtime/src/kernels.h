@@ -1,0 +1,66 @@
+// The per-pass kernels, as one table per SIMD path. The step calls through the table once per pass
+// (never per particle); each table is the same templates instantiated for one wide float type.
+#pragma once
+
+#include <cstdint>
+
+#include "weft/cloth_asset.h"
+#include "weft/types.h"
+
+namespace weft {
+
+// One cloth's particle state, structure-of-arrays, indexed by asset slot. Every array holds
+// `slot_count` floats (a multiple of kSimdWidth); padding slots have inverse mass 0.
+struct Particles {
+    uint32_t slot_count = 0;
+    float* x = nullptr;  // position at t, metres
+    float* y = nullptr;
+    float* z = nullptr;
+    float* previous_x = nullptr;  // position at t - h (Verlet keeps no velocity)
+    float* previous_y = nullptr;
+    float* previous_z = nullptr;
+    float* inverse_mass = nullptr;  // 1/kg, 0 = pinned
+    float* wind_x = nullptr;        // wind acceleration this substep, m/s^2 (wind feature only)
+    float* wind_y = nullptr;
+    float* wind_z = nullptr;
+};
+
+// Verlet (seed section 1.1): x' = x + (x - x_prev) * (h / h_prev) * damping + (g + a_wind) h^2.
+struct IntegrateArgs {
+    float h_s;             // this substep
+    float velocity_scale;  // (h / h_prev) * exp(-damping h): time-corrected, damped
+    Vec3 gravity;          // m/s^2
+    bool wind;             // add the wind arrays
+};
+
+// XPBD distance projection over one batch (seed section 1.1, Macklin et al. 2016).
+struct DistanceArgs {
+    float compliance_over_h2;  // alpha / h^2, 1/kg
+    float relaxation;          // scales the correction
+};
+
+// A collider in the form the kernel wants: a segment p0-p1 with a radius (sphere: p0 = p1),
+// or a plane through p0 with normal `normal`.
+struct ColliderKernelArgs {
+    uint8_t shape;      // ColliderShape
+    Vec3 p0, p1;        // segment ends, or plane point
+    Vec3 normal;        // plane only
+    float radius;       // inflated radius (plane: offset)
+    float friction;     // Coulomb coefficient
+    Vec3 motion;        // displacement of the collider over this substep (friction is relative)
+};
+
+struct Kernels {
+    SimdPath path;
+    void (*integrate)(const Particles&, const IntegrateArgs&);
+    void (*project_run)(const Particles&, const ClothAsset&, const ConstraintBatch&, const DistanceArgs&);
+    void (*project_indexed)(const Particles&, const ClothAsset&, const ConstraintBatch&, const DistanceArgs&);
+    void (*project_tethers)(const Particles&, const ClothAsset&, const TetherBatch&, float slack);
+    void (*collide)(const Particles&, const ColliderKernelArgs&);
+};
+
+const Kernels& scalar_kernels();
+// Null when the build or the CPU lacks AVX2 + FMA.
+const Kernels* avx2_kernels();
+
+}  // namespace weft

@@ -1,0 +1,21 @@
+// The AVX2 + FMA path: the same kernel templates at eight lanes.
+#include "collide/colliders.h"
+#include "constraints/distance.h"
+#include "integrate/verlet.h"
+#include "kernels.h"
+
+namespace weft {
+
+#if WEFT_HAVE_AVX2
+const Kernels* avx2_kernels() {
+    if (!__builtin_cpu_supports("avx2") || !__builtin_cpu_supports("fma")) return nullptr;
+    using F = simd::Float8;
+    static constexpr Kernels kernels{SimdPath::avx2, integrate_verlet<F>, project_run<F>,
+                                     project_indexed, project_tethers<F>, collide<F>};
+    return &kernels;
+}
+#else
+const Kernels* avx2_kernels() { return nullptr; }
+#endif
+
+}  // namespace weft

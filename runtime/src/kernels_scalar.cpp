@@ -1,0 +1,17 @@
+// The scalar path: every kernel template at one lane. Always compiled; the reference the SIMD
+// path is tested against.
+#include "collide/colliders.h"
+#include "constraints/distance.h"
+#include "integrate/verlet.h"
+#include "kernels.h"
+
+namespace weft {
+
+const Kernels& scalar_kernels() {
+    using F = simd::Float1;
+    static constexpr Kernels kernels{SimdPath::scalar, integrate_verlet<F>, project_run<F>,
+                                     project_indexed, project_tethers<F>, collide<F>};
+    return kernels;
+}
+
+}  // namespace weft

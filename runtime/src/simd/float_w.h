@@ -1,0 +1,97 @@
+// One wide float type per target (the Box2D v3 habit): kernels are templates over `F`, written once,
+// and instantiated for Float1 (the scalar path) and Float8 (AVX2 + FMA). Lanes run across
+// constraints or particles. Each operation maps to one IEEE-exact instruction on both paths
+// (add, sub, mul, div, sqrt, fused multiply-add), so the two paths give bit-identical results for
+// the same order of work; the build disables implicit contraction (-ffp-contract=off).
+#pragma once
+
+#include <cmath>
+#include <cstdint>
+
+#if defined(__AVX2__) && defined(__FMA__) && !defined(WEFT_SIMD_SCALAR_ONLY)
+#define WEFT_HAVE_AVX2 1
+#include <immintrin.h>
+#else
+#define WEFT_HAVE_AVX2 0
+#endif
+
+namespace weft::simd {
+
+// --- scalar: one lane ---------------------------------------------------------------------------
+struct Float1 {
+    static constexpr uint32_t width = 1;
+    float v;
+};
+struct Mask1 {
+    bool v;
+};
+
+inline Float1 load(const float* p, Float1) { return {*p}; }
+inline void store(float* p, Float1 a) { *p = a.v; }
+inline Float1 splat(float s, Float1) { return {s}; }
+inline Float1 operator+(Float1 a, Float1 b) { return {a.v + b.v}; }
+inline Float1 operator-(Float1 a, Float1 b) { return {a.v - b.v}; }
+inline Float1 operator*(Float1 a, Float1 b) { return {a.v * b.v}; }
+inline Float1 operator/(Float1 a, Float1 b) { return {a.v / b.v}; }
+inline Float1 sqrt(Float1 a) { return {std::sqrt(a.v)}; }
+// a * b + c, rounded once.
+inline Float1 mul_add(Float1 a, Float1 b, Float1 c) {
+#if defined(__FMA__)
+    return {std::fma(a.v, b.v, c.v)};
+#else
+    return {a.v * b.v + c.v};
+#endif
+}
+// c - a * b, rounded once.
+inline Float1 neg_mul_add(Float1 a, Float1 b, Float1 c) {
+#if defined(__FMA__)
+    return {std::fma(-a.v, b.v, c.v)};
+#else
+    return {c.v - a.v * b.v};
+#endif
+}
+inline Float1 min(Float1 a, Float1 b) { return {a.v < b.v ? a.v : b.v}; }
+inline Float1 max(Float1 a, Float1 b) { return {a.v > b.v ? a.v : b.v}; }
+inline Mask1 operator>(Float1 a, Float1 b) { return {a.v > b.v}; }
+inline Mask1 operator<(Float1 a, Float1 b) { return {a.v < b.v}; }
+inline Mask1 operator&(Mask1 a, Mask1 b) { return {a.v && b.v}; }
+// The value where the mask holds, +0 elsewhere (also when the value is NaN or infinite).
+inline Float1 keep_if(Mask1 m, Float1 a) { return {m.v ? a.v : 0.0f}; }
+// a where the mask holds, b elsewhere.
+inline Float1 select(Mask1 m, Float1 a, Float1 b) { return {m.v ? a.v : b.v}; }
+inline bool any(Mask1 m) { return m.v; }
+
+#if WEFT_HAVE_AVX2
+// --- AVX2 + FMA: eight lanes --------------------------------------------------------------------
+struct Float8 {
+    static constexpr uint32_t width = 8;
+    __m256 v;
+};
+struct Mask8 {
+    __m256 v;
+};
+
+// Unaligned loads: a run starts at any particle slot. On AVX2 hardware they cost the same as
+// aligned ones when the data happens to be aligned.
+inline Float8 load(const float* p, Float8) { return {_mm256_loadu_ps(p)}; }
+inline void store(float* p, Float8 a) { _mm256_storeu_ps(p, a.v); }
+inline Float8 splat(float s, Float8) { return {_mm256_set1_ps(s)}; }
+inline Float8 operator+(Float8 a, Float8 b) { return {_mm256_add_ps(a.v, b.v)}; }
+inline Float8 operator-(Float8 a, Float8 b) { return {_mm256_sub_ps(a.v, b.v)}; }
+inline Float8 operator*(Float8 a, Float8 b) { return {_mm256_mul_ps(a.v, b.v)}; }
+inline Float8 operator/(Float8 a, Float8 b) { return {_mm256_div_ps(a.v, b.v)}; }
+inline Float8 sqrt(Float8 a) { return {_mm256_sqrt_ps(a.v)}; }
+inline Float8 mul_add(Float8 a, Float8 b, Float8 c) { return {_mm256_fmadd_ps(a.v, b.v, c.v)}; }
+inline Float8 neg_mul_add(Float8 a, Float8 b, Float8 c) { return {_mm256_fnmadd_ps(a.v, b.v, c.v)}; }
+// Operand order matches Float1's `a < b ? a : b` for NaN inputs (minps returns the second).
+inline Float8 min(Float8 a, Float8 b) { return {_mm256_min_ps(a.v, b.v)}; }
+inline Float8 max(Float8 a, Float8 b) { return {_mm256_max_ps(a.v, b.v)}; }
+inline Mask8 operator>(Float8 a, Float8 b) { return {_mm256_cmp_ps(a.v, b.v, _CMP_GT_OQ)}; }
+inline Mask8 operator<(Float8 a, Float8 b) { return {_mm256_cmp_ps(a.v, b.v, _CMP_LT_OQ)}; }
+inline Mask8 operator&(Mask8 a, Mask8 b) { return {_mm256_and_ps(a.v, b.v)}; }
+inline Float8 keep_if(Mask8 m, Float8 a) { return {_mm256_and_ps(m.v, a.v)}; }
+inline Float8 select(Mask8 m, Float8 a, Float8 b) { return {_mm256_blendv_ps(b.v, a.v, m.v)}; }
+inline bool any(Mask8 m) { return _mm256_movemask_ps(m.v) != 0; }
+#endif
+
+}  // namespace weft::simd

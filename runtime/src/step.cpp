@@ -1,0 +1,142 @@
+// One step of the world: the seed's algorithm (section 2.3), per cloth, per substep.
+//
+//   1. external forces: gravity and damping (folded into Verlet), wind drag and lift (eq. 2-4)
+//   2. Verlet integration
+//   3. spring correction: `iterations` sweeps over every constraint batch, then the tethers
+//   4. collision test and response against the inflated colliders
+//
+// Which of these passes exist is decided by what the world and the cloth have (no wind feature,
+// no wind pass; no colliders, no collision pass; no tethers, no tether pass), not per particle.
+// Nothing here allocates, throws, locks or reads global state.
+#include <chrono>
+#include <cmath>
+
+#include "aerodynamics/wind.h"
+#include "world_internal.h"
+
+namespace weft {
+namespace {
+
+// Times one pass into WorldStats when the world was created with `profile`.
+class PassTimer {
+public:
+    PassTimer(World& world, Pass pass) : world_(world), pass_(pass) {
+        if (world_.desc.profile) start_ = std::chrono::steady_clock::now();
+    }
+    ~PassTimer() {
+        if (!world_.desc.profile) return;
+        const auto elapsed = std::chrono::steady_clock::now() - start_;
+        world_.stats.pass_ns[static_cast<int>(pass_)] +=
+            uint64_t(std::chrono::duration_cast<std::chrono::nanoseconds>(elapsed).count());
+    }
+
+private:
+    World& world_;
+    Pass pass_;
+    std::chrono::steady_clock::time_point start_{};
+};
+
+void apply_external_forces(World& world, ClothInstance& cloth) {
+    if (!world.desc.wind) return;  // gravity and damping are applied inside Verlet
+    PassTimer timer(world, Pass::wind);
+    const WindArgs args{world.wind_m_s, world.desc.air_density_kg_m3, cloth.settings.drag_coefficient,
+                        cloth.settings.lift_coefficient, cloth.previous_substep_s};
+    apply_wind(cloth.particles, *cloth.asset, args);
+}
+
+void integrate(World& world, ClothInstance& cloth, float h) {
+    PassTimer timer(world, Pass::integrate);
+    // Time-corrected Verlet: the implied velocity (x - x_prev) / h_prev carried over h.
+    const float ratio = cloth.previous_substep_s > 0.0f ? h / cloth.previous_substep_s : 1.0f;
+    const IntegrateArgs args{h, ratio * std::exp(-cloth.settings.damping_per_s * h), world.gravity_m_s2,
+                             world.desc.wind};
+    world.kernels->integrate(cloth.particles, args);
+}
+
+void correct_springs(World& world, ClothInstance& cloth, float h) {
+    PassTimer timer(world, Pass::constraints);
+    const ClothAsset& asset = *cloth.asset;
+    DistanceArgs args[kConstraintKindCount];
+    for (uint32_t kind = 0; kind < kConstraintKindCount; ++kind)
+        args[kind] = {cloth.settings.compliance_m_per_n[kind] / (h * h), cloth.settings.relaxation};
+    const Kernels& k = *world.kernels;
+    for (uint32_t b = 0; b < asset.batch_count; ++b) {
+        const ConstraintBatch& batch = asset.batches[b];
+        const DistanceArgs& a = args[static_cast<uint32_t>(batch.kind)];
+        if (batch.layout == BatchLayout::run) {
+            k.project_run(cloth.particles, asset, batch, a);
+        } else {
+            k.project_indexed(cloth.particles, asset, batch, a);
+        }
+    }
+}
+
+void apply_tethers(World& world, ClothInstance& cloth) {
+    if (!cloth.settings.tethers || cloth.asset->tether_batch_count == 0) return;
+    PassTimer timer(world, Pass::tethers);
+    const ClothAsset& asset = *cloth.asset;
+    for (uint32_t b = 0; b < asset.tether_batch_count; ++b)
+        world.kernels->project_tethers(cloth.particles, asset, asset.tether_batches[b],
+                                       cloth.settings.tether_slack);
+}
+
+void collide(World& world, ClothInstance& cloth, uint32_t substeps) {
+    if (world.collider_count == 0) return;
+    PassTimer timer(world, Pass::collide);
+    const float share = 1.0f / float(substeps);
+    for (uint32_t i = 0; i < world.collider_count; ++i) {
+        const ColliderState& c = world.colliders[i];
+        ColliderKernelArgs args{};
+        args.shape = static_cast<uint8_t>(c.desc.shape);
+        args.p0 = c.desc.p0;
+        args.p1 = c.desc.shape == ColliderShape::sphere ? c.desc.p0 : c.desc.p1;
+        args.normal = c.desc.p1;
+        args.radius = c.desc.shape == ColliderShape::plane ? c.desc.inflation_m
+                                                           : c.desc.radius_m + c.desc.inflation_m;
+        args.friction = c.desc.friction;
+        args.motion = {c.motion_m.x * share, c.motion_m.y * share, c.motion_m.z * share};
+        world.kernels->collide(cloth.particles, args);
+    }
+}
+
+void step_cloth(World& world, ClothInstance& cloth, float dt) {
+    const float h = dt / float(cloth.settings.substeps);
+    for (uint32_t substep = 0; substep < cloth.settings.substeps; ++substep) {
+        apply_external_forces(world, cloth);                   // 1. F_ext: wind (gravity, damping in 2)
+        integrate(world, cloth, h);                            // 2. Verlet
+        for (uint32_t it = 0; it < cloth.settings.iterations; ++it) {
+            correct_springs(world, cloth, h);                  // 3. spring correction, batch by batch
+            apply_tethers(world, cloth);                       //    long-range attachments last
+        }
+        collide(world, cloth, cloth.settings.substeps);        // 4. collision response
+        cloth.previous_substep_s = h;
+    }
+}
+
+uint64_t count_projections(const World& world, BatchLayout layout) {
+    uint64_t lanes = 0;
+    for (uint32_t i = 0; i < world.cloth_count; ++i) {
+        const ClothInstance& c = world.cloths[i];
+        const uint64_t sweeps = uint64_t(c.settings.substeps) * c.settings.iterations;
+        const uint64_t on_runs = c.asset->constraints_on_runs;
+        lanes += sweeps * (layout == BatchLayout::run ? on_runs : c.asset->total_constraints() - on_runs);
+    }
+    return lanes;
+}
+
+}  // namespace
+
+Result step(World* world, float dt_s) {
+    if (world == nullptr) return make_error(ErrorCode::invalid_argument, "world is null");
+    if (std::isnan(dt_s) || std::isinf(dt_s)) return make_error(ErrorCode::non_finite, "dt is not finite");
+    if (!(dt_s > 0.0f) || dt_s > 1.0f)
+        return make_error(ErrorCode::out_of_range, "dt %g s outside (0, 1]", double(dt_s));
+    for (uint32_t i = 0; i < world->cloth_count; ++i) step_cloth(*world, world->cloths[i], dt_s);
+    for (uint32_t i = 0; i < world->collider_count; ++i) world->colliders[i].motion_m = {};
+    world->stats.steps += 1;
+    world->stats.run_projections = count_projections(*world, BatchLayout::run);
+    world->stats.indexed_projections = count_projections(*world, BatchLayout::indexed);
+    return {};
+}
+
+}  // namespace weft

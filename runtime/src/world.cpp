@@ -1,0 +1,376 @@
+// World creation, the things added to it, and particle access. The step itself is in step.cpp.
+#include <cmath>
+#include <cstdarg>
+#include <cstdio>
+#include <cstring>
+#include <new>
+
+#include "world_internal.h"
+
+namespace weft {
+
+Result make_error(ErrorCode code, const char* format, ...) {
+    Result result;
+    result.code = code;
+    va_list args;
+    va_start(args, format);
+    std::vsnprintf(result.message, sizeof(result.message), format, args);
+    va_end(args);
+    return result;
+}
+
+const char* simd_path_name(SimdPath path) {
+    switch (path) {
+        case SimdPath::automatic: return "automatic";
+        case SimdPath::scalar: return "scalar";
+        case SimdPath::avx2: return "avx2";
+    }
+    return "unknown";
+}
+
+bool simd_path_available(SimdPath path) {
+    switch (path) {
+        case SimdPath::scalar: return true;
+        case SimdPath::avx2: return avx2_kernels() != nullptr;
+        case SimdPath::automatic: return true;
+    }
+    return false;
+}
+
+const char* pass_name(Pass pass) {
+    switch (pass) {
+        case Pass::wind: return "wind";
+        case Pass::integrate: return "integrate";
+        case Pass::constraints: return "constraints";
+        case Pass::tethers: return "tethers";
+        case Pass::collide: return "collide";
+        case Pass::count: break;
+    }
+    return "unknown";
+}
+
+namespace {
+
+// Particle arrays per cloth: x, y, z, previous x, y, z, inverse mass, and (wind) 3 accelerations.
+uint32_t arrays_per_cloth(const WorldDesc& desc) { return desc.wind ? 10u : 7u; }
+
+bool finite(Vec3 v) { return std::isfinite(v.x) && std::isfinite(v.y) && std::isfinite(v.z); }
+
+ArenaSizer size_world(const WorldDesc& desc) {
+    ArenaSizer sizer;
+    sizer.add(sizeof(World));
+    sizer.add(sizeof(ClothInstance) * desc.max_cloths);
+    sizer.add(sizeof(ColliderState) * desc.max_colliders);
+    sizer.add(sizeof(uint32_t) * desc.max_particles);
+    // Each cloth's arrays start on a cache line; every cloth may waste up to one line per array.
+    const size_t arrays = arrays_per_cloth(desc);
+    sizer.add(arrays * (sizeof(float) * size_t(desc.max_particles) + kCacheLine * desc.max_cloths));
+    sizer.bytes += kCacheLine;  // the caller's block may start anywhere on a cache line
+    return sizer;
+}
+
+Result check_world_desc(const WorldDesc& desc) {
+    if (desc.max_cloths == 0) return make_error(ErrorCode::invalid_argument, "max_cloths is 0");
+    if (desc.max_cloths > (1u << 16) || desc.max_colliders > (1u << 16) ||
+        desc.max_particles > (1u << 28) || desc.max_constraints > (1u << 30))
+        return make_error(ErrorCode::out_of_range, "a capacity is absurdly large");
+    if (!finite(desc.gravity_m_s2) || !std::isfinite(desc.air_density_kg_m3))
+        return make_error(ErrorCode::non_finite, "gravity or air density is not finite");
+    if (desc.air_density_kg_m3 < 0.0f)
+        return make_error(ErrorCode::out_of_range, "air density is negative");
+    if (desc.simd != SimdPath::automatic && !simd_path_available(desc.simd))
+        return make_error(ErrorCode::unsupported, "SIMD path '%s' is not available in this build or CPU",
+                          simd_path_name(desc.simd));
+    return {};
+}
+
+Result check_cloth_settings(const ClothDesc& desc) {
+    if (desc.asset == nullptr) return make_error(ErrorCode::invalid_argument, "cloth has no asset");
+    if (desc.substeps < 1 || desc.substeps > 64)
+        return make_error(ErrorCode::out_of_range, "substeps %u outside 1..64", desc.substeps);
+    if (desc.iterations > 1000)
+        return make_error(ErrorCode::out_of_range, "iterations %u outside 0..1000", desc.iterations);
+    if (!std::isfinite(desc.relaxation) || !finite(desc.translation_m) ||
+        !std::isfinite(desc.damping_per_s) || !std::isfinite(desc.tether_slack) ||
+        !std::isfinite(desc.drag_coefficient) || !std::isfinite(desc.lift_coefficient))
+        return make_error(ErrorCode::non_finite, "a cloth setting is not finite");
+    if (!(desc.relaxation > 0.0f && desc.relaxation < 2.0f))
+        return make_error(ErrorCode::out_of_range, "relaxation %g outside (0, 2)", double(desc.relaxation));
+    for (float c : desc.compliance_m_per_n) {
+        if (!std::isfinite(c)) return make_error(ErrorCode::non_finite, "compliance is not finite");
+        if (c < 0.0f) return make_error(ErrorCode::out_of_range, "compliance is negative");
+    }
+    if (desc.damping_per_s < 0.0f || desc.damping_per_s > 1000.0f)
+        return make_error(ErrorCode::out_of_range, "damping %g 1/s outside 0..1000", double(desc.damping_per_s));
+    if (desc.tether_slack < 0.0f)
+        return make_error(ErrorCode::out_of_range, "tether slack is negative");
+    if (desc.drag_coefficient < 0.0f || desc.lift_coefficient < 0.0f)
+        return make_error(ErrorCode::out_of_range, "drag and lift coefficients must be >= 0");
+    return {};
+}
+
+Result check_collider(const ColliderDesc& desc) {
+    if (!finite(desc.p0) || !finite(desc.p1) || !std::isfinite(desc.radius_m) ||
+        !std::isfinite(desc.inflation_m) || !std::isfinite(desc.friction))
+        return make_error(ErrorCode::non_finite, "collider has a non-finite value");
+    const float bound = 1e6f;  // metres: beyond this float precision no longer resolves a cloth
+    const float extent = std::fmax(std::fmax(std::fabs(desc.p0.x), std::fabs(desc.p0.y)),
+                                   std::fmax(std::fabs(desc.p0.z), std::fabs(desc.radius_m)));
+    if (extent > bound) return make_error(ErrorCode::out_of_range, "collider beyond 1e6 m");
+    if (desc.radius_m < 0.0f || desc.inflation_m < 0.0f || desc.friction < 0.0f)
+        return make_error(ErrorCode::out_of_range, "collider radius, inflation and friction must be >= 0");
+    switch (desc.shape) {
+        case ColliderShape::sphere:
+        case ColliderShape::capsule:
+        case ColliderShape::cylinder: break;
+        case ColliderShape::plane: {
+            const Vec3 n = desc.p1;
+            const float len2 = n.x * n.x + n.y * n.y + n.z * n.z;
+            if (!(std::fabs(len2 - 1.0f) < 1e-3f))
+                return make_error(ErrorCode::invalid_argument, "plane normal (p1) is not unit length");
+            break;
+        }
+        default: return make_error(ErrorCode::invalid_argument, "unknown collider shape");
+    }
+    return {};
+}
+
+void place_at_start(ClothInstance& cloth) {
+    const ClothAsset& a = *cloth.asset;
+    const Particles& p = cloth.particles;
+    const Vec3 t = cloth.settings.translation_m;
+    for (uint32_t i = 0; i < a.slot_count; ++i) {
+        p.x[i] = p.previous_x[i] = a.start_x[i] + t.x;
+        p.y[i] = p.previous_y[i] = a.start_y[i] + t.y;
+        p.z[i] = p.previous_z[i] = a.start_z[i] + t.z;
+        p.inverse_mass[i] = a.inverse_mass[i];
+    }
+    if (p.wind_x != nullptr) {
+        std::memset(p.wind_x, 0, sizeof(float) * a.slot_count);
+        std::memset(p.wind_y, 0, sizeof(float) * a.slot_count);
+        std::memset(p.wind_z, 0, sizeof(float) * a.slot_count);
+    }
+    cloth.previous_substep_s = 0.0f;
+}
+
+Result find_cloth(const World* world, ClothId id) {
+    if (world == nullptr) return make_error(ErrorCode::invalid_argument, "world is null");
+    if (id.index >= world->cloth_count)
+        return make_error(ErrorCode::out_of_range, "cloth %u does not exist (%u cloths)", id.index,
+                          world->cloth_count);
+    return {};
+}
+
+}  // namespace
+
+MemoryRequirements world_memory_requirements(const WorldDesc& desc) {
+    MemoryRequirements req;
+    if (!check_world_desc(desc).ok()) return req;
+    req.bytes = size_world(desc).bytes;
+    req.alignment = kCacheLine;
+    return req;
+}
+
+Result create_world(const WorldDesc& desc, void* memory, size_t bytes, World** out_world) {
+    if (out_world == nullptr) return make_error(ErrorCode::invalid_argument, "out_world is null");
+    *out_world = nullptr;
+    if (Result r = check_world_desc(desc); !r.ok()) return r;
+    if (memory == nullptr) return make_error(ErrorCode::invalid_argument, "memory is null");
+    const size_t needed = size_world(desc).bytes;
+    if (bytes < needed)
+        return make_error(ErrorCode::memory_too_small, "block of %zu bytes, world needs %zu", bytes, needed);
+
+    Arena arena{static_cast<uint8_t*>(memory), bytes, 0};
+    World* world = new (arena.allocate(sizeof(World), alignof(World))) World();
+    world->desc = desc;
+    world->cloths = arena.allocate_array<ClothInstance>(desc.max_cloths);
+    for (uint32_t i = 0; i < desc.max_cloths; ++i) new (&world->cloths[i]) ClothInstance();
+    world->colliders = arena.allocate_array<ColliderState>(desc.max_colliders);
+    for (uint32_t i = 0; i < desc.max_colliders; ++i) new (&world->colliders[i]) ColliderState();
+    world->validation_scratch = arena.allocate_array<uint32_t>(desc.max_particles);
+    world->arena = arena;
+    world->gravity_m_s2 = desc.gravity_m_s2;
+
+    const Kernels* avx2 = avx2_kernels();
+    switch (desc.simd) {
+        case SimdPath::scalar: world->kernels = &scalar_kernels(); break;
+        case SimdPath::avx2: world->kernels = avx2; break;
+        case SimdPath::automatic: world->kernels = avx2 != nullptr ? avx2 : &scalar_kernels(); break;
+    }
+    *out_world = world;
+    return {};
+}
+
+Result add_cloth(World* world, const ClothDesc& desc, ClothId* out_cloth) {
+    if (world == nullptr || out_cloth == nullptr)
+        return make_error(ErrorCode::invalid_argument, "world or out_cloth is null");
+    if (Result r = check_cloth_settings(desc); !r.ok()) return r;
+    const ClothAsset& asset = *desc.asset;
+    if (world->cloth_count >= world->desc.max_cloths)
+        return make_error(ErrorCode::capacity_exceeded, "world holds at most %u cloths", world->desc.max_cloths);
+    if (asset.slot_count > world->desc.max_particles - world->particles_used)
+        return make_error(ErrorCode::capacity_exceeded, "cloth needs %u particle slots, %u left",
+                          asset.slot_count, world->desc.max_particles - world->particles_used);
+    if (asset.lane_count > world->desc.max_constraints - world->constraints_used)
+        return make_error(ErrorCode::capacity_exceeded, "cloth needs %u constraint lanes, %u left",
+                          asset.lane_count, world->desc.max_constraints - world->constraints_used);
+    if (Result r = validate_asset_with_scratch(asset, world->validation_scratch, world->desc.max_particles);
+        !r.ok())
+        return r;
+
+    // Carve the particle arrays; on failure restore the arena so nothing changes.
+    const Arena saved = world->arena;
+    float* arrays[10] = {};
+    const uint32_t count = arrays_per_cloth(world->desc);
+    for (uint32_t i = 0; i < count; ++i) {
+        arrays[i] = world->arena.allocate_array<float>(asset.slot_count);
+        if (arrays[i] == nullptr) {
+            world->arena = saved;
+            return make_error(ErrorCode::capacity_exceeded, "world memory exhausted");
+        }
+    }
+    ClothInstance& cloth = world->cloths[world->cloth_count];
+    cloth = ClothInstance();
+    cloth.asset = &asset;
+    cloth.settings = desc;
+    Particles& p = cloth.particles;
+    p.slot_count = asset.slot_count;
+    p.x = arrays[0];
+    p.y = arrays[1];
+    p.z = arrays[2];
+    p.previous_x = arrays[3];
+    p.previous_y = arrays[4];
+    p.previous_z = arrays[5];
+    p.inverse_mass = arrays[6];
+    p.wind_x = arrays[7];
+    p.wind_y = arrays[8];
+    p.wind_z = arrays[9];
+    place_at_start(cloth);
+    world->particles_used += asset.slot_count;
+    world->constraints_used += asset.lane_count;
+    out_cloth->index = world->cloth_count++;
+    return {};
+}
+
+Result add_collider(World* world, const ColliderDesc& desc, ColliderId* out_collider) {
+    if (world == nullptr || out_collider == nullptr)
+        return make_error(ErrorCode::invalid_argument, "world or out_collider is null");
+    if (Result r = check_collider(desc); !r.ok()) return r;
+    if (world->collider_count >= world->desc.max_colliders)
+        return make_error(ErrorCode::capacity_exceeded, "world holds at most %u colliders",
+                          world->desc.max_colliders);
+    ColliderState& c = world->colliders[world->collider_count];
+    c.desc = desc;
+    c.motion_m = {};
+    out_collider->index = world->collider_count++;
+    return {};
+}
+
+Result set_collider(World* world, ColliderId collider, const ColliderDesc& desc) {
+    if (world == nullptr) return make_error(ErrorCode::invalid_argument, "world is null");
+    if (collider.index >= world->collider_count)
+        return make_error(ErrorCode::out_of_range, "collider %u does not exist", collider.index);
+    if (Result r = check_collider(desc); !r.ok()) return r;
+    ColliderState& c = world->colliders[collider.index];
+    c.motion_m.x += desc.p0.x - c.desc.p0.x;
+    c.motion_m.y += desc.p0.y - c.desc.p0.y;
+    c.motion_m.z += desc.p0.z - c.desc.p0.z;
+    c.desc = desc;
+    return {};
+}
+
+Result set_wind(World* world, Vec3 velocity_m_s) {
+    if (world == nullptr) return make_error(ErrorCode::invalid_argument, "world is null");
+    if (!world->desc.wind)
+        return make_error(ErrorCode::invalid_argument, "world was created without the wind feature");
+    if (!finite(velocity_m_s)) return make_error(ErrorCode::non_finite, "wind velocity is not finite");
+    const float speed2 = velocity_m_s.x * velocity_m_s.x + velocity_m_s.y * velocity_m_s.y +
+                         velocity_m_s.z * velocity_m_s.z;
+    if (speed2 > 1000.0f * 1000.0f)
+        return make_error(ErrorCode::out_of_range, "wind faster than 1000 m/s");
+    world->wind_m_s = velocity_m_s;
+    return {};
+}
+
+Result set_gravity(World* world, Vec3 gravity_m_s2) {
+    if (world == nullptr) return make_error(ErrorCode::invalid_argument, "world is null");
+    if (!finite(gravity_m_s2)) return make_error(ErrorCode::non_finite, "gravity is not finite");
+    const float g2 = gravity_m_s2.x * gravity_m_s2.x + gravity_m_s2.y * gravity_m_s2.y +
+                     gravity_m_s2.z * gravity_m_s2.z;
+    if (g2 > 1e6f) return make_error(ErrorCode::out_of_range, "gravity above 1000 m/s^2");
+    world->gravity_m_s2 = gravity_m_s2;
+    return {};
+}
+
+Result set_cloth_settings(World* world, ClothId cloth, const ClothDesc& desc) {
+    if (Result r = find_cloth(world, cloth); !r.ok()) return r;
+    if (Result r = check_cloth_settings(desc); !r.ok()) return r;
+    ClothInstance& c = world->cloths[cloth.index];
+    if (desc.asset != c.asset)
+        return make_error(ErrorCode::invalid_argument, "a cloth's asset cannot change");
+    c.settings = desc;
+    return {};
+}
+
+Result read_positions(const World* world, ClothId cloth, Vec3* out, uint32_t count) {
+    if (Result r = find_cloth(world, cloth); !r.ok()) return r;
+    const ClothInstance& c = world->cloths[cloth.index];
+    if (out == nullptr) return make_error(ErrorCode::invalid_argument, "out is null");
+    if (count != c.asset->particle_count)
+        return make_error(ErrorCode::out_of_range, "count %u, cloth has %u particles", count,
+                          c.asset->particle_count);
+    const uint32_t* slot = c.asset->slot_of_particle;
+    for (uint32_t i = 0; i < count; ++i) {
+        const uint32_t s = slot[i];
+        out[i] = {c.particles.x[s], c.particles.y[s], c.particles.z[s]};
+    }
+    return {};
+}
+
+Result set_particle(World* world, ClothId cloth, uint32_t particle, Vec3 position_m, float inverse_mass_per_kg) {
+    if (Result r = find_cloth(world, cloth); !r.ok()) return r;
+    ClothInstance& c = world->cloths[cloth.index];
+    if (particle >= c.asset->particle_count)
+        return make_error(ErrorCode::out_of_range, "particle %u of %u", particle, c.asset->particle_count);
+    if (!finite(position_m) || !std::isfinite(inverse_mass_per_kg))
+        return make_error(ErrorCode::non_finite, "particle position or inverse mass is not finite");
+    if (inverse_mass_per_kg < 0.0f)
+        return make_error(ErrorCode::out_of_range, "inverse mass is negative");
+    const uint32_t s = c.asset->slot_of_particle[particle];
+    Particles& p = c.particles;
+    p.x[s] = p.previous_x[s] = position_m.x;
+    p.y[s] = p.previous_y[s] = position_m.y;
+    p.z[s] = p.previous_z[s] = position_m.z;
+    p.inverse_mass[s] = inverse_mass_per_kg;
+    return {};
+}
+
+Result reset_cloth(World* world, ClothId cloth) {
+    if (Result r = find_cloth(world, cloth); !r.ok()) return r;
+    place_at_start(world->cloths[cloth.index]);
+    return {};
+}
+
+Result view_cloth(const World* world, ClothId cloth, ClothView* out) {
+    if (Result r = find_cloth(world, cloth); !r.ok()) return r;
+    if (out == nullptr) return make_error(ErrorCode::invalid_argument, "out is null");
+    const ClothInstance& c = world->cloths[cloth.index];
+    out->asset = c.asset;
+    out->x = c.particles.x;
+    out->y = c.particles.y;
+    out->z = c.particles.z;
+    out->previous_x = c.particles.previous_x;
+    out->previous_y = c.particles.previous_y;
+    out->previous_z = c.particles.previous_z;
+    out->inverse_mass = c.particles.inverse_mass;
+    out->last_substep_s = c.previous_substep_s;
+    return {};
+}
+
+WorldStats world_stats(const World* world) { return world != nullptr ? world->stats : WorldStats{}; }
+
+SimdPath world_simd_path(const World* world) {
+    return world != nullptr && world->kernels != nullptr ? world->kernels->path : SimdPath::scalar;
+}
+
+}  // namespace weft

@@ -1,0 +1,46 @@
+// The world's private layout. Everything here lives inside the caller's memory block.
+#pragma once
+
+#include "kernels.h"
+#include "memory/arena.h"
+#include "weft/world.h"
+
+namespace weft {
+
+struct ClothInstance {
+    const ClothAsset* asset = nullptr;
+    ClothDesc settings;
+    Particles particles;
+    float previous_substep_s = 0.0f;  // h_prev of time-corrected Verlet; 0 before the first step
+};
+
+struct ColliderState {
+    ColliderDesc desc;
+    Vec3 motion_m{};  // how far p0 moved since the last step (drives friction)
+};
+
+struct World {
+    WorldDesc desc;
+    const Kernels* kernels = nullptr;
+    Arena arena;  // the rest of the block: particle arrays of cloths added later
+
+    ClothInstance* cloths = nullptr;  // [desc.max_cloths]
+    uint32_t cloth_count = 0;
+    ColliderState* colliders = nullptr;  // [desc.max_colliders]
+    uint32_t collider_count = 0;
+    uint32_t* validation_scratch = nullptr;  // [desc.max_particles], for validate_asset
+    uint32_t particles_used = 0;
+    uint32_t constraints_used = 0;
+
+    Vec3 gravity_m_s2{};
+    Vec3 wind_m_s{};
+    WorldStats stats;
+};
+
+// Creation-time validation that uses the world's scratch instead of allocating.
+Result validate_asset_with_scratch(const ClothAsset& asset, uint32_t* scratch, uint32_t scratch_count);
+
+// Formats a Result (printf-style, truncated to fit).
+Result make_error(ErrorCode code, const char* format, ...) __attribute__((format(printf, 2, 3)));
+
+}  // namespace weft

@@ -1,0 +1,63 @@
+// The seed paper's experiments (section 3) as in-memory meshes and ready-to-step worlds, shared by
+// weft-bench, weft-sim and the tests. Defaults reproduce the paper: a 2 m square cloth, dt 0.033 s,
+// 3 correction iterations.
+#pragma once
+
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "weft/weft.h"
+
+namespace weft::scenes {
+
+inline constexpr float kSeedTimeStep_s = 0.033f;
+inline constexpr float kCottonDensity_kg_m2 = 0.150f;  // Penava et al. 2014 (shared/data/README.md)
+
+// An n x n grid (n >= 2) of side `size_m`, one diagonal per quad (the paper's spring counts).
+// `vertical` lays it in the x-y plane (a flag, pole along y at x = x0), otherwise in the x-z plane
+// at height `height_m`, centred on the y axis. Masses are area-weighted (seed eq. 9).
+struct GridMesh {
+    uint32_t n = 0;
+    std::vector<Vec3> positions;
+    std::vector<uint32_t> triangles;
+    std::vector<float> masses;
+    std::vector<int32_t> lattice;  // (row, column) per particle
+    uint32_t index(uint32_t row, uint32_t col) const { return row * n + col; }
+    ClothMeshDesc desc() const;
+};
+GridMesh make_grid(uint32_t n, float width_m, float height_m_or_length, bool vertical, float y_m,
+                   float density_kg_m2 = kCottonDensity_kg_m2);
+
+enum class SeedScene { drape, flag, sphere };
+const char* scene_name(SeedScene scene);
+
+struct SceneOptions {
+    uint32_t n = 100;
+    SimdPath simd = SimdPath::automatic;
+    uint32_t substeps = 1;
+    uint32_t iterations = 3;
+    bool tethers = true;
+    float relaxation = 1.0f;
+    float wind_m_s = 20.0f;        // flag only, along +x
+    float sphere_inflation_m = 0.01f;
+    float sphere_friction = 0.0f;
+    float sphere_offset_m = 0.0f;  // drop point off the sphere's top, along x
+    bool profile = false;
+};
+
+// A world holding one seed scene, with the block it lives in.
+struct SeedWorld {
+    SeedScene scene{};
+    GridMesh mesh;
+    CookedCloth cooked;
+    std::unique_ptr<unsigned char[], void (*)(void*)> memory{nullptr, nullptr};
+    World* world = nullptr;
+    ClothId cloth{};
+    float dt_s = kSeedTimeStep_s;
+};
+
+// Builds the scene; returns the failure message (empty on success).
+std::string make_seed_world(SeedScene scene, const SceneOptions& options, SeedWorld* out);
+
+}  // namespace weft::scenes
