@@ -53,8 +53,9 @@ struct ColliderKernelArgs {
 struct Kernels {
     SimdPath path;
     void (*integrate)(const Particles&, const IntegrateArgs&);
-    void (*project_run)(const Particles&, const ClothAsset&, const ConstraintBatch&, const DistanceArgs&);
-    void (*project_indexed)(const Particles&, const ClothAsset&, const ConstraintBatch&, const DistanceArgs&);
+    // [0]: exact, [1]: sqrt_free (SpringProjection)
+    void (*project_run[2])(const Particles&, const ClothAsset&, const ConstraintBatch&, const DistanceArgs&);
+    void (*project_indexed[2])(const Particles&, const ClothAsset&, const ConstraintBatch&, const DistanceArgs&);
     void (*project_tethers)(const Particles&, const ClothAsset&, const TetherBatch&, float slack);
     void (*collide)(const Particles&, const ColliderKernelArgs&);
 };

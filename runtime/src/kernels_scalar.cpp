@@ -2,6 +2,7 @@
 // path is tested against.
 #include "collide/colliders.h"
 #include "constraints/distance.h"
+#include "constraints/tethers.h"
 #include "integrate/verlet.h"
 #include "kernels.h"
 
@@ -9,8 +10,10 @@ namespace weft {
 
 const Kernels& scalar_kernels() {
     using F = simd::Float1;
-    static constexpr Kernels kernels{SimdPath::scalar, integrate_verlet<F>, project_run<F>,
-                                     project_indexed, project_tethers<F>, collide<F>};
+    static constexpr Kernels kernels{SimdPath::scalar, integrate_verlet<F>,
+                                     {project_run<F, true>, project_run<F, false>},
+                                     {project_indexed<true>, project_indexed<false>},
+                                     project_tethers<F>, collide<F>};
     return kernels;
 }
 

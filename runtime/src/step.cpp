@@ -2,7 +2,8 @@
 //
 //   1. external forces: gravity and damping (folded into Verlet), wind drag and lift (eq. 2-4)
 //   2. Verlet integration
-//   3. spring correction: `iterations` sweeps over every constraint batch, then the tethers
+//   3. spring correction: `iterations` sweeps over every constraint batch, then the tethers once
+//      (measured: tethers after every sweep cost 2x the pass for a smaller max strain, docs/solver.md)
 //   4. collision test and response against the inflated colliders
 //
 // Which of these passes exist is decided by what the world and the cloth have (no wind feature,
@@ -59,14 +60,16 @@ void correct_springs(World& world, ClothInstance& cloth, float h) {
     DistanceArgs args[kConstraintKindCount];
     for (uint32_t kind = 0; kind < kConstraintKindCount; ++kind)
         args[kind] = {cloth.settings.compliance_m_per_n[kind] / (h * h), cloth.settings.relaxation};
-    const Kernels& k = *world.kernels;
+    const uint32_t mode = static_cast<uint32_t>(cloth.settings.projection);
+    const auto project_run = world.kernels->project_run[mode];
+    const auto project_indexed = world.kernels->project_indexed[mode];
     for (uint32_t b = 0; b < asset.batch_count; ++b) {
         const ConstraintBatch& batch = asset.batches[b];
         const DistanceArgs& a = args[static_cast<uint32_t>(batch.kind)];
         if (batch.layout == BatchLayout::run) {
-            k.project_run(cloth.particles, asset, batch, a);
+            project_run(cloth.particles, asset, batch, a);
         } else {
-            k.project_indexed(cloth.particles, asset, batch, a);
+            project_indexed(cloth.particles, asset, batch, a);
         }
     }
 }
@@ -104,10 +107,10 @@ void step_cloth(World& world, ClothInstance& cloth, float dt) {
     for (uint32_t substep = 0; substep < cloth.settings.substeps; ++substep) {
         apply_external_forces(world, cloth);                   // 1. F_ext: wind (gravity, damping in 2)
         integrate(world, cloth, h);                            // 2. Verlet
-        for (uint32_t it = 0; it < cloth.settings.iterations; ++it) {
+        for (uint32_t it = 0; it < cloth.settings.iterations; ++it)
             correct_springs(world, cloth, h);                  // 3. spring correction, batch by batch
-            apply_tethers(world, cloth);                       //    long-range attachments last
-        }
+        apply_tethers(world, cloth);                           //    then the long-range attachments
+
         collide(world, cloth, cloth.settings.substeps);        // 4. collision response
         cloth.previous_substep_s = h;
     }

@@ -88,6 +88,8 @@ Result check_cloth_settings(const ClothDesc& desc) {
     if (desc.asset == nullptr) return make_error(ErrorCode::invalid_argument, "cloth has no asset");
     if (desc.substeps < 1 || desc.substeps > 64)
         return make_error(ErrorCode::out_of_range, "substeps %u outside 1..64", desc.substeps);
+    if (desc.projection != SpringProjection::exact && desc.projection != SpringProjection::sqrt_free)
+        return make_error(ErrorCode::invalid_argument, "unknown spring projection");
     if (desc.iterations > 1000)
         return make_error(ErrorCode::out_of_range, "iterations %u outside 0..1000", desc.iterations);
     if (!std::isfinite(desc.relaxation) || !finite(desc.translation_m) ||

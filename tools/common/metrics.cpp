@@ -63,11 +63,14 @@ double max_tether_excess(const ClothView& c) {
     for (uint32_t i = 0; i < a.tether_batch_count; ++i) {
         const TetherBatch& t = a.tether_batches[i];
         for (uint32_t k = 0; k < t.lane_count; ++k) {
-            const float rest = a.tether_rest[t.first_lane + k];
-            if (std::isinf(rest) || rest <= 0.0f) continue;
-            const uint32_t p = t.particle0 + k, q = t.anchor;
-            const double dx = double(c.x[p]) - c.x[q], dy = double(c.y[p]) - c.y[q], dz = double(c.z[p]) - c.z[q];
-            worst = std::max(worst, std::sqrt(dx * dx + dy * dy + dz * dz) / rest - 1.0);
+            const uint32_t p = t.particle0 + k;
+            for (int side = 0; side < 2; ++side) {
+                const float rest = a.tether_rest[side][t.first_lane + k];
+                if (std::isinf(rest) || rest <= 0.0f) continue;
+                const uint32_t q = t.anchor[side];
+                const double dx = double(c.x[p]) - c.x[q], dy = double(c.y[p]) - c.y[q], dz = double(c.z[p]) - c.z[q];
+                worst = std::max(worst, std::sqrt(dx * dx + dy * dy + dz * dz) / rest - 1.0);
+            }
         }
     }
     return worst;

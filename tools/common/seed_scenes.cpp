@@ -71,7 +71,7 @@ std::string make_seed_world(SeedScene scene, const SceneOptions& o, SeedWorld* o
             break;
     }
     CookOptions cook;
-    cook.tethers_per_particle = 2;
+    cook.tethers_per_particle = o.tethers_per_particle;
     if (Result r = cook_cloth(out->mesh.desc(), cook, &out->cooked); !r.ok()) return r.message;
     const ClothAsset& asset = out->cooked.asset();
 
@@ -94,6 +94,8 @@ std::string make_seed_world(SeedScene scene, const SceneOptions& o, SeedWorld* o
     cd.iterations = o.iterations;
     cd.tethers = o.tethers;
     cd.relaxation = o.relaxation;
+    cd.damping_per_s = o.damping_per_s;
+    cd.projection = o.projection;
     if (Result r = add_cloth(out->world, cd, &out->cloth); !r.ok()) return r.message;
     if (scene == SeedScene::sphere) {
         ColliderDesc sphere;

@@ -38,7 +38,10 @@ struct SceneOptions {
     uint32_t substeps = 1;
     uint32_t iterations = 3;
     bool tethers = true;
+    uint32_t tethers_per_particle = 2;  // nearest pinned particles each particle is tethered to
     float relaxation = 1.0f;
+    float damping_per_s = ClothDesc{}.damping_per_s;
+    SpringProjection projection = SpringProjection::exact;
     float wind_m_s = 20.0f;        // flag only, along +x
     float sphere_inflation_m = 0.01f;
     float sphere_friction = 0.0f;

@@ -43,13 +43,16 @@ struct ConstraintBatch {
     uint16_t colour = 0;  // batches of one colour touch disjoint particles
 };
 
-// Long-range attachments (Kim, Chentanez, Mueller 2012): particles particle0 + k may not move
-// further than tether_rest[first_lane + k] from the pinned particle `anchor`.
+// Long-range attachments (Kim, Chentanez, Mueller 2012): particle particle0 + k may not move
+// further than tether_rest[0][first_lane + k] from the pinned particle anchor[0] (its nearest) nor
+// further than tether_rest[1][first_lane + k] from anchor[1] (its second nearest; the same particle
+// and length when it has one tether). Both limits are met exactly by one projection onto the
+// intersection of the two balls, so the pass leaves no particle beyond either tether.
 struct TetherBatch {
     uint32_t first_lane = 0;
-    uint32_t lane_count = 0;  // a multiple of kSimdWidth; padding lanes have an infinite rest length
+    uint32_t lane_count = 0;  // a multiple of kSimdWidth; padding lanes have infinite lengths
     uint32_t particle0 = 0;
-    uint32_t anchor = 0;
+    uint32_t anchor[2] = {0, 0};
 };
 
 // The asset proper. Every array is indexed by internal particle slot unless said otherwise; slots
@@ -80,10 +83,10 @@ struct ClothAsset {
     uint32_t constraints_on_runs = 0;
 
     uint32_t tether_lane_count = 0;
-    const float* tether_rest = nullptr;  // [tether_lane_count] metres, +infinity for padding lanes
+    const float* tether_rest[2] = {nullptr, nullptr};  // [tether_lane_count] metres, +inf on padding
     uint32_t tether_batch_count = 0;
     const TetherBatch* tether_batches = nullptr;
-    uint32_t tether_count = 0;  // real tethers
+    uint32_t tethered_particles = 0;  // real lanes
 
     uint32_t triangle_count = 0;
     const uint32_t* triangles = nullptr;  // [3 * triangle_count] slots, caller winding
@@ -117,8 +120,8 @@ struct ClothMeshDesc {
 };
 
 struct CookOptions {
-    // Tethers from each particle to this many nearest pinned particles (rest-mesh straight-line
-    // distance). 0 = no tethers in the asset.
+    // Tethers from each free particle to this many nearest pinned particles (0, 1 or 2), measured
+    // in a straight line on the rest mesh. 0 = no tethers in the asset.
     uint32_t tethers_per_particle = 2;
     // Allow runs to bridge gaps of up to this many missing constraints with padding lanes.
     uint32_t max_run_gap = 4;
@@ -143,13 +146,13 @@ public:
     std::vector<float> rest_length, lane_weight;
     std::vector<uint32_t> index_a, index_b;
     std::vector<ConstraintBatch> batches;
-    std::vector<float> tether_rest;
+    std::vector<float> tether_rest[2];
     std::vector<TetherBatch> tether_batches;
     std::vector<uint32_t> triangles;
 
     // Points asset() at the vectors; call after changing them.
     void refresh_asset(uint32_t particle_count, uint32_t colour_count, const uint32_t counts[3],
-                       uint32_t on_runs, uint32_t tether_count);
+                       uint32_t on_runs, uint32_t tethered_particles);
 
 private:
     ClothAsset asset_;

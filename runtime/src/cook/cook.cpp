@@ -31,17 +31,18 @@ CookedCloth& CookedCloth::operator=(CookedCloth&& other) noexcept {
     index_a = std::move(other.index_a);
     index_b = std::move(other.index_b);
     batches = std::move(other.batches);
-    tether_rest = std::move(other.tether_rest);
+    tether_rest[0] = std::move(other.tether_rest[0]);
+    tether_rest[1] = std::move(other.tether_rest[1]);
     tether_batches = std::move(other.tether_batches);
     triangles = std::move(other.triangles);
     const ClothAsset& a = other.asset_;
-    refresh_asset(a.particle_count, a.colour_count, a.constraint_count, a.constraints_on_runs, a.tether_count);
+    refresh_asset(a.particle_count, a.colour_count, a.constraint_count, a.constraints_on_runs, a.tethered_particles);
     other.asset_ = ClothAsset();
     return *this;
 }
 
 void CookedCloth::refresh_asset(uint32_t particle_count, uint32_t colour_count, const uint32_t counts[3],
-                                uint32_t on_runs, uint32_t tether_count) {
+                                uint32_t on_runs, uint32_t tethered_particles) {
     ClothAsset& a = asset_;
     a = ClothAsset();
     a.particle_count = particle_count;
@@ -62,11 +63,12 @@ void CookedCloth::refresh_asset(uint32_t particle_count, uint32_t colour_count, 
     a.colour_count = colour_count;
     for (uint32_t k = 0; k < kConstraintKindCount; ++k) a.constraint_count[k] = counts[k];
     a.constraints_on_runs = on_runs;
-    a.tether_lane_count = uint32_t(tether_rest.size());
-    a.tether_rest = tether_rest.data();
+    a.tether_lane_count = uint32_t(tether_rest[0].size());
+    a.tether_rest[0] = tether_rest[0].data();
+    a.tether_rest[1] = tether_rest[1].data();
     a.tether_batch_count = uint32_t(tether_batches.size());
     a.tether_batches = tether_batches.data();
-    a.tether_count = tether_count;
+    a.tethered_particles = tethered_particles;
     a.triangle_count = uint32_t(triangles.size() / 3);
     a.triangles = triangles.data();
 }
@@ -317,56 +319,77 @@ void emit_batches(const std::vector<Unit>& units, const std::vector<Spring>& s, 
     }
 }
 
-// Step 5: tethers from every free particle to its nearest pinned particles (straight line on the
-// rest mesh), grouped by anchor into runs of consecutive slots.
-uint32_t build_tethers(const ClothMeshDesc& mesh, const std::vector<uint32_t>& slot_of_particle,
-                       const std::vector<float>& inverse_mass, const CookOptions& options, CookedCloth& out) {
+// Step 5: tethers from every free particle to its one or two nearest pinned particles (straight
+// line on the rest mesh), grouped by anchor pair into runs of consecutive slots.
+Result build_tethers(const ClothMeshDesc& mesh, const std::vector<uint32_t>& slot_of_particle,
+                     const std::vector<float>& inverse_mass, const CookOptions& options, CookedCloth& out,
+                     uint32_t* tethered) {
+    *tethered = 0;
+    if (options.tethers_per_particle > 2)
+        return make_error(ErrorCode::out_of_range, "tethers_per_particle is %u, at most 2", options.tethers_per_particle);
     const Vec3* rest = mesh.rest_positions ? mesh.rest_positions : mesh.positions;
     std::vector<uint32_t> pinned;
     for (uint32_t p = 0; p < mesh.particle_count; ++p)
         if (inverse_mass[p] == 0.0f) pinned.push_back(p);
-    if (pinned.empty() || options.tethers_per_particle == 0) return 0;
-    const uint32_t per_particle = std::min<uint32_t>(options.tethers_per_particle, uint32_t(pinned.size()));
+    if (pinned.empty() || options.tethers_per_particle == 0) return {};
+    const bool two = options.tethers_per_particle == 2 && pinned.size() >= 2;
 
     struct Tether {
-        uint32_t anchor_slot, slot;
-        float rest;
+        uint32_t anchor[2], slot;
+        float rest[2];
     };
     std::vector<Tether> tethers;
-    std::vector<std::pair<float, uint32_t>> nearest;
     for (uint32_t p = 0; p < mesh.particle_count; ++p) {
         if (inverse_mass[p] == 0.0f) continue;
-        nearest.clear();
-        for (uint32_t q : pinned) nearest.push_back({distance(rest[p], rest[q]), q});
-        std::partial_sort(nearest.begin(), nearest.begin() + per_particle, nearest.end());
-        for (uint32_t k = 0; k < per_particle; ++k)
-            tethers.push_back({slot_of_particle[nearest[k].second], slot_of_particle[p], nearest[k].first});
+        float best[2] = {std::numeric_limits<float>::infinity(), std::numeric_limits<float>::infinity()};
+        uint32_t anchor[2] = {0, 0};
+        for (uint32_t q : pinned) {  // the two nearest, ties to the lower index
+            const float d = distance(rest[p], rest[q]);
+            if (d < best[0]) {
+                best[1] = best[0], anchor[1] = anchor[0];
+                best[0] = d, anchor[0] = q;
+            } else if (d < best[1]) {
+                best[1] = d, anchor[1] = q;
+            }
+        }
+        if (!two) best[1] = best[0], anchor[1] = anchor[0];
+        Tether t{{slot_of_particle[anchor[0]], slot_of_particle[anchor[1]]}, slot_of_particle[p], {best[0], best[1]}};
+        if (t.anchor[1] < t.anchor[0]) std::swap(t.anchor[0], t.anchor[1]), std::swap(t.rest[0], t.rest[1]);
+        tethers.push_back(t);
     }
     std::sort(tethers.begin(), tethers.end(), [](const Tether& l, const Tether& r) {
-        return l.anchor_slot != r.anchor_slot ? l.anchor_slot < r.anchor_slot : l.slot < r.slot;
+        if (l.anchor[0] != r.anchor[0]) return l.anchor[0] < r.anchor[0];
+        if (l.anchor[1] != r.anchor[1]) return l.anchor[1] < r.anchor[1];
+        return l.slot < r.slot;
     });
     const float padding = std::numeric_limits<float>::infinity();
+    auto emit = [&](float a, float b) {
+        out.tether_rest[0].push_back(a);
+        out.tether_rest[1].push_back(b);
+    };
     for (size_t i = 0; i < tethers.size();) {
         size_t j = i + 1;
-        while (j < tethers.size() && tethers[j].anchor_slot == tethers[i].anchor_slot &&
-               tethers[j].slot - tethers[j - 1].slot <= kSimdWidth)
+        while (j < tethers.size() && tethers[j].anchor[0] == tethers[i].anchor[0] &&
+               tethers[j].anchor[1] == tethers[i].anchor[1] && tethers[j].slot - tethers[j - 1].slot <= kSimdWidth)
             ++j;
         TetherBatch batch;
-        batch.first_lane = uint32_t(out.tether_rest.size());
+        batch.first_lane = uint32_t(out.tether_rest[0].size());
         batch.particle0 = tethers[i].slot;
-        batch.anchor = tethers[i].anchor_slot;
+        batch.anchor[0] = tethers[i].anchor[0];
+        batch.anchor[1] = tethers[i].anchor[1];
         uint32_t next = 0;
         for (size_t k = i; k < j; ++k) {
-            for (; batch.particle0 + next < tethers[k].slot; ++next) out.tether_rest.push_back(padding);
-            out.tether_rest.push_back(tethers[k].rest);
+            for (; batch.particle0 + next < tethers[k].slot; ++next) emit(padding, padding);
+            emit(tethers[k].rest[0], tethers[k].rest[1]);
             ++next;
         }
         batch.lane_count = round_up(next, kSimdWidth);
-        for (; next < batch.lane_count; ++next) out.tether_rest.push_back(padding);
+        for (; next < batch.lane_count; ++next) emit(padding, padding);
         out.tether_batches.push_back(batch);
         i = j;
     }
-    return uint32_t(tethers.size());
+    *tethered = uint32_t(tethers.size());
+    return {};
 }
 
 }  // namespace
@@ -405,7 +428,9 @@ Result cook_cloth(const ClothMeshDesc& mesh, const CookOptions& options, CookedC
     const uint32_t colours = colour_units(units, springs, slot_count);
     uint32_t on_runs = 0;
     emit_batches(units, springs, colours, cooked, on_runs);
-    const uint32_t tether_count = build_tethers(mesh, cooked.slot_of_particle, inverse_mass, options, cooked);
+    uint32_t tethered = 0;
+    if (Result r = build_tethers(mesh, cooked.slot_of_particle, inverse_mass, options, cooked, &tethered); !r.ok())
+        return r;
 
     // Slots: every index a padded lane may touch exists; padding slots are pinned and at the origin.
     uint32_t touched = slot_count;
@@ -429,7 +454,7 @@ Result cook_cloth(const ClothMeshDesc& mesh, const CookOptions& options, CookedC
     cooked.triangles.resize(size_t(mesh.triangle_count) * 3);
     for (size_t i = 0; i < cooked.triangles.size(); ++i) cooked.triangles[i] = cooked.slot_of_particle[mesh.triangles[i]];
 
-    cooked.refresh_asset(n, colours, counts, on_runs, tether_count);
+    cooked.refresh_asset(n, colours, counts, on_runs, tethered);
     if (Result r = validate_asset(cooked.asset()); !r.ok()) return r;  // cooking bug: never hand it out
     *out = std::move(cooked);
     return {};

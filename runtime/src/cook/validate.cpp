@@ -124,7 +124,7 @@ Result check_colours(const ClothAsset& a, uint32_t* scratch) {
 }
 
 Result check_tethers(const ClothAsset& a) {
-    if (a.tether_batch_count > 0 && (!a.tether_batches || !a.tether_rest))
+    if (a.tether_batch_count > 0 && (!a.tether_batches || !a.tether_rest[0] || !a.tether_rest[1]))
         return make_error(ErrorCode::corrupt_asset, "asset is missing its tether arrays");
     uint32_t next_lane = 0, real = 0;
     for (uint32_t i = 0; i < a.tether_batch_count; ++i) {
@@ -133,18 +133,20 @@ Result check_tethers(const ClothAsset& a) {
             t.lane_count > a.tether_lane_count - t.first_lane)
             return make_error(ErrorCode::corrupt_asset, "tether batch %u does not tile the lanes", i);
         next_lane += t.lane_count;
-        if (t.anchor >= a.slot_count || t.particle0 > a.slot_count - t.lane_count)
+        if (t.anchor[0] >= a.slot_count || t.anchor[1] >= a.slot_count || t.particle0 > a.slot_count - t.lane_count)
             return make_error(ErrorCode::corrupt_asset, "tether batch %u reaches past the slots", i);
-        if (a.inverse_mass[t.anchor] != 0.0f)
+        if (a.inverse_mass[t.anchor[0]] != 0.0f || a.inverse_mass[t.anchor[1]] != 0.0f)
             return make_error(ErrorCode::corrupt_asset, "tether batch %u anchors to a free particle", i);
         for (uint32_t k = 0; k < t.lane_count; ++k) {
-            const float r = a.tether_rest[t.first_lane + k];
-            if (std::isinf(r) && r > 0.0f) continue;  // padding
-            if (!finite_nonnegative(r)) return make_error(ErrorCode::corrupt_asset, "tether %u has a bad length", i);
+            const float r0 = a.tether_rest[0][t.first_lane + k], r1 = a.tether_rest[1][t.first_lane + k];
+            const bool pad0 = std::isinf(r0) && r0 > 0.0f, pad1 = std::isinf(r1) && r1 > 0.0f;
+            if (pad0 && pad1) continue;  // padding
+            if (!finite_nonnegative(r0) || !finite_nonnegative(r1) || r0 > 1e6f || r1 > 1e6f)
+                return make_error(ErrorCode::corrupt_asset, "tether lane %u has a bad length", t.first_lane + k);
             ++real;
         }
     }
-    if (next_lane != a.tether_lane_count || real != a.tether_count)
+    if (next_lane != a.tether_lane_count || real != a.tethered_particles)
         return make_error(ErrorCode::corrupt_asset, "tether lanes disagree with their batches");
     return {};
 }

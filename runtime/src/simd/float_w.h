@@ -60,6 +60,7 @@ inline Float1 keep_if(Mask1 m, Float1 a) { return {m.v ? a.v : 0.0f}; }
 // a where the mask holds, b elsewhere.
 inline Float1 select(Mask1 m, Float1 a, Float1 b) { return {m.v ? a.v : b.v}; }
 inline bool any(Mask1 m) { return m.v; }
+inline bool all(Mask1 m) { return m.v; }
 
 #if WEFT_HAVE_AVX2
 // --- AVX2 + FMA: eight lanes --------------------------------------------------------------------
@@ -92,6 +93,7 @@ inline Mask8 operator&(Mask8 a, Mask8 b) { return {_mm256_and_ps(a.v, b.v)}; }
 inline Float8 keep_if(Mask8 m, Float8 a) { return {_mm256_and_ps(m.v, a.v)}; }
 inline Float8 select(Mask8 m, Float8 a, Float8 b) { return {_mm256_blendv_ps(b.v, a.v, m.v)}; }
 inline bool any(Mask8 m) { return _mm256_movemask_ps(m.v) != 0; }
+inline bool all(Mask8 m) { return _mm256_movemask_ps(m.v) == 0xFF; }
 #endif
 
 }  // namespace weft::simd
