@@ -25,6 +25,21 @@ struct Particles {
     float* wind_z = nullptr;
 };
 
+// The coarse level's state for one cloth: node positions and their displacement this substep.
+struct CoarseState {
+    float* x = nullptr;  // [coarse_node_count]
+    float* y = nullptr;
+    float* z = nullptr;
+    float* dx = nullptr;
+    float* dy = nullptr;
+    float* dz = nullptr;
+    // Lattice form: two coarse rows interpolated to every plane column ([lattice_plane_cols + pad]
+    // each: row I in [0..2], row I + 1 in [3..5], one per axis).
+    float* column_rows[6] = {};
+};
+// Padding after the node arrays: the lattice form reads a coarse row as a 32-entry table.
+inline constexpr uint32_t kCoarseNodePadding = 40;
+
 // Verlet (seed section 1.1): x' = x + (x - x_prev) * (h / h_prev) * damping + (g + a_wind) h^2.
 struct IntegrateArgs {
     float h_s;             // this substep
@@ -58,6 +73,7 @@ struct Kernels {
     void (*project_indexed[2])(const Particles&, const ClothAsset&, const ConstraintBatch&, const DistanceArgs&);
     void (*project_tethers)(const Particles&, const ClothAsset&, const TetherBatch&, float slack);
     void (*collide)(const Particles&, const ColliderKernelArgs&);
+    void (*apply_coarse)(const Particles&, const ClothAsset&, const CoarseState&);
 };
 
 const Kernels& scalar_kernels();

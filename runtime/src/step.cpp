@@ -2,7 +2,8 @@
 //
 //   1. external forces: gravity and damping (folded into Verlet), wind drag and lift (eq. 2-4)
 //   2. Verlet integration
-//   3. spring correction: `iterations` sweeps over every constraint batch, then the tethers once
+//   3. spring correction: one sweep of the coarse level (if any), `iterations` sweeps over every
+//      constraint batch, then the tethers once
 //      (measured: tethers after every sweep cost 2x the pass for a smaller max strain, docs/solver.md)
 //   4. collision test and response against the inflated colliders
 //
@@ -13,6 +14,7 @@
 #include <cmath>
 
 #include "aerodynamics/wind.h"
+#include "constraints/coarse.h"
 #include "world_internal.h"
 
 namespace weft {
@@ -52,6 +54,13 @@ void integrate(World& world, ClothInstance& cloth, float h) {
     const IntegrateArgs args{h, ratio * std::exp(-cloth.settings.damping_per_s * h), world.gravity_m_s2,
                              world.desc.wind};
     world.kernels->integrate(cloth.particles, args);
+}
+
+void correct_coarse_level(World& world, ClothInstance& cloth) {
+    if (!cloth.settings.coarse_level || cloth.asset->coarse_node_count == 0) return;
+    PassTimer timer(world, Pass::coarse);
+    solve_coarse_level(cloth.particles, *cloth.asset, cloth.coarse, cloth.settings.relaxation);
+    world.kernels->apply_coarse(cloth.particles, *cloth.asset, cloth.coarse);
 }
 
 void correct_springs(World& world, ClothInstance& cloth, float h) {
@@ -107,8 +116,9 @@ void step_cloth(World& world, ClothInstance& cloth, float dt) {
     for (uint32_t substep = 0; substep < cloth.settings.substeps; ++substep) {
         apply_external_forces(world, cloth);                   // 1. F_ext: wind (gravity, damping in 2)
         integrate(world, cloth, h);                            // 2. Verlet
+        correct_coarse_level(world, cloth);                    // 3. spring correction: coarse level,
         for (uint32_t it = 0; it < cloth.settings.iterations; ++it)
-            correct_springs(world, cloth, h);                  // 3. spring correction, batch by batch
+            correct_springs(world, cloth, h);                  //    then the springs, batch by batch
         apply_tethers(world, cloth);                           //    then the long-range attachments
 
         collide(world, cloth, cloth.settings.substeps);        // 4. collision response

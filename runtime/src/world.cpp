@@ -41,6 +41,7 @@ const char* pass_name(Pass pass) {
     switch (pass) {
         case Pass::wind: return "wind";
         case Pass::integrate: return "integrate";
+        case Pass::coarse: return "coarse";
         case Pass::constraints: return "constraints";
         case Pass::tethers: return "tethers";
         case Pass::collide: return "collide";
@@ -65,6 +66,11 @@ ArenaSizer size_world(const WorldDesc& desc) {
     // Each cloth's arrays start on a cache line; every cloth may waste up to one line per array.
     const size_t arrays = arrays_per_cloth(desc);
     sizer.add(arrays * (sizeof(float) * size_t(desc.max_particles) + kCacheLine * desc.max_cloths));
+    // Coarse level: 6 node arrays (padded), 6 interpolated rows of at most a quarter of the slots.
+    sizer.add(6 * (sizeof(float) * (size_t(desc.max_coarse_nodes) + kCoarseNodePadding * desc.max_cloths) +
+                   kCacheLine * desc.max_cloths));
+    sizer.add(6 * (sizeof(float) * (size_t(desc.max_particles) / 4 + kSimdWidth * desc.max_cloths) +
+                   kCacheLine * desc.max_cloths));
     sizer.bytes += kCacheLine;  // the caller's block may start anywhere on a cache line
     return sizer;
 }
@@ -72,7 +78,8 @@ ArenaSizer size_world(const WorldDesc& desc) {
 Result check_world_desc(const WorldDesc& desc) {
     if (desc.max_cloths == 0) return make_error(ErrorCode::invalid_argument, "max_cloths is 0");
     if (desc.max_cloths > (1u << 16) || desc.max_colliders > (1u << 16) ||
-        desc.max_particles > (1u << 28) || desc.max_constraints > (1u << 30))
+        desc.max_particles > (1u << 28) || desc.max_constraints > (1u << 30) ||
+        desc.max_coarse_nodes > (1u << 28))
         return make_error(ErrorCode::out_of_range, "a capacity is absurdly large");
     if (!finite(desc.gravity_m_s2) || !std::isfinite(desc.air_density_kg_m3))
         return make_error(ErrorCode::non_finite, "gravity or air density is not finite");
@@ -165,6 +172,13 @@ Result find_cloth(const World* world, ClothId id) {
 
 }  // namespace
 
+void reserve_cloth(WorldDesc& desc, const ClothAsset& asset) {
+    desc.max_cloths += 1;
+    desc.max_particles += asset.slot_count;
+    desc.max_constraints += asset.lane_count;
+    desc.max_coarse_nodes += asset.coarse_node_count;
+}
+
 MemoryRequirements world_memory_requirements(const WorldDesc& desc) {
     MemoryRequirements req;
     if (!check_world_desc(desc).ok()) return req;
@@ -216,16 +230,22 @@ Result add_cloth(World* world, const ClothDesc& desc, ClothId* out_cloth) {
     if (asset.lane_count > world->desc.max_constraints - world->constraints_used)
         return make_error(ErrorCode::capacity_exceeded, "cloth needs %u constraint lanes, %u left",
                           asset.lane_count, world->desc.max_constraints - world->constraints_used);
+    if (asset.coarse_node_count > world->desc.max_coarse_nodes - world->coarse_nodes_used)
+        return make_error(ErrorCode::capacity_exceeded, "cloth needs %u coarse nodes, %u left",
+                          asset.coarse_node_count, world->desc.max_coarse_nodes - world->coarse_nodes_used);
     if (Result r = validate_asset_with_scratch(asset, world->validation_scratch, world->desc.max_particles);
         !r.ok())
         return r;
 
     // Carve the particle arrays; on failure restore the arena so nothing changes.
     const Arena saved = world->arena;
-    float* arrays[10] = {};
+    float* arrays[22] = {};
     const uint32_t count = arrays_per_cloth(world->desc);
-    for (uint32_t i = 0; i < count; ++i) {
-        arrays[i] = world->arena.allocate_array<float>(asset.slot_count);
+    for (uint32_t i = 0; i < count + 12; ++i) {
+        const uint32_t length = i < count       ? asset.slot_count
+                                : i < count + 6 ? asset.coarse_node_count + kCoarseNodePadding
+                                                : asset.lattice_plane_cols + kSimdWidth;
+        arrays[i] = world->arena.allocate_array<float>(length);
         if (arrays[i] == nullptr) {
             world->arena = saved;
             return make_error(ErrorCode::capacity_exceeded, "world memory exhausted");
@@ -244,12 +264,25 @@ Result add_cloth(World* world, const ClothDesc& desc, ClothId* out_cloth) {
     p.previous_y = arrays[4];
     p.previous_z = arrays[5];
     p.inverse_mass = arrays[6];
-    p.wind_x = arrays[7];
-    p.wind_y = arrays[8];
-    p.wind_z = arrays[9];
+    if (world->desc.wind) {
+        p.wind_x = arrays[7];
+        p.wind_y = arrays[8];
+        p.wind_z = arrays[9];
+    }
+    CoarseState& c = cloth.coarse;
+    c.x = arrays[count + 0];
+    c.y = arrays[count + 1];
+    c.z = arrays[count + 2];
+    c.dx = arrays[count + 3];
+    c.dy = arrays[count + 4];
+    c.dz = arrays[count + 5];
+    for (uint32_t i = 0; i < 6; ++i) c.column_rows[i] = arrays[count + 6 + i];
+    for (float* node_array : {c.x, c.y, c.z, c.dx, c.dy, c.dz})  // the padding is read, never used
+        for (uint32_t i = 0; i < asset.coarse_node_count + kCoarseNodePadding; ++i) node_array[i] = 0.0f;
     place_at_start(cloth);
     world->particles_used += asset.slot_count;
     world->constraints_used += asset.lane_count;
+    world->coarse_nodes_used += asset.coarse_node_count;
     out_cloth->index = world->cloth_count++;
     return {};
 }

@@ -11,6 +11,7 @@ struct ClothInstance {
     const ClothAsset* asset = nullptr;
     ClothDesc settings;
     Particles particles;
+    CoarseState coarse;
     float previous_substep_s = 0.0f;  // h_prev of time-corrected Verlet; 0 before the first step
 };
 
@@ -31,6 +32,7 @@ struct World {
     uint32_t* validation_scratch = nullptr;  // [desc.max_particles], for validate_asset
     uint32_t particles_used = 0;
     uint32_t constraints_used = 0;
+    uint32_t coarse_nodes_used = 0;
 
     Vec3 gravity_m_s2{};
     Vec3 wind_m_s{};

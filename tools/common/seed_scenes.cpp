@@ -72,13 +72,13 @@ std::string make_seed_world(SeedScene scene, const SceneOptions& o, SeedWorld* o
     }
     CookOptions cook;
     cook.tethers_per_particle = o.tethers_per_particle;
+    cook.coarse_spacing_m = o.coarse_spacing_m;
     if (Result r = cook_cloth(out->mesh.desc(), cook, &out->cooked); !r.ok()) return r.message;
     const ClothAsset& asset = out->cooked.asset();
 
     WorldDesc wd;
-    wd.max_cloths = 1;
-    wd.max_particles = asset.slot_count;
-    wd.max_constraints = asset.lane_count;
+    wd.max_cloths = 0;
+    reserve_cloth(wd, asset);
     wd.max_colliders = scene == SeedScene::sphere ? 1 : 0;
     wd.wind = scene == SeedScene::flag;
     wd.simd = o.simd;
@@ -94,6 +94,7 @@ std::string make_seed_world(SeedScene scene, const SceneOptions& o, SeedWorld* o
     cd.iterations = o.iterations;
     cd.tethers = o.tethers;
     cd.relaxation = o.relaxation;
+    cd.coarse_level = o.coarse_level;
     cd.damping_per_s = o.damping_per_s;
     cd.projection = o.projection;
     if (Result r = add_cloth(out->world, cd, &out->cloth); !r.ok()) return r.message;

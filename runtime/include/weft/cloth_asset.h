@@ -26,6 +26,9 @@ inline constexpr uint32_t kNoParticle = 0xFFFFFFFFu;
 enum class ConstraintKind : uint8_t { stretch = 0, shear = 1, bend = 2 };
 inline constexpr uint32_t kConstraintKindCount = 3;
 
+// Coarse nodes that move one particle (ClothAsset::coarse_weight).
+inline constexpr uint32_t kCoarseWeights = 4;
+
 // How a batch's lanes find their particles.
 enum class BatchLayout : uint8_t {
     run = 0,      // lane k joins particle slots a0 + k and b0 + k: plain vector loads, no gathers
@@ -91,6 +94,33 @@ struct ClothAsset {
     uint32_t triangle_count = 0;
     const uint32_t* triangles = nullptr;  // [3 * triangle_count] slots, caller winding
 
+    // The coarse level (hierarchical position-based dynamics, Mueller 2008): a sparse subset of the
+    // particles (nodes, about coarse_spacing_m apart) joined by distance constraints, solved once per
+    // substep before the fine sweeps; every particle then moves by the weighted displacement of up
+    // to kCoarseWeights nearby nodes. It carries a correction across the cloth in one sweep that the
+    // fine springs would need tens of sweeps to propagate. Absent when coarse_node_count is 0.
+    uint32_t coarse_node_count = 0;
+    const uint32_t* coarse_node_slot = nullptr;    // [coarse_node_count]
+    const float* coarse_inverse_mass = nullptr;    // [coarse_node_count] 1/kg, 0 = pinned node
+    uint32_t coarse_constraint_count = 0;
+    const uint32_t* coarse_a = nullptr;            // [coarse_constraint_count] node indices
+    const uint32_t* coarse_b = nullptr;
+    const float* coarse_rest = nullptr;            // metres
+    const uint32_t* coarse_weight_node[kCoarseWeights] = {};  // [slot_count] node (0 where weight is 0)
+    const float* coarse_weight[kCoarseWeights] = {};          // [slot_count] partition of unity, 0 on pinned
+
+    // Lattice form, set when every particle sits on one full rectangular lattice (the seed's grids):
+    // nodes on a sub-lattice, node (I, J) = I * coarse_lattice_cols + J, and the displacement
+    // interpolated bilinearly along each plane row with no gathers. The weights above then hold
+    // the same bilinear weights (the general form, kept as the reference).
+    uint32_t coarse_lattice_cols = 0;  // 0: use the general form
+    uint32_t lattice_plane_rows = 0;   // slot of plane row r, column c: plane * rows * cols + r * cols + c
+    uint32_t lattice_plane_cols = 0;
+    const uint32_t* coarse_row_node[2] = {};  // [lattice_plane_rows] per row parity: coarse row I
+    const float* coarse_row_frac[2] = {};     // [lattice_plane_rows] weight of coarse row I + 1
+    const uint32_t* coarse_col_node[2] = {};  // [lattice_plane_cols] per column parity: coarse column J
+    const float* coarse_col_frac[2] = {};     // [lattice_plane_cols] weight of coarse column J + 1
+
     uint32_t total_constraints() const {
         return constraint_count[0] + constraint_count[1] + constraint_count[2];
     }
@@ -127,6 +157,8 @@ struct CookOptions {
     uint32_t max_run_gap = 4;
     // Shortest run worth a SIMD batch; shorter sequences go to the indexed path.
     uint32_t min_run_lanes = 2 * kSimdWidth;
+    // Spacing of the coarse level's nodes along the mesh, metres; 0 = no coarse level.
+    float coarse_spacing_m = 0.13f;
 };
 
 // Owns the arrays a cooked ClothAsset points into. Move-only.
@@ -135,8 +167,9 @@ public:
     CookedCloth() = default;
     CookedCloth(const CookedCloth&) = delete;
     CookedCloth& operator=(const CookedCloth&) = delete;
-    CookedCloth(CookedCloth&&) noexcept;
-    CookedCloth& operator=(CookedCloth&&) noexcept;
+    // Moving a vector keeps its buffer, so the moved asset's pointers stay valid.
+    CookedCloth(CookedCloth&&) noexcept = default;
+    CookedCloth& operator=(CookedCloth&&) noexcept = default;
 
     const ClothAsset& asset() const { return asset_; }
 
@@ -149,10 +182,22 @@ public:
     std::vector<float> tether_rest[2];
     std::vector<TetherBatch> tether_batches;
     std::vector<uint32_t> triangles;
+    std::vector<uint32_t> coarse_node_slot, coarse_a, coarse_b;
+    std::vector<float> coarse_inverse_mass, coarse_rest;
+    std::vector<uint32_t> coarse_weight_node[kCoarseWeights];
+    std::vector<float> coarse_weight[kCoarseWeights];
+    uint32_t coarse_lattice_cols = 0, lattice_plane_rows = 0, lattice_plane_cols = 0;
+    std::vector<uint32_t> coarse_row_node[2], coarse_col_node[2];
+    std::vector<float> coarse_row_frac[2], coarse_col_frac[2];
 
     // Points asset() at the vectors; call after changing them.
     void refresh_asset(uint32_t particle_count, uint32_t colour_count, const uint32_t counts[3],
                        uint32_t on_runs, uint32_t tethered_particles);
+    void refresh_asset() {
+        const ClothAsset a = asset_;
+        refresh_asset(a.particle_count, a.colour_count, a.constraint_count, a.constraints_on_runs,
+                      a.tethered_particles);
+    }
 
 private:
     ClothAsset asset_;

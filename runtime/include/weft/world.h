@@ -36,6 +36,7 @@ struct WorldDesc {
     uint32_t max_particles = 0;    // summed over cloth instances (their asset's particle slots)
     uint32_t max_constraints = 0;  // summed constraint lanes the step may project per sweep
     uint32_t max_colliders = 0;
+    uint32_t max_coarse_nodes = 0;  // summed ClothAsset::coarse_node_count of the cloths
 
     // Features: a pass that is not enabled is not in the step at all (and costs nothing).
     bool wind = false;
@@ -71,6 +72,7 @@ struct ClothDesc {
     // 1/s brings the seed's hanging drape to rest (mean speed < 1 cm/s) in about 8 s.
     float damping_per_s = 1.0f;
 
+    bool coarse_level = true;     // use the asset's coarse level, if it has one
     bool tethers = true;          // use the asset's long-range attachments
     float tether_slack = 0.0f;    // allowed extension before a tether acts, fraction of its length
 
@@ -87,7 +89,7 @@ struct ClothId {
 };
 
 // The passes of a step, in the order they run (seed section 2.3).
-enum class Pass : uint8_t { wind = 0, integrate, constraints, tethers, collide, count };
+enum class Pass : uint8_t { wind = 0, integrate, coarse, constraints, tethers, collide, count };
 const char* pass_name(Pass pass);
 
 struct WorldStats {
@@ -100,6 +102,10 @@ struct WorldStats {
 };
 
 // --- creation -------------------------------------------------------------------------------
+
+// Adds to `desc` the capacity one instance of `asset` needs (a cloth, its particle slots, constraint
+// lanes and coarse nodes).
+void reserve_cloth(WorldDesc& desc, const ClothAsset& asset);
 
 MemoryRequirements world_memory_requirements(const WorldDesc& desc);
 

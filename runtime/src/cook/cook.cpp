@@ -7,39 +7,16 @@
 //   3. runs: springs with the same slot offset b - a and consecutive a, padded to kSimdWidth
 //   4. colouring: runs and leftover springs into particle-disjoint colours, greedily
 //   5. tethers to the nearest pinned particles, grouped by anchor into runs
+//   6. the coarse level (cook/coarse.cpp)
 #include <algorithm>
 #include <cmath>
 #include <limits>
 #include <utility>
 
+#include "cook/coarse.h"
 #include "world_internal.h"
 
 namespace weft {
-
-CookedCloth::CookedCloth(CookedCloth&& other) noexcept { *this = std::move(other); }
-
-CookedCloth& CookedCloth::operator=(CookedCloth&& other) noexcept {
-    if (this == &other) return *this;
-    slot_of_particle = std::move(other.slot_of_particle);
-    particle_of_slot = std::move(other.particle_of_slot);
-    start_x = std::move(other.start_x);
-    start_y = std::move(other.start_y);
-    start_z = std::move(other.start_z);
-    inverse_mass = std::move(other.inverse_mass);
-    rest_length = std::move(other.rest_length);
-    lane_weight = std::move(other.lane_weight);
-    index_a = std::move(other.index_a);
-    index_b = std::move(other.index_b);
-    batches = std::move(other.batches);
-    tether_rest[0] = std::move(other.tether_rest[0]);
-    tether_rest[1] = std::move(other.tether_rest[1]);
-    tether_batches = std::move(other.tether_batches);
-    triangles = std::move(other.triangles);
-    const ClothAsset& a = other.asset_;
-    refresh_asset(a.particle_count, a.colour_count, a.constraint_count, a.constraints_on_runs, a.tethered_particles);
-    other.asset_ = ClothAsset();
-    return *this;
-}
 
 void CookedCloth::refresh_asset(uint32_t particle_count, uint32_t colour_count, const uint32_t counts[3],
                                 uint32_t on_runs, uint32_t tethered_particles) {
@@ -71,6 +48,26 @@ void CookedCloth::refresh_asset(uint32_t particle_count, uint32_t colour_count, 
     a.tethered_particles = tethered_particles;
     a.triangle_count = uint32_t(triangles.size() / 3);
     a.triangles = triangles.data();
+    a.coarse_node_count = uint32_t(coarse_node_slot.size());
+    a.coarse_node_slot = coarse_node_slot.data();
+    a.coarse_inverse_mass = coarse_inverse_mass.data();
+    a.coarse_constraint_count = uint32_t(coarse_rest.size());
+    a.coarse_a = coarse_a.data();
+    a.coarse_b = coarse_b.data();
+    a.coarse_rest = coarse_rest.data();
+    for (uint32_t k = 0; k < kCoarseWeights; ++k) {
+        a.coarse_weight_node[k] = coarse_weight_node[k].data();
+        a.coarse_weight[k] = coarse_weight[k].data();
+    }
+    a.coarse_lattice_cols = coarse_lattice_cols;
+    a.lattice_plane_rows = lattice_plane_rows;
+    a.lattice_plane_cols = lattice_plane_cols;
+    for (uint32_t parity = 0; parity < 2; ++parity) {
+        a.coarse_row_node[parity] = coarse_row_node[parity].data();
+        a.coarse_row_frac[parity] = coarse_row_frac[parity].data();
+        a.coarse_col_node[parity] = coarse_col_node[parity].data();
+        a.coarse_col_frac[parity] = coarse_col_frac[parity].data();
+    }
 }
 
 namespace {
@@ -174,9 +171,11 @@ std::vector<Spring> derive_springs(const ClothMeshDesc& mesh) {
 
 // Step 2: slot of every particle. Lattice particles go to plane (i & 1, j & 1), row-major with a
 // common row width, so each spring family of the lattice joins two planes at one constant offset.
-void assign_slots(const ClothMeshDesc& mesh, std::vector<uint32_t>& slot_of_particle, uint32_t& slot_count) {
+LatticeLayout assign_slots(const ClothMeshDesc& mesh, std::vector<uint32_t>& slot_of_particle,
+                           uint32_t& slot_count) {
     const uint32_t n = mesh.particle_count;
     slot_of_particle.assign(n, kNoParticle);
+    LatticeLayout layout;
     uint32_t next = 0;
     if (mesh.lattice != nullptr) {
         int32_t min_i = std::numeric_limits<int32_t>::max(), min_j = min_i, max_i = -1, max_j = -1;
@@ -194,6 +193,7 @@ void assign_slots(const ClothMeshDesc& mesh, std::vector<uint32_t>& slot_of_part
             const uint64_t plane = rows * cols;
             if (plane * 4 <= uint64_t(n) * 8 + 64) {  // a sparse lattice would waste more than it gains
                 std::vector<uint8_t> taken(plane * 4, 0);
+                uint32_t placed = 0;
                 for (uint32_t p = 0; p < n; ++p) {
                     const int32_t i = mesh.lattice[2 * p], j = mesh.lattice[2 * p + 1];
                     if (i < 0 || j < 0) continue;
@@ -202,14 +202,21 @@ void assign_slots(const ClothMeshDesc& mesh, std::vector<uint32_t>& slot_of_part
                     if (taken[slot]) continue;  // a duplicate coordinate: this particle goes last
                     taken[slot] = 1;
                     slot_of_particle[p] = uint32_t(slot);
+                    ++placed;
                 }
                 next = uint32_t(plane * 4);
+                layout.plane_rows = uint32_t(rows);
+                layout.plane_cols = uint32_t(cols);
+                layout.fine_rows = uint32_t(max_i - min_i + 1);
+                layout.fine_cols = uint32_t(max_j - min_j + 1);
+                layout.full = placed == n && uint64_t(placed) == uint64_t(layout.fine_rows) * layout.fine_cols;
             }
         }
     }
     for (uint32_t p = 0; p < n; ++p)
         if (slot_of_particle[p] == kNoParticle) slot_of_particle[p] = next++;
     slot_count = next;
+    return layout;
 }
 
 ConstraintKind classify(const ClothMeshDesc& mesh, uint32_t a, uint32_t b, ConstraintKind kind) {
@@ -406,7 +413,7 @@ Result cook_cloth(const ClothMeshDesc& mesh, const CookOptions& options, CookedC
 
     CookedCloth cooked;
     uint32_t slot_count = 0;
-    assign_slots(mesh, cooked.slot_of_particle, slot_count);
+    const LatticeLayout layout = assign_slots(mesh, cooked.slot_of_particle, slot_count);
 
     // Springs in slots; a spring between two pinned particles never moves anything: dropped.
     std::vector<Spring> springs;
@@ -451,6 +458,9 @@ Result cook_cloth(const ClothMeshDesc& mesh, const CookOptions& options, CookedC
         cooked.start_z[s] = mesh.positions[p].z;
         cooked.inverse_mass[s] = inverse_mass[p];
     }
+    std::vector<float> mass(n);
+    for (uint32_t p = 0; p < n; ++p) mass[p] = inverse_mass[p] > 0.0f ? 1.0f / inverse_mass[p] : 0.0f;
+    build_coarse_level(mesh, layout, mass, inverse_mass, options.coarse_spacing_m, cooked);
     cooked.triangles.resize(size_t(mesh.triangle_count) * 3);
     for (size_t i = 0; i < cooked.triangles.size(); ++i) cooked.triangles[i] = cooked.slot_of_particle[mesh.triangles[i]];
 

@@ -160,6 +160,54 @@ Result check_triangles(const ClothAsset& a) {
     return {};
 }
 
+Result check_coarse(const ClothAsset& a) {
+    const uint32_t nodes = a.coarse_node_count;
+    if (nodes == 0) return {};
+    if (!a.coarse_node_slot || !a.coarse_inverse_mass ||
+        (a.coarse_constraint_count > 0 && (!a.coarse_a || !a.coarse_b || !a.coarse_rest)))
+        return make_error(ErrorCode::corrupt_asset, "asset is missing a coarse-level array");
+    if (nodes > a.slot_count) return make_error(ErrorCode::corrupt_asset, "more coarse nodes than slots");
+    for (uint32_t j = 0; j < nodes; ++j)
+        if (a.coarse_node_slot[j] >= a.slot_count || !finite_nonnegative(a.coarse_inverse_mass[j]))
+            return make_error(ErrorCode::corrupt_asset, "coarse node %u is bad", j);
+    for (uint32_t c = 0; c < a.coarse_constraint_count; ++c)
+        if (a.coarse_a[c] >= nodes || a.coarse_b[c] >= nodes || a.coarse_a[c] == a.coarse_b[c] ||
+            !finite_nonnegative(a.coarse_rest[c]) || a.coarse_rest[c] > 1e6f)
+            return make_error(ErrorCode::corrupt_asset, "coarse constraint %u is bad", c);
+    for (uint32_t k = 0; k < kCoarseWeights; ++k) {
+        if (!a.coarse_weight_node[k] || !a.coarse_weight[k])
+            return make_error(ErrorCode::corrupt_asset, "asset is missing coarse weights");
+        for (uint32_t s = 0; s < a.slot_count; ++s) {
+            const float w = a.coarse_weight[k][s];
+            if (a.coarse_weight_node[k][s] >= nodes || !(w >= 0.0f && w <= 1.0f) ||
+                (w != 0.0f && a.inverse_mass[s] == 0.0f))
+                return make_error(ErrorCode::corrupt_asset, "coarse weight of slot %u is bad", s);
+        }
+    }
+    if (a.coarse_lattice_cols > 0) {  // the lattice form's tables
+        const uint32_t cols = a.coarse_lattice_cols, rows = nodes / cols;
+        if (cols < 2 || cols > 32 || nodes % cols != 0 || rows < 2)
+            return make_error(ErrorCode::corrupt_asset, "coarse lattice of %u nodes in rows of %u", nodes, cols);
+        const uint64_t lattice_slots = 4ull * a.lattice_plane_rows * a.lattice_plane_cols;
+        if (lattice_slots == 0 || lattice_slots > a.slot_count)
+            return make_error(ErrorCode::corrupt_asset, "lattice planes do not fit the slots");
+        for (uint32_t parity = 0; parity < 2; ++parity) {
+            if (!a.coarse_row_node[parity] || !a.coarse_row_frac[parity] || !a.coarse_col_node[parity] ||
+                !a.coarse_col_frac[parity])
+                return make_error(ErrorCode::corrupt_asset, "asset is missing a coarse lattice table");
+            for (uint32_t r = 0; r < a.lattice_plane_rows; ++r)
+                if (a.coarse_row_node[parity][r] > rows - 2 ||
+                    !(a.coarse_row_frac[parity][r] >= 0.0f && a.coarse_row_frac[parity][r] <= 1.0f))
+                    return make_error(ErrorCode::corrupt_asset, "coarse row table entry %u is bad", r);
+            for (uint32_t c = 0; c < a.lattice_plane_cols; ++c)
+                if (a.coarse_col_node[parity][c] > cols - 2 ||
+                    !(a.coarse_col_frac[parity][c] >= 0.0f && a.coarse_col_frac[parity][c] <= 1.0f))
+                    return make_error(ErrorCode::corrupt_asset, "coarse column table entry %u is bad", c);
+        }
+    }
+    return {};
+}
+
 }  // namespace
 
 Result validate_asset_with_scratch(const ClothAsset& a, uint32_t* scratch, uint32_t scratch_count) {
@@ -170,6 +218,7 @@ Result validate_asset_with_scratch(const ClothAsset& a, uint32_t* scratch, uint3
     if (Result r = check_lanes(a); !r.ok()) return r;
     if (Result r = check_colours(a, scratch); !r.ok()) return r;
     if (Result r = check_tethers(a); !r.ok()) return r;
+    if (Result r = check_coarse(a); !r.ok()) return r;
     return check_triangles(a);
 }
 
