@@ -67,13 +67,13 @@ struct ColliderKernelArgs {
 
 struct Kernels {
     SimdPath path;
-    void (*integrate)(const Particles&, const IntegrateArgs&);
+    // Verlet, plus the coarse level's displacement when `coarse` is not null.
+    void (*integrate)(const Particles&, const IntegrateArgs&, const ClothAsset&, const CoarseState* coarse);
     // [0]: exact, [1]: sqrt_free (SpringProjection)
     void (*project_run[2])(const Particles&, const ClothAsset&, const ConstraintBatch&, const DistanceArgs&);
     void (*project_indexed[2])(const Particles&, const ClothAsset&, const ConstraintBatch&, const DistanceArgs&);
     void (*project_tethers)(const Particles&, const ClothAsset&, const TetherBatch&, float slack);
     void (*collide)(const Particles&, const ColliderKernelArgs&);
-    void (*apply_coarse)(const Particles&, const ClothAsset&, const CoarseState&);
 };
 
 const Kernels& scalar_kernels();

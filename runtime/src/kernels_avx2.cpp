@@ -1,6 +1,5 @@
 // The AVX2 + FMA path: the same kernel templates at eight lanes.
 #include "collide/colliders.h"
-#include "constraints/coarse.h"
 #include "constraints/distance.h"
 #include "constraints/tethers.h"
 #include "integrate/verlet.h"
@@ -15,8 +14,7 @@ const Kernels* avx2_kernels() {
     static constexpr Kernels kernels{SimdPath::avx2, integrate_verlet<F>,
                                      {project_run<F, true>, project_run<F, false>},
                                      {project_indexed<true>, project_indexed<false>},
-                                     project_tethers<F>, collide<F>,
-                                     apply_coarse<F>};
+                                     project_tethers<F>, collide<F>};
     return &kernels;
 }
 #else

@@ -2,10 +2,12 @@
 //
 //   1. external forces: gravity and damping (folded into Verlet), wind drag and lift (eq. 2-4)
 //   2. Verlet integration
-//   3. spring correction: one sweep of the coarse level (if any), `iterations` sweeps over every
-//      constraint batch, then the tethers once
-//      (measured: tethers after every sweep cost 2x the pass for a smaller max strain, docs/solver.md)
+//   3. spring correction: a) one sweep of the coarse level (if any), b) `iterations` sweeps over
+//      every constraint batch, c) the tethers once (measured: tethers after every sweep cost 2x the
+//      pass for a smaller max strain, docs/solver.md)
 //   4. collision test and response against the inflated colliders
+// 3a runs before 2 on the coarse nodes' own Verlet prediction, so that its correction rides along
+// in the integration pass (one trip through the particle arrays instead of two).
 //
 // Which of these passes exist is decided by what the world and the cloth have (no wind feature,
 // no wind pass; no colliders, no collision pass; no tethers, no tether pass), not per particle.
@@ -14,7 +16,7 @@
 #include <cmath>
 
 #include "aerodynamics/wind.h"
-#include "constraints/coarse.h"
+#include "integrate/verlet.h"
 #include "world_internal.h"
 
 namespace weft {
@@ -47,20 +49,41 @@ void apply_external_forces(World& world, ClothInstance& cloth) {
     apply_wind(cloth.particles, *cloth.asset, args);
 }
 
-void integrate(World& world, ClothInstance& cloth, float h) {
-    PassTimer timer(world, Pass::integrate);
+IntegrateArgs integrate_args(const World& world, const ClothInstance& cloth, float h) {
     // Time-corrected Verlet: the implied velocity (x - x_prev) / h_prev carried over h.
     const float ratio = cloth.previous_substep_s > 0.0f ? h / cloth.previous_substep_s : 1.0f;
-    const IntegrateArgs args{h, ratio * std::exp(-cloth.settings.damping_per_s * h), world.gravity_m_s2,
-                             world.desc.wind};
-    world.kernels->integrate(cloth.particles, args);
+    return {h, ratio * std::exp(-cloth.settings.damping_per_s * h), world.gravity_m_s2, world.desc.wind};
 }
 
-void correct_coarse_level(World& world, ClothInstance& cloth) {
-    if (!cloth.settings.coarse_level || cloth.asset->coarse_node_count == 0) return;
+bool has_coarse_level(const ClothInstance& cloth) {
+    return cloth.split.coarse_level;
+}
+
+// The coarse level's sweep on its nodes' Verlet prediction; the integration pass then adds the
+// resulting displacement to every particle.
+void correct_coarse_level(World& world, ClothInstance& cloth, float h) {
+    if (!has_coarse_level(cloth)) return;
     PassTimer timer(world, Pass::coarse);
-    solve_coarse_level(cloth.particles, *cloth.asset, cloth.coarse, cloth.settings.relaxation);
-    world.kernels->apply_coarse(cloth.particles, *cloth.asset, cloth.coarse);
+    const IntegrateArgs args = integrate_args(world, cloth, h);
+    const Particles& p = cloth.particles;
+    using simd::Float1;
+    const Float1 h2{args.h_s * args.h_s}, scale{args.velocity_scale};
+    auto predict = [&](uint32_t s) -> Vec3 {
+        if (!(p.inverse_mass[s] > 0.0f)) return {p.x[s], p.y[s], p.z[s]};
+        const Float1 ax{args.gravity.x + (args.wind ? p.wind_x[s] : 0.0f)};
+        const Float1 ay{args.gravity.y + (args.wind ? p.wind_y[s] : 0.0f)};
+        const Float1 az{args.gravity.z + (args.wind ? p.wind_z[s] : 0.0f)};
+        return {verlet_predict(Float1{p.x[s]}, Float1{p.previous_x[s]}, ax, scale, h2).v,
+                verlet_predict(Float1{p.y[s]}, Float1{p.previous_y[s]}, ay, scale, h2).v,
+                verlet_predict(Float1{p.z[s]}, Float1{p.previous_z[s]}, az, scale, h2).v};
+    };
+    solve_coarse_level(p, *cloth.asset, cloth.coarse, cloth.split.relaxation, predict);
+}
+
+void integrate(World& world, ClothInstance& cloth, float h) {
+    PassTimer timer(world, Pass::integrate);
+    world.kernels->integrate(cloth.particles, integrate_args(world, cloth, h), *cloth.asset,
+                             has_coarse_level(cloth) ? &cloth.coarse : nullptr);
 }
 
 void correct_springs(World& world, ClothInstance& cloth, float h) {
@@ -68,7 +91,7 @@ void correct_springs(World& world, ClothInstance& cloth, float h) {
     const ClothAsset& asset = *cloth.asset;
     DistanceArgs args[kConstraintKindCount];
     for (uint32_t kind = 0; kind < kConstraintKindCount; ++kind)
-        args[kind] = {cloth.settings.compliance_m_per_n[kind] / (h * h), cloth.settings.relaxation};
+        args[kind] = {cloth.settings.compliance_m_per_n[kind] / (h * h), cloth.split.relaxation};
     const uint32_t mode = static_cast<uint32_t>(cloth.settings.projection);
     const auto project_run = world.kernels->project_run[mode];
     const auto project_indexed = world.kernels->project_indexed[mode];
@@ -84,7 +107,7 @@ void correct_springs(World& world, ClothInstance& cloth, float h) {
 }
 
 void apply_tethers(World& world, ClothInstance& cloth) {
-    if (!cloth.settings.tethers || cloth.asset->tether_batch_count == 0) return;
+    if (!cloth.split.tethers) return;
     PassTimer timer(world, Pass::tethers);
     const ClothAsset& asset = *cloth.asset;
     for (uint32_t b = 0; b < asset.tether_batch_count; ++b)
@@ -112,16 +135,15 @@ void collide(World& world, ClothInstance& cloth, uint32_t substeps) {
 }
 
 void step_cloth(World& world, ClothInstance& cloth, float dt) {
-    const float h = dt / float(cloth.settings.substeps);
-    for (uint32_t substep = 0; substep < cloth.settings.substeps; ++substep) {
+    const float h = dt / float(cloth.split.substeps);
+    for (uint32_t substep = 0; substep < cloth.split.substeps; ++substep) {
         apply_external_forces(world, cloth);                   // 1. F_ext: wind (gravity, damping in 2)
-        integrate(world, cloth, h);                            // 2. Verlet
-        correct_coarse_level(world, cloth);                    // 3. spring correction: coarse level,
-        for (uint32_t it = 0; it < cloth.settings.iterations; ++it)
-            correct_springs(world, cloth, h);                  //    then the springs, batch by batch
-        apply_tethers(world, cloth);                           //    then the long-range attachments
-
-        collide(world, cloth, cloth.settings.substeps);        // 4. collision response
+        correct_coarse_level(world, cloth, h);                 // 3a. coarse level (on predicted nodes)
+        integrate(world, cloth, h);                            // 2. Verlet (+ the coarse correction)
+        for (uint32_t it = 0; it < cloth.split.iterations; ++it)
+            correct_springs(world, cloth, h);                  // 3b. the springs, batch by batch
+        apply_tethers(world, cloth);                           // 3c. the long-range attachments
+        collide(world, cloth, cloth.split.substeps);           // 4. collision response
         cloth.previous_substep_s = h;
     }
 }
@@ -130,7 +152,7 @@ uint64_t count_projections(const World& world, BatchLayout layout) {
     uint64_t lanes = 0;
     for (uint32_t i = 0; i < world.cloth_count; ++i) {
         const ClothInstance& c = world.cloths[i];
-        const uint64_t sweeps = uint64_t(c.settings.substeps) * c.settings.iterations;
+        const uint64_t sweeps = uint64_t(c.split.substeps) * c.split.iterations;
         const uint64_t on_runs = c.asset->constraints_on_runs;
         lanes += sweeps * (layout == BatchLayout::run ? on_runs : c.asset->total_constraints() - on_runs);
     }

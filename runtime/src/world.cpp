@@ -93,6 +93,10 @@ Result check_world_desc(const WorldDesc& desc) {
 
 Result check_cloth_settings(const ClothDesc& desc) {
     if (desc.asset == nullptr) return make_error(ErrorCode::invalid_argument, "cloth has no asset");
+    if (desc.policy != BudgetPolicy::automatic && desc.policy != BudgetPolicy::explicit_split)
+        return make_error(ErrorCode::invalid_argument, "unknown budget policy");
+    if (desc.policy == BudgetPolicy::automatic && (desc.sweeps < 1 || desc.sweeps > 1000))
+        return make_error(ErrorCode::out_of_range, "sweeps %u outside 1..1000", desc.sweeps);
     if (desc.substeps < 1 || desc.substeps > 64)
         return make_error(ErrorCode::out_of_range, "substeps %u outside 1..64", desc.substeps);
     if (desc.projection != SpringProjection::exact && desc.projection != SpringProjection::sqrt_free)
@@ -161,6 +165,32 @@ void place_at_start(ClothInstance& cloth) {
     }
     cloth.previous_substep_s = 0.0f;
 }
+
+}  // namespace
+
+SolverSplit resolve_split(const ClothDesc& desc, const ClothAsset& asset) {
+    SolverSplit split;
+    split.tethers = desc.tethers && asset.tether_batch_count > 0;
+    if (desc.policy == BudgetPolicy::explicit_split) {
+        split.substeps = desc.substeps;
+        split.iterations = desc.iterations;
+        split.relaxation = desc.relaxation;
+        split.coarse_level = desc.coarse_level && asset.coarse_node_count > 0;
+    } else if (split.tethers) {  // held by pins: iterations, tethers (docs/solver.md)
+        split.substeps = 1;
+        split.iterations = desc.sweeps;
+        split.relaxation = 1.0f;
+        split.coarse_level = false;
+    } else {  // held by colliders only: substeps for friction, the coarse level for tension
+        split.substeps = desc.sweeps < 64 ? desc.sweeps : 64;
+        split.iterations = (desc.sweeps + split.substeps - 1) / split.substeps;
+        split.relaxation = 0.8f;
+        split.coarse_level = asset.coarse_node_count > 0;
+    }
+    return split;
+}
+
+namespace {
 
 Result find_cloth(const World* world, ClothId id) {
     if (world == nullptr) return make_error(ErrorCode::invalid_argument, "world is null");
@@ -255,6 +285,7 @@ Result add_cloth(World* world, const ClothDesc& desc, ClothId* out_cloth) {
     cloth = ClothInstance();
     cloth.asset = &asset;
     cloth.settings = desc;
+    cloth.split = resolve_split(desc, asset);
     Particles& p = cloth.particles;
     p.slot_count = asset.slot_count;
     p.x = arrays[0];
@@ -344,6 +375,14 @@ Result set_cloth_settings(World* world, ClothId cloth, const ClothDesc& desc) {
     if (desc.asset != c.asset)
         return make_error(ErrorCode::invalid_argument, "a cloth's asset cannot change");
     c.settings = desc;
+    c.split = resolve_split(desc, *c.asset);
+    return {};
+}
+
+Result cloth_solver_split(const World* world, ClothId cloth, SolverSplit* out) {
+    if (Result r = find_cloth(world, cloth); !r.ok()) return r;
+    if (out == nullptr) return make_error(ErrorCode::invalid_argument, "out is null");
+    *out = world->cloths[cloth.index].split;
     return {};
 }
 

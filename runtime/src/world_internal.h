@@ -10,6 +10,7 @@ namespace weft {
 struct ClothInstance {
     const ClothAsset* asset = nullptr;
     ClothDesc settings;
+    SolverSplit split;  // settings after the budget policy: what the step runs
     Particles particles;
     CoarseState coarse;
     float previous_substep_s = 0.0f;  // h_prev of time-corrected Verlet; 0 before the first step
@@ -38,6 +39,9 @@ struct World {
     Vec3 wind_m_s{};
     WorldStats stats;
 };
+
+// Applies the budget policy (ClothDesc::policy) to a cloth's settings.
+SolverSplit resolve_split(const ClothDesc& desc, const ClothAsset& asset);
 
 // Creation-time validation that uses the world's scratch instead of allocating.
 Result validate_asset_with_scratch(const ClothAsset& asset, uint32_t* scratch, uint32_t scratch_count);

@@ -52,6 +52,23 @@ const char* scene_name(SeedScene scene) {
     return "unknown";
 }
 
+const char* config_name(Config config) { return config == Config::plain ? "plain" : "default"; }
+
+void apply_config(Config config, uint32_t sweeps, SceneOptions& o) {
+    o.sweeps = sweeps;
+    if (config == Config::plain) {
+        o.explicit_split = true;
+        o.substeps = 1;
+        o.iterations = sweeps;
+        o.relaxation = 1.0f;
+        o.tethers = false;
+        o.coarse_level = false;
+    } else {
+        o.explicit_split = false;
+        o.tethers = true;
+    }
+}
+
 std::string make_seed_world(SeedScene scene, const SceneOptions& o, SeedWorld* out) {
     out->scene = scene;
     if (o.n < 2) return "n must be at least 2";
@@ -90,6 +107,8 @@ std::string make_seed_world(SeedScene scene, const SceneOptions& o, SeedWorld* o
 
     ClothDesc cd;
     cd.asset = &asset;
+    cd.sweeps = o.sweeps;
+    cd.policy = o.explicit_split ? BudgetPolicy::explicit_split : BudgetPolicy::automatic;
     cd.substeps = o.substeps;
     cd.iterations = o.iterations;
     cd.tethers = o.tethers;

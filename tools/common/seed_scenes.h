@@ -35,6 +35,9 @@ const char* scene_name(SeedScene scene);
 struct SceneOptions {
     uint32_t n = 100;
     SimdPath simd = SimdPath::automatic;
+    // The budget: `sweeps` with the automatic policy (config "default"), or an explicit split.
+    uint32_t sweeps = 3;
+    bool explicit_split = false;
     uint32_t substeps = 1;
     uint32_t iterations = 3;
     bool tethers = true;
@@ -50,6 +53,14 @@ struct SceneOptions {
     float sphere_offset_m = 0.0f;  // drop point off the sphere's top, along x
     bool profile = false;
 };
+
+// The two configurations every figure compares (docs/solver.md):
+//   plain:   the seed's method, 1 substep x `sweeps` iterations, no tethers, no coarse level,
+//            relaxation 1 (the baseline);
+//   default: ClothDesc's defaults, the automatic budget policy at `sweeps`.
+enum class Config { plain, default_config };
+const char* config_name(Config config);
+void apply_config(Config config, uint32_t sweeps, SceneOptions& options);
 
 // A world holding one seed scene, with the block it lives in.
 struct SeedWorld {

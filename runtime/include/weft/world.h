@@ -54,15 +54,30 @@ enum class SpringProjection : uint8_t {
     sqrt_free,  // Jakobsen's square-root approximation: same rest state, no square root
 };
 
-// Per-instance solver settings. Defaults reproduce the seed experiments: dt 0.033 s handled by
-// the caller, 3 iterations, hard constraints (compliance 0), tethers on.
+// How a cloth spends its solver budget.
+enum class BudgetPolicy : uint8_t {
+    // The measured default (docs/solver.md): a cloth held by pinned particles runs 1 substep of
+    // `sweeps` iterations with its tethers (the pins carry the long range; iterations cut strain
+    // most); a cloth held by nothing but colliders runs `sweeps` substeps of 1 iteration, relaxation
+    // 0.8, with the coarse level (friction needs substeps; the coarse level carries the tension).
+    automatic,
+    // substeps, iterations, relaxation and coarse_level exactly as given below.
+    explicit_split,
+};
+
+// Per-instance solver settings. Defaults reproduce the seed experiments at the paper's budget
+// (3 sweeps at the caller's dt of 0.033 s, hard constraints, tethers on).
 struct ClothDesc {
     const ClothAsset* asset = nullptr;  // must outlive the world; never copied
     Vec3 translation_m{};               // added to the asset's start positions
 
-    uint32_t substeps = 1;     // Verlet steps per step() call
-    uint32_t iterations = 3;   // constraint sweeps per substep
+    uint32_t sweeps = 3;  // the budget: passes over every constraint per step (1..1000)
+    BudgetPolicy policy = BudgetPolicy::automatic;
+    // Used with BudgetPolicy::explicit_split (sweeps is then substeps * iterations):
+    uint32_t substeps = 1;     // Verlet steps per step() call (1..64)
+    uint32_t iterations = 3;   // constraint sweeps per substep (0..1000)
     float relaxation = 1.0f;   // scales every spring correction; 1 = the seed's full correction
+    bool coarse_level = true;  // use the asset's coarse level, if it has one
     SpringProjection projection = SpringProjection::exact;
 
     // XPBD compliance (inverse stiffness) per constraint kind, m/N. 0 = hard (the seed's method).
@@ -72,8 +87,7 @@ struct ClothDesc {
     // 1/s brings the seed's hanging drape to rest (mean speed < 1 cm/s) in about 8 s.
     float damping_per_s = 1.0f;
 
-    bool coarse_level = true;     // use the asset's coarse level, if it has one
-    bool tethers = true;          // use the asset's long-range attachments
+    bool tethers = true;          // use the asset's long-range attachments (either policy)
     float tether_slack = 0.0f;    // allowed extension before a tether acts, fraction of its length
 
     // Wind (only when the world has the wind feature): drag and lift coefficients of (2), (3).
@@ -134,6 +148,14 @@ Result set_gravity(World* world, Vec3 gravity_m_s2);
 
 // Changes a cloth's solver budget or stiffness between steps.
 Result set_cloth_settings(World* world, ClothId cloth, const ClothDesc& desc);
+
+// How a cloth's budget is being spent (after the policy).
+struct SolverSplit {
+    uint32_t substeps = 0, iterations = 0;
+    float relaxation = 0.0f;
+    bool coarse_level = false, tethers = false;
+};
+Result cloth_solver_split(const World* world, ClothId cloth, SolverSplit* out);
 
 // Particle access, in the caller's particle order (the asset's permutation is applied here).
 Result read_positions(const World* world, ClothId cloth, Vec3* out, uint32_t count);

@@ -74,7 +74,8 @@ void collide_segment(const Particles& p, const ColliderKernelArgs& c) {
         const F penetration = radius - dist;
         contact = contact & (penetration > zero) & (dist > min_distance);
         if (!any(contact)) continue;
-        const Vec3W<F> n{d.x / dist, d.y / dist, d.z / dist};
+        const F inv_dist = splat(1.0f, F{}) / dist;  // one division, not three
+        const Vec3W<F> n{d.x * inv_dist, d.y * inv_dist, d.z * inv_dist};
         // Closest surface point: x + n * penetration (eq. 7 and 8 written as a push).
         Vec3W<F> target{mul_add(n.x, penetration, x.x), mul_add(n.y, penetration, x.y),
                         mul_add(n.z, penetration, x.z)};

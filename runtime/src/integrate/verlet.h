@@ -2,47 +2,139 @@
 //   x(t+h) = x(t) + (x(t) - x(t-h)) * (h / h_prev) * exp(-damping h) + (g + a_wind) h^2
 // The h / h_prev factor keeps the implied velocity right when the frame time changes; exp(-d h)
 // makes damping a rate in 1/s, independent of how the budget is split into substeps.
+//
+// When the cloth has a coarse level, its correction (constraints/coarse.h, solved beforehand on
+// the nodes' own Verlet prediction) is added in this same pass: one trip through the particle
+// arrays instead of two.
 #pragma once
 
+#include <utility>
+
+#include "constraints/coarse.h"
 #include "kernels.h"
 #include "simd/float_w.h"
 
 namespace weft {
 
+// The Verlet prediction of one lane group; shared with the coarse level's node prediction so
+// both give the same bits.
+template <class F>
+inline F verlet_predict(F x, F previous, F acceleration, F velocity_scale, F h2) {
+    return simd::mul_add(acceleration, h2, simd::mul_add(x - previous, velocity_scale, x));
+}
+
 template <class F, bool kWind>
-void integrate_verlet_pass(const Particles& p, const IntegrateArgs& args) {
+inline void integrate_lanes(const Particles& p, const IntegrateArgs& args, uint32_t i, F cx, F cy, F cz) {
     using namespace simd;
     const F h2 = splat(args.h_s * args.h_s, F{});
     const F velocity_scale = splat(args.velocity_scale, F{});
-    const F gx = splat(args.gravity.x, F{}), gy = splat(args.gravity.y, F{}), gz = splat(args.gravity.z, F{});
-    const F zero = splat(0.0f, F{});
+    F ax = splat(args.gravity.x, F{}), ay = splat(args.gravity.y, F{}), az = splat(args.gravity.z, F{});
+    if constexpr (kWind) {
+        ax = ax + load(p.wind_x + i, F{});
+        ay = ay + load(p.wind_y + i, F{});
+        az = az + load(p.wind_z + i, F{});
+    }
+    const auto is_free = load(p.inverse_mass + i, F{}) > splat(0.0f, F{});  // pinned particles stay put
+    const F x = load(p.x + i, F{}), y = load(p.y + i, F{}), z = load(p.z + i, F{});
+    const F nx = verlet_predict(x, load(p.previous_x + i, F{}), ax, velocity_scale, h2) + cx;
+    const F ny = verlet_predict(y, load(p.previous_y + i, F{}), ay, velocity_scale, h2) + cy;
+    const F nz = verlet_predict(z, load(p.previous_z + i, F{}), az, velocity_scale, h2) + cz;
+    store(p.previous_x + i, x);
+    store(p.previous_y + i, y);
+    store(p.previous_z + i, z);
+    store(p.x + i, select(is_free, nx, x));
+    store(p.y + i, select(is_free, ny, y));
+    store(p.z + i, select(is_free, nz, z));
+}
+
+// No coarse level: a flat pass over the slots.
+template <class F, bool kWind>
+void integrate_slots(const Particles& p, const IntegrateArgs& args, uint32_t first, uint32_t end) {
+    const F zero = simd::splat(0.0f, F{});
+    for (uint32_t i = first; i < end; i += F::width) integrate_lanes<F, kWind>(p, args, i, zero, zero, zero);
+}
+
+// General coarse form: each slot gathers the displacement of its kCoarseWeights nodes.
+template <class F, bool kWind>
+void integrate_with_coarse_weights(const Particles& p, const IntegrateArgs& args, const ClothAsset& a,
+                                   const CoarseState& st) {
+    using namespace simd;
     for (uint32_t i = 0; i < p.slot_count; i += F::width) {
-        const auto is_free = load(p.inverse_mass + i, F{}) > zero;  // pinned particles stay put
-        F ax = gx, ay = gy, az = gz;
-        if constexpr (kWind) {
-            ax = ax + load(p.wind_x + i, F{});
-            ay = ay + load(p.wind_y + i, F{});
-            az = az + load(p.wind_z + i, F{});
+        F cx = splat(0.0f, F{}), cy = cx, cz = cx;
+        for (uint32_t k = 0; k < kCoarseWeights; ++k) {
+            const F w = load(a.coarse_weight[k] + i, F{});
+            const uint32_t* node = a.coarse_weight_node[k] + i;
+            cx = mul_add(w, gather(st.dx, node, F{}), cx);
+            cy = mul_add(w, gather(st.dy, node, F{}), cy);
+            cz = mul_add(w, gather(st.dz, node, F{}), cz);
         }
-        const F x = load(p.x + i, F{}), y = load(p.y + i, F{}), z = load(p.z + i, F{});
-        const F nx = mul_add(ax, h2, mul_add(x - load(p.previous_x + i, F{}), velocity_scale, x));
-        const F ny = mul_add(ay, h2, mul_add(y - load(p.previous_y + i, F{}), velocity_scale, y));
-        const F nz = mul_add(az, h2, mul_add(z - load(p.previous_z + i, F{}), velocity_scale, z));
-        store(p.previous_x + i, x);
-        store(p.previous_y + i, y);
-        store(p.previous_z + i, z);
-        store(p.x + i, select(is_free, nx, x));
-        store(p.y + i, select(is_free, ny, y));
-        store(p.z + i, select(is_free, nz, z));
+        integrate_lanes<F, kWind>(p, args, i, cx, cy, cz);
     }
 }
 
-template <class F>
-void integrate_verlet(const Particles& p, const IntegrateArgs& args) {
-    if (args.wind) {
-        integrate_verlet_pass<F, true>(p, args);
+// Lattice coarse form: plane row by plane row, blending the two coarse rows around it (each
+// already interpolated to every plane column) with contiguous loads.
+template <class G, bool kWind>
+inline void integrate_lattice_lanes(const Particles& p, const IntegrateArgs& args, float* const lower[3],
+                                    float* const upper[3], float frac, uint32_t slot, uint32_t c) {
+    using namespace simd;
+    const G f = splat(frac, G{});
+    G d[3];
+    for (int axis = 0; axis < 3; ++axis) {
+        const G l = load(lower[axis] + c, G{}), u = load(upper[axis] + c, G{});
+        d[axis] = mul_add(f, u - l, l);
+    }
+    integrate_lanes<G, kWind>(p, args, slot, d[0], d[1], d[2]);
+}
+
+template <class F, bool kWind>
+void integrate_with_coarse_lattice(const Particles& p, const IntegrateArgs& args, const ClothAsset& a,
+                                   const CoarseState& st) {
+    const uint32_t rows = a.lattice_plane_rows, cols = a.lattice_plane_cols;
+    for (uint32_t plane = 0; plane < 4; ++plane) {
+        const uint32_t row_parity = plane >> 1, column_parity = plane & 1;
+        float* lower[3] = {st.column_rows[0], st.column_rows[1], st.column_rows[2]};
+        float* upper[3] = {st.column_rows[3], st.column_rows[4], st.column_rows[5]};
+        uint32_t loaded = ~0u;  // coarse row held in `lower` (loaded + 1 in `upper`)
+        for (uint32_t r = 0; r < rows; ++r) {
+            const uint32_t coarse_row = a.coarse_row_node[row_parity][r];
+            if (loaded != ~0u && coarse_row == loaded + 1) {  // slide the window up one coarse row
+                for (int axis = 0; axis < 3; ++axis) std::swap(lower[axis], upper[axis]);
+                interpolate_coarse_row<F>(a, st, coarse_row + 1, column_parity, upper);
+            } else if (coarse_row != loaded) {
+                interpolate_coarse_row<F>(a, st, coarse_row, column_parity, lower);
+                interpolate_coarse_row<F>(a, st, coarse_row + 1, column_parity, upper);
+            }
+            loaded = coarse_row;
+            const float frac = a.coarse_row_frac[row_parity][r];
+            const uint32_t base = (plane * rows + r) * cols;
+            uint32_t c = 0;
+            for (; c + F::width <= cols; c += F::width)
+                integrate_lattice_lanes<F, kWind>(p, args, lower, upper, frac, base + c, c);
+            for (; c < cols; ++c) integrate_lattice_lanes<simd::Float1, kWind>(p, args, lower, upper, frac, base + c, c);
+        }
+    }
+    integrate_slots<F, kWind>(p, args, 4 * rows * cols, p.slot_count);  // padding after the planes
+}
+
+template <class F, bool kWind>
+void integrate_dispatch(const Particles& p, const IntegrateArgs& args, const ClothAsset& a, const CoarseState* st) {
+    if (st == nullptr) {
+        integrate_slots<F, kWind>(p, args, 0, p.slot_count);
+    } else if (a.coarse_lattice_cols > 0) {
+        integrate_with_coarse_lattice<F, kWind>(p, args, a, *st);
     } else {
-        integrate_verlet_pass<F, false>(p, args);
+        integrate_with_coarse_weights<F, kWind>(p, args, a, *st);
+    }
+}
+
+// `coarse`: the coarse level's displacements to add, or null.
+template <class F>
+void integrate_verlet(const Particles& p, const IntegrateArgs& args, const ClothAsset& a, const CoarseState* coarse) {
+    if (args.wind) {
+        integrate_dispatch<F, true>(p, args, a, coarse);
+    } else {
+        integrate_dispatch<F, false>(p, args, a, coarse);
     }
 }
 
