@@ -41,11 +41,11 @@ private:
     std::chrono::steady_clock::time_point start_{};
 };
 
-void apply_external_forces(World& world, ClothInstance& cloth) {
+void apply_external_forces(World& world, ClothInstance& cloth, float h) {
     if (!world.desc.wind) return;  // gravity and damping are applied inside Verlet
     PassTimer timer(world, Pass::wind);
     const WindArgs args{world.wind_m_s, world.desc.air_density_kg_m3, cloth.settings.drag_coefficient,
-                        cloth.settings.lift_coefficient, cloth.previous_substep_s};
+                        cloth.settings.lift_coefficient, cloth.previous_substep_s, h};
     apply_wind(cloth.particles, *cloth.asset, args);
 }
 
@@ -137,7 +137,7 @@ void collide(World& world, ClothInstance& cloth, uint32_t substeps) {
 void step_cloth(World& world, ClothInstance& cloth, float dt) {
     const float h = dt / float(cloth.split.substeps);
     for (uint32_t substep = 0; substep < cloth.split.substeps; ++substep) {
-        apply_external_forces(world, cloth);                   // 1. F_ext: wind (gravity, damping in 2)
+        apply_external_forces(world, cloth, h);                 // 1. F_ext: wind (gravity, damping in 2)
         correct_coarse_level(world, cloth, h);                 // 3a. coarse level (on predicted nodes)
         integrate(world, cloth, h);                            // 2. Verlet (+ the coarse correction)
         for (uint32_t it = 0; it < cloth.split.iterations; ++it)

@@ -128,7 +128,11 @@ std::string make_seed_world(SeedScene scene, const SceneOptions& o, SeedWorld* o
         if (Result r = add_collider(out->world, sphere, &id); !r.ok()) return r.message;
     }
     if (scene == SeedScene::flag) {
-        if (Result r = set_wind(out->world, {o.wind_m_s, 0.0f, 0.0f}); !r.ok()) return r.message;
+        // Along +x, 10 degrees off the flag's plane: wind exactly in the plane of a flat flag meets
+        // it edge-on (theta = 0, no drag, and no side for the lift), and nothing would ever tilt it.
+        const float yaw = 10.0f * 3.14159265f / 180.0f;
+        const Vec3 wind{o.wind_m_s * std::cos(yaw), 0.0f, o.wind_m_s * std::sin(yaw)};
+        if (Result r = set_wind(out->world, wind); !r.ok()) return r.message;
     }
     return {};
 }

@@ -12,7 +12,8 @@ struct WindArgs {
     float air_density_kg_m3;    // rho
     float drag_coefficient;     // C_D
     float lift_coefficient;     // C_L
-    float previous_substep_s;   // velocity is estimated as (x - x_prev) / this
+    float previous_substep_s;   // velocity is estimated as (x - x_prev) / this (0: at rest)
+    float substep_s;            // the substep the force will act over
 };
 
 // Fills p.wind_{x,y,z} for every slot (zero where no triangle pushes).

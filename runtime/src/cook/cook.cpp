@@ -399,6 +399,29 @@ Result build_tethers(const ClothMeshDesc& mesh, const std::vector<uint32_t>& slo
     return {};
 }
 
+// Triangles in slots, grouped by first-fit colour: consecutive triangles then share no vertex, so
+// the wind pass, which adds each triangle's force to its three vertices, never waits for the store
+// of the triangle before (measured 2x on the seed flag).
+void order_triangles(const ClothMeshDesc& mesh, const std::vector<uint32_t>& slot_of_particle, uint32_t slot_count,
+                     std::vector<uint32_t>& out) {
+    std::vector<uint64_t> used(slot_count, 0);
+    std::vector<std::pair<uint32_t, uint32_t>> coloured;  // (colour, triangle)
+    for (uint32_t t = 0; t < mesh.triangle_count; ++t) {
+        const uint32_t* v = mesh.triangles + 3 * t;
+        const uint32_t a = slot_of_particle[v[0]], b = slot_of_particle[v[1]], c = slot_of_particle[v[2]];
+        const uint64_t taken = used[a] | used[b] | used[c];
+        uint32_t colour = 0;
+        while (colour < 63 && (taken & (uint64_t(1) << colour))) ++colour;
+        for (uint32_t s : {a, b, c}) used[s] |= uint64_t(1) << colour;
+        coloured.push_back({colour, t});
+    }
+    std::stable_sort(coloured.begin(), coloured.end());
+    out.clear();
+    out.reserve(size_t(mesh.triangle_count) * 3);
+    for (const auto& [colour, t] : coloured)
+        for (int k = 0; k < 3; ++k) out.push_back(slot_of_particle[mesh.triangles[3 * t + k]]);
+}
+
 }  // namespace
 
 Result cook_cloth(const ClothMeshDesc& mesh, const CookOptions& options, CookedCloth* out) {
@@ -461,8 +484,7 @@ Result cook_cloth(const ClothMeshDesc& mesh, const CookOptions& options, CookedC
     std::vector<float> mass(n);
     for (uint32_t p = 0; p < n; ++p) mass[p] = inverse_mass[p] > 0.0f ? 1.0f / inverse_mass[p] : 0.0f;
     build_coarse_level(mesh, layout, mass, inverse_mass, options.coarse_spacing_m, cooked);
-    cooked.triangles.resize(size_t(mesh.triangle_count) * 3);
-    for (size_t i = 0; i < cooked.triangles.size(); ++i) cooked.triangles[i] = cooked.slot_of_particle[mesh.triangles[i]];
+    order_triangles(mesh, cooked.slot_of_particle, slot_count, cooked.triangles);
 
     cooked.refresh_asset(n, colours, counts, on_runs, tethered);
     if (Result r = validate_asset(cooked.asset()); !r.ok()) return r;  // cooking bug: never hand it out

@@ -47,11 +47,14 @@ inline void integrate_lanes(const Particles& p, const IntegrateArgs& args, uint3
     store(p.z + i, select(is_free, nz, z));
 }
 
-// No coarse level: a flat pass over the slots.
+// No coarse level: a flat pass over slots [first, end), lane groups then single lanes.
 template <class F, bool kWind>
 void integrate_slots(const Particles& p, const IntegrateArgs& args, uint32_t first, uint32_t end) {
     const F zero = simd::splat(0.0f, F{});
-    for (uint32_t i = first; i < end; i += F::width) integrate_lanes<F, kWind>(p, args, i, zero, zero, zero);
+    uint32_t i = first;
+    for (; i + F::width <= end; i += F::width) integrate_lanes<F, kWind>(p, args, i, zero, zero, zero);
+    const simd::Float1 zero1{0.0f};
+    for (; i < end; ++i) integrate_lanes<simd::Float1, kWind>(p, args, i, zero1, zero1, zero1);
 }
 
 // General coarse form: each slot gathers the displacement of its kCoarseWeights nodes.
