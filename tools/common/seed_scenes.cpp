@@ -116,6 +116,7 @@ std::string make_seed_world(SeedScene scene, const SceneOptions& o, SeedWorld* o
     cd.coarse_level = o.coarse_level;
     cd.damping_per_s = o.damping_per_s;
     cd.projection = o.projection;
+    cd.compliance_m_per_n[2] = o.bend_compliance_m_per_n;
     if (Result r = add_cloth(out->world, cd, &out->cloth); !r.ok()) return r.message;
     if (scene == SeedScene::sphere) {
         ColliderDesc sphere;

@@ -47,6 +47,7 @@ struct SceneOptions {
     float relaxation = 1.0f;
     float damping_per_s = ClothDesc{}.damping_per_s;
     SpringProjection projection = SpringProjection::exact;
+    float bend_compliance_m_per_n = ClothDesc{}.compliance_m_per_n[2];
     float wind_m_s = 20.0f;        // flag only: along +x, 10 degrees off the flag's plane
     float sphere_inflation_m = 0.01f;
     float sphere_friction = 0.0f;

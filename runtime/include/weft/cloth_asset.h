@@ -47,9 +47,9 @@ struct ConstraintBatch {
 };
 
 // Long-range attachments (Kim, Chentanez, Mueller 2012): particle particle0 + k may not move
-// further than tether_rest[0][first_lane + k] from the pinned particle anchor[0] (its nearest) nor
-// further than tether_rest[1][first_lane + k] from anchor[1] (its second nearest; the same particle
-// and length when it has one tether). Both limits are met exactly by one projection onto the
+// further than tether_rest[0][first_lane + k] from the pinned particle anchor[0] nor further than
+// tether_rest[1][first_lane + k] from anchor[1] (its nearest and its farthest pinned particle, in
+// either order; the same particle and length when it has one tether). Both limits are met exactly by one projection onto the
 // intersection of the two balls, so the pass leaves no particle beyond either tether.
 struct TetherBatch {
     uint32_t first_lane = 0;
@@ -150,8 +150,9 @@ struct ClothMeshDesc {
 };
 
 struct CookOptions {
-    // Tethers from each free particle to this many nearest pinned particles (0, 1 or 2), measured
-    // in a straight line on the rest mesh. 0 = no tethers in the asset.
+    // Tethers per free particle: 1 = to its nearest pinned particle, 2 = also to its farthest (two
+    // anchors far apart bound it in two directions); straight-line lengths on the rest mesh.
+    // 0 = no tethers in the asset.
     uint32_t tethers_per_particle = 2;
     // Allow runs to bridge gaps of up to this many missing constraints with padding lanes.
     uint32_t max_run_gap = 4;

@@ -326,8 +326,9 @@ void emit_batches(const std::vector<Unit>& units, const std::vector<Spring>& s, 
     }
 }
 
-// Step 5: tethers from every free particle to its one or two nearest pinned particles (straight
-// line on the rest mesh), grouped by anchor pair into runs of consecutive slots.
+// Step 5: tethers from every free particle to its nearest pinned particle and (with two per
+// particle) its farthest, straight line on the rest mesh, grouped by anchor pair into runs of
+// consecutive slots.
 Result build_tethers(const ClothMeshDesc& mesh, const std::vector<uint32_t>& slot_of_particle,
                      const std::vector<float>& inverse_mass, const CookOptions& options, CookedCloth& out,
                      uint32_t* tethered) {
@@ -348,16 +349,15 @@ Result build_tethers(const ClothMeshDesc& mesh, const std::vector<uint32_t>& slo
     std::vector<Tether> tethers;
     for (uint32_t p = 0; p < mesh.particle_count; ++p) {
         if (inverse_mass[p] == 0.0f) continue;
-        float best[2] = {std::numeric_limits<float>::infinity(), std::numeric_limits<float>::infinity()};
+        // The nearest pinned particle, and the farthest: two anchors far apart bound a particle in
+        // two directions (a cloth hung along an edge cannot swing below its top pin's reach),
+        // where the two nearest of a row of pins would be almost the same ball.
+        float best[2] = {std::numeric_limits<float>::infinity(), -1.0f};
         uint32_t anchor[2] = {0, 0};
-        for (uint32_t q : pinned) {  // the two nearest, ties to the lower index
+        for (uint32_t q : pinned) {  // ties to the lower index
             const float d = distance(rest[p], rest[q]);
-            if (d < best[0]) {
-                best[1] = best[0], anchor[1] = anchor[0];
-                best[0] = d, anchor[0] = q;
-            } else if (d < best[1]) {
-                best[1] = d, anchor[1] = q;
-            }
+            if (d < best[0]) best[0] = d, anchor[0] = q;
+            if (d > best[1]) best[1] = d, anchor[1] = q;
         }
         if (!two) best[1] = best[0], anchor[1] = anchor[0];
         Tether t{{slot_of_particle[anchor[0]], slot_of_particle[anchor[1]]}, slot_of_particle[p], {best[0], best[1]}};
