@@ -77,7 +77,7 @@ void correct_coarse_level(World& world, ClothInstance& cloth, float h) {
                 verlet_predict(Float1{p.y[s]}, Float1{p.previous_y[s]}, ay, scale, h2).v,
                 verlet_predict(Float1{p.z[s]}, Float1{p.previous_z[s]}, az, scale, h2).v};
     };
-    solve_coarse_level(p, *cloth.asset, cloth.coarse, cloth.split.relaxation, predict);
+    solve_coarse_level(*cloth.asset, cloth.coarse, cloth.split.relaxation, predict);
 }
 
 void integrate(World& world, ClothInstance& cloth, float h) {

@@ -79,7 +79,7 @@ std::string make_seed_world(SeedScene scene, const SceneOptions& o, SeedWorld* o
             out->mesh.masses[out->mesh.index(0, o.n - 1)] = 0.0f;
             break;
         case SeedScene::flag:  // 2 m x 1.2 m, pinned along its pole (column 0)
-            out->mesh = make_grid(o.n, 2.0f, 1.2f, true, 3.0f);
+            out->mesh = make_grid(o.n, 2.0f, 1.2f, true, 3.0f, o.flag_density_kg_m2);
             for (uint32_t r = 0; r < o.n; ++r) out->mesh.masses[out->mesh.index(r, 0)] = 0.0f;
             break;
         case SeedScene::sphere:  // 2 m square, no pins, flat at y = 1 m above a 0.5 m sphere

@@ -23,8 +23,7 @@ namespace weft {
 // substep (`predict` is the integration's own formula, so a node lands exactly on its solved
 // position). Scalar: a few hundred nodes.
 template <class Predict>
-inline void solve_coarse_level(const Particles& p, const ClothAsset& a, const CoarseState& st,
-                               float relaxation, Predict predict) {
+inline void solve_coarse_level(const ClothAsset& a, const CoarseState& st, float relaxation, Predict predict) {
     using simd::Float1;
     const uint32_t nodes = a.coarse_node_count;
     for (uint32_t j = 0; j < nodes; ++j) {

@@ -68,7 +68,8 @@ Result check_lanes(const ClothAsset& a) {
         if (b.layout == BatchLayout::run) {
             if (b.lane_count % kSimdWidth != 0)
                 return make_error(ErrorCode::corrupt_asset, "run %u is not padded to %u lanes", i, kSimdWidth);
-            if (b.a0 > a.slot_count - b.lane_count || b.b0 > a.slot_count - b.lane_count)
+            if (b.lane_count > a.slot_count || b.a0 > a.slot_count - b.lane_count ||
+                b.b0 > a.slot_count - b.lane_count)
                 return make_error(ErrorCode::corrupt_asset, "run %u reaches past the slots", i);
             const uint32_t gap = b.a0 < b.b0 ? b.b0 - b.a0 : b.a0 - b.b0;
             if (gap < b.lane_count)  // both sides stored from one vector each: they must not overlap
@@ -133,7 +134,8 @@ Result check_tethers(const ClothAsset& a) {
             t.lane_count > a.tether_lane_count - t.first_lane)
             return make_error(ErrorCode::corrupt_asset, "tether batch %u does not tile the lanes", i);
         next_lane += t.lane_count;
-        if (t.anchor[0] >= a.slot_count || t.anchor[1] >= a.slot_count || t.particle0 > a.slot_count - t.lane_count)
+        if (t.anchor[0] >= a.slot_count || t.anchor[1] >= a.slot_count || t.lane_count > a.slot_count ||
+            t.particle0 > a.slot_count - t.lane_count)
             return make_error(ErrorCode::corrupt_asset, "tether batch %u reaches past the slots", i);
         if (a.inverse_mass[t.anchor[0]] != 0.0f || a.inverse_mass[t.anchor[1]] != 0.0f)
             return make_error(ErrorCode::corrupt_asset, "tether batch %u anchors to a free particle", i);

@@ -1,0 +1,348 @@
+// Stepping never allocates: the global allocation functions are replaced by counting ones, and the
+// stepping loop of every seed scene on every SIMD path must leave the count at zero.
+//
+// Replaced here: every operator new / new[] / delete / delete[] (plain, sized, aligned, nothrow),
+// and, except under AddressSanitizer (which owns malloc), malloc / calloc / realloc / free /
+// aligned_alloc / memalign / posix_memalign forwarding to glibc's __libc_* entry points. This file is
+// its own executable so the replacement cannot disturb the other tests.
+#define DOCTEST_CONFIG_IMPLEMENT_WITH_MAIN
+
+// operator delete below hands operator new's memory to free(): that is the point of the replacement.
+#if defined(__GNUC__) && !defined(__clang__)
+#pragma GCC diagnostic ignored "-Wmismatched-new-delete"
+#endif
+#include <doctest/doctest.h>
+
+#include <algorithm>
+#include <atomic>
+#include <cerrno>
+#include <cmath>
+#include <cstdlib>
+#include <memory>
+#include <new>
+#include <string>
+#include <vector>
+
+#include "seed_scenes.h"
+#include "weft/weft.h"
+
+#if defined(__SANITIZE_ADDRESS__)
+#define WEFT_TEST_COUNT_MALLOC 0
+#elif defined(__has_feature)
+#if __has_feature(address_sanitizer)
+#define WEFT_TEST_COUNT_MALLOC 0
+#endif
+#endif
+#if !defined(WEFT_TEST_COUNT_MALLOC) && defined(__GLIBC__)
+#define WEFT_TEST_COUNT_MALLOC 1
+#endif
+#if !defined(WEFT_TEST_COUNT_MALLOC)
+#define WEFT_TEST_COUNT_MALLOC 0
+#endif
+
+namespace {
+
+// Plain atomics: counting itself must not allocate.
+std::atomic<bool> g_counting{false};
+std::atomic<uint64_t> g_allocations{0};
+std::atomic<uint64_t> g_deallocations{0};
+
+inline void note_allocation() {
+    if (g_counting.load(std::memory_order_relaxed)) g_allocations.fetch_add(1, std::memory_order_relaxed);
+}
+inline void note_deallocation(void* p) {
+    if (p != nullptr && g_counting.load(std::memory_order_relaxed))
+        g_deallocations.fetch_add(1, std::memory_order_relaxed);
+}
+
+// Counts allocations while alive.
+struct CountingScope {
+    CountingScope() {
+        g_allocations = 0;
+        g_deallocations = 0;
+        g_counting = true;
+    }
+    ~CountingScope() { g_counting = false; }
+    uint64_t allocations() const { return g_allocations.load(); }
+    uint64_t deallocations() const { return g_deallocations.load(); }
+};
+
+}  // namespace
+
+// --- malloc family (not under ASan) ----------------------------------------------------------------
+
+#if WEFT_TEST_COUNT_MALLOC
+extern "C" {
+void* __libc_malloc(size_t);
+void* __libc_calloc(size_t, size_t);
+void* __libc_realloc(void*, size_t);
+void __libc_free(void*);
+void* __libc_memalign(size_t, size_t);
+
+void* malloc(size_t size) {
+    note_allocation();
+    return __libc_malloc(size);
+}
+void* calloc(size_t count, size_t size) {
+    note_allocation();
+    return __libc_calloc(count, size);
+}
+void* realloc(void* p, size_t size) {
+    note_allocation();
+    return __libc_realloc(p, size);
+}
+void free(void* p) {
+    note_deallocation(p);
+    __libc_free(p);
+}
+void* memalign(size_t alignment, size_t size) {
+    note_allocation();
+    return __libc_memalign(alignment, size);
+}
+void* aligned_alloc(size_t alignment, size_t size) {
+    note_allocation();
+    return __libc_memalign(alignment, size);
+}
+int posix_memalign(void** out, size_t alignment, size_t size) {
+    if (alignment < sizeof(void*) || (alignment & (alignment - 1)) != 0) return EINVAL;
+    note_allocation();
+    void* p = __libc_memalign(alignment, size);
+    if (p == nullptr) return ENOMEM;
+    *out = p;
+    return 0;
+}
+}  // extern "C"
+#endif
+
+// --- operator new / delete, every variant ----------------------------------------------------------
+
+namespace {
+
+// Straight to the underlying allocator, so one operator new counts once.
+void* allocate(size_t size) {
+    note_allocation();
+#if WEFT_TEST_COUNT_MALLOC
+    return __libc_malloc(size == 0 ? 1 : size);
+#else
+    return std::malloc(size == 0 ? 1 : size);
+#endif
+}
+void* allocate_aligned(size_t size, std::align_val_t alignment) {
+    note_allocation();
+    const size_t a = std::max(static_cast<size_t>(alignment), sizeof(void*));
+#if WEFT_TEST_COUNT_MALLOC
+    return __libc_memalign(a, size == 0 ? a : size);
+#else
+    void* p = nullptr;
+    if (posix_memalign(&p, a, size == 0 ? a : size) != 0) return nullptr;
+    return p;
+#endif
+}
+void release(void* p) {
+    note_deallocation(p);
+#if WEFT_TEST_COUNT_MALLOC
+    __libc_free(p);
+#else
+    std::free(p);
+#endif
+}
+
+}  // namespace
+
+void* operator new(size_t size) {
+    if (void* p = allocate(size)) return p;
+    throw std::bad_alloc();
+}
+void* operator new[](size_t size) {
+    if (void* p = allocate(size)) return p;
+    throw std::bad_alloc();
+}
+void* operator new(size_t size, const std::nothrow_t&) noexcept { return allocate(size); }
+void* operator new[](size_t size, const std::nothrow_t&) noexcept { return allocate(size); }
+void* operator new(size_t size, std::align_val_t alignment) {
+    if (void* p = allocate_aligned(size, alignment)) return p;
+    throw std::bad_alloc();
+}
+void* operator new[](size_t size, std::align_val_t alignment) {
+    if (void* p = allocate_aligned(size, alignment)) return p;
+    throw std::bad_alloc();
+}
+void* operator new(size_t size, std::align_val_t alignment, const std::nothrow_t&) noexcept {
+    return allocate_aligned(size, alignment);
+}
+void* operator new[](size_t size, std::align_val_t alignment, const std::nothrow_t&) noexcept {
+    return allocate_aligned(size, alignment);
+}
+
+void operator delete(void* p) noexcept { release(p); }
+void operator delete[](void* p) noexcept { release(p); }
+void operator delete(void* p, size_t) noexcept { release(p); }
+void operator delete[](void* p, size_t) noexcept { release(p); }
+void operator delete(void* p, const std::nothrow_t&) noexcept { release(p); }
+void operator delete[](void* p, const std::nothrow_t&) noexcept { release(p); }
+void operator delete(void* p, std::align_val_t) noexcept { release(p); }
+void operator delete[](void* p, std::align_val_t) noexcept { release(p); }
+void operator delete(void* p, size_t, std::align_val_t) noexcept { release(p); }
+void operator delete[](void* p, size_t, std::align_val_t) noexcept { release(p); }
+void operator delete(void* p, std::align_val_t, const std::nothrow_t&) noexcept { release(p); }
+void operator delete[](void* p, std::align_val_t, const std::nothrow_t&) noexcept { release(p); }
+
+// --- the tests ----------------------------------------------------------------------------------------
+
+using namespace weft;
+using scenes::SeedScene;
+
+namespace {
+
+std::vector<SimdPath> available_paths() {
+    std::vector<SimdPath> paths{SimdPath::scalar};
+    if (simd_path_available(SimdPath::avx2)) paths.push_back(SimdPath::avx2);
+    return paths;
+}
+
+std::unique_ptr<scenes::SeedWorld> make_scene(SeedScene scene, SimdPath path, bool profile, uint32_t n = 50) {
+    scenes::SceneOptions o;
+    o.n = n;
+    o.simd = path;
+    o.profile = profile;
+    o.sphere_friction = 0.5f;  // friction exercises the collider's second code path
+    auto w = std::make_unique<scenes::SeedWorld>();
+    const std::string error = scenes::make_seed_world(scene, o, w.get());
+    INFO(error);
+    REQUIRE(error.empty());
+    return w;
+}
+
+// Steps `steps` times while counting; returns the allocations seen. Nothing inside the counted loop
+// may allocate on the test's side either (no doctest macros: they build strings).
+struct LoopResult {
+    uint64_t allocations = 0, deallocations = 0;
+    uint32_t failed_steps = 0;
+};
+
+LoopResult count_stepping(const scenes::SeedWorld& w, uint32_t steps) {
+    LoopResult r;
+    CountingScope counting;
+    for (uint32_t i = 0; i < steps; ++i)
+        if (!step(w.world, w.dt_s).ok()) ++r.failed_steps;
+    r.allocations = counting.allocations();
+    r.deallocations = counting.deallocations();
+    return r;
+}
+
+void check_no_allocation(SeedScene scene) {
+    for (SimdPath path : available_paths()) {
+        for (bool profile : {false, true}) {
+            const std::string label = std::string(scenes::scene_name(scene)) + ", " + simd_path_name(path) +
+                                      (profile ? ", profile" : "");
+            CAPTURE(label);
+            auto w = make_scene(scene, path, profile);
+            REQUIRE(world_simd_path(w->world) == path);
+            const LoopResult r = count_stepping(*w, 1000);
+            CHECK(r.failed_steps == 0);
+            CHECK(r.allocations == 0);
+            CHECK(r.deallocations == 0);
+            CHECK(world_stats(w->world).steps == 1000);
+            if (profile) CHECK(world_stats(w->world).pass_ns[static_cast<int>(Pass::integrate)] > 0);
+        }
+    }
+}
+
+}  // namespace
+
+TEST_CASE("allocation counter sees operator new and, outside ASan, malloc") {
+    // The counter must be able to fail: allocations made while counting are seen.
+    uint64_t seen = 0;
+    {
+        CountingScope counting;
+        int* volatile p = new int(3);
+        delete p;
+        auto* volatile a = new (std::align_val_t(64)) double[4];
+        ::operator delete[](a, std::align_val_t(64));
+        std::vector<float> v(100);
+        seen = counting.allocations();
+    }
+    CHECK(seen == 3);
+#if WEFT_TEST_COUNT_MALLOC
+    {
+        CountingScope counting;
+        void* volatile p = std::malloc(10);
+        std::free(p);
+        seen = counting.allocations();
+    }
+    CHECK(seen == 1);
+#else
+    MESSAGE("malloc is not replaced in this build (AddressSanitizer owns it): only operator new is counted");
+#endif
+}
+
+TEST_CASE("stepping the drape 1000 times allocates nothing") { check_no_allocation(SeedScene::drape); }
+TEST_CASE("stepping the flag in wind 1000 times allocates nothing") { check_no_allocation(SeedScene::flag); }
+TEST_CASE("stepping the sphere with friction 0.5 1000 times allocates nothing") {
+    check_no_allocation(SeedScene::sphere);
+}
+
+TEST_CASE("a frame's calls allocate nothing: set_wind, set_collider, step, read_positions, view_cloth") {
+    for (SeedScene scene : {SeedScene::flag, SeedScene::sphere}) {
+        const std::string scene_name = scenes::scene_name(scene);
+        CAPTURE(scene_name);
+        auto w = make_scene(scene, SimdPath::automatic, true, 25);
+        std::vector<Vec3> positions(w->cooked.asset().particle_count);
+        ColliderDesc sphere;
+        sphere.radius_m = 0.5f;
+        sphere.inflation_m = 0.01f;
+        sphere.friction = 0.5f;
+        uint32_t failures = 0;
+        uint64_t allocations = 0;
+        {
+            CountingScope counting;
+            for (uint32_t i = 0; i < 300; ++i) {
+                const float t = float(i) * w->dt_s;
+                if (scene == SeedScene::flag) {
+                    failures += !set_wind(w->world, {20.0f + 5.0f * std::sin(t), 0.0f, 2.0f}).ok();
+                } else {
+                    sphere.p0 = {0.1f * std::sin(t), 0.0f, 0.0f};
+                    failures += !set_collider(w->world, ColliderId{0}, sphere).ok();
+                }
+                failures += !set_gravity(w->world, {0.0f, -9.81f, 0.0f}).ok();
+                failures += !step(w->world, w->dt_s).ok();
+                failures += !read_positions(w->world, w->cloth, positions.data(), uint32_t(positions.size())).ok();
+                ClothView view;
+                failures += !view_cloth(w->world, w->cloth, &view).ok();
+                const WorldStats stats = world_stats(w->world);
+                failures += stats.steps != i + 1;
+                // Refused calls allocate nothing either (the message is formatted in place).
+                failures += step(w->world, -1.0f).ok();
+                failures += read_positions(w->world, ClothId{5}, positions.data(), 1).ok();
+            }
+            allocations = counting.allocations();
+        }
+        CHECK(failures == 0);
+        CHECK(allocations == 0);
+    }
+}
+
+TEST_CASE("reset_cloth and set_cloth_settings between frames allocate nothing") {
+    auto w = make_scene(SeedScene::drape, SimdPath::automatic, false, 25);
+    ClothDesc settings;
+    settings.asset = &w->cooked.asset();
+    uint32_t failures = 0;
+    uint64_t allocations = 0;
+    {
+        CountingScope counting;
+        for (uint32_t i = 0; i < 100; ++i) {
+            settings.sweeps = 1 + i % 5;
+            settings.policy = i % 2 == 0 ? BudgetPolicy::automatic : BudgetPolicy::explicit_split;
+            settings.iterations = 1 + i % 5;
+            settings.substeps = 1 + i % 3;
+            settings.coarse_level = i % 4 < 2;
+            failures += !set_cloth_settings(w->world, w->cloth, settings).ok();
+            failures += !step(w->world, w->dt_s).ok();
+            if (i % 25 == 24) failures += !reset_cloth(w->world, w->cloth).ok();
+            failures += !set_particle(w->world, w->cloth, 3, {0.0f, 2.0f, 0.0f}, 1.0f).ok();
+        }
+        allocations = counting.allocations();
+    }
+    CHECK(failures == 0);
+    CHECK(allocations == 0);
+}

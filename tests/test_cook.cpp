@@ -1,0 +1,208 @@
+// Cooking: the seed paper's spring counts (section 3 table) and the contiguous-run layout.
+#include "test_support.h"
+
+#include <algorithm>
+#include <map>
+#include <set>
+#include <utility>
+
+using namespace weft;
+using namespace weft::test;
+
+TEST_CASE("spring counts of an n x n grid match the seed paper") {
+    struct Expected {
+        uint32_t n, total;
+    };
+    // The paper's table: 3 456, 14 406, 32 856, 58 806 springs.
+    for (const Expected e : {Expected{25, 3456}, Expected{50, 14406}, Expected{75, 32856}, Expected{100, 58806}}) {
+        CAPTURE(e.n);
+        const uint32_t n = e.n;
+        const scenes::GridMesh grid = scenes::make_grid(n, 2.0f, 2.0f, false, 2.0f);
+        for (float m : grid.masses) REQUIRE(m > 0.0f);  // nothing pinned: no spring is dropped
+        CHECK(grid.positions.size() == size_t(n) * n);
+        CHECK(grid.triangles.size() / 3 == size_t(2) * (n - 1) * (n - 1));
+
+        const CookedCloth cooked = cook(grid.desc());
+        const ClothAsset& a = cooked.asset();
+        const uint32_t stretch = a.constraint_count[uint32_t(ConstraintKind::stretch)];
+        const uint32_t shear = a.constraint_count[uint32_t(ConstraintKind::shear)];
+        const uint32_t bend = a.constraint_count[uint32_t(ConstraintKind::bend)];
+        CHECK(stretch + shear == 3 * n * n - 4 * n + 1);
+        CHECK(bend == 3 * n * n - 8 * n + 5);
+        CHECK(a.total_constraints() == 6 * n * n - 12 * n + 6);
+        CHECK(a.total_constraints() == e.total);
+        // With the lattice the one diagonal per quad is told apart from the axis-aligned edges.
+        CHECK(shear == (n - 1) * (n - 1));
+        CHECK(stretch == 2 * n * (n - 1));
+        CHECK(a.particle_count == n * n);
+        CHECK(a.triangle_count == 2 * (n - 1) * (n - 1));
+        CHECK(a.tethered_particles == 0);  // nothing pinned, nothing to tether to
+        CHECK(a.tether_batch_count == 0);
+    }
+}
+
+TEST_CASE("spring counts without a lattice: every edge is a stretch spring") {
+    const uint32_t n = 25;
+    scenes::GridMesh grid = scenes::make_grid(n, 2.0f, 2.0f, false, 2.0f);
+    ClothMeshDesc desc = grid.desc();
+    desc.lattice = nullptr;
+    const CookedCloth cooked = cook(desc);
+    const ClothAsset& a = cooked.asset();
+    CHECK(a.constraint_count[uint32_t(ConstraintKind::stretch)] == 3 * n * n - 4 * n + 1);
+    CHECK(a.constraint_count[uint32_t(ConstraintKind::shear)] == 0);
+    CHECK(a.constraint_count[uint32_t(ConstraintKind::bend)] == 3 * n * n - 8 * n + 5);
+}
+
+TEST_CASE("cooked springs are exactly the mesh edges and the bend pairs, with rest lengths from the mesh") {
+    // Recomputes the seed's spring set (section 1.1) independently and compares pair by pair.
+    const uint32_t n = 12;
+    const scenes::GridMesh grid = scenes::make_grid(n, 2.0f, 1.5f, false, 2.0f);
+    const CookedCloth cooked = cook(grid.desc());
+    const ClothAsset& a = cooked.asset();
+
+    std::set<std::pair<uint32_t, uint32_t>> edges, bends;
+    auto key = [](uint32_t p, uint32_t q) { return std::make_pair(std::min(p, q), std::max(p, q)); };
+    for (uint32_t r = 0; r < n; ++r) {
+        for (uint32_t c = 0; c < n; ++c) {
+            if (c + 1 < n) edges.insert(key(grid.index(r, c), grid.index(r, c + 1)));
+            if (r + 1 < n) edges.insert(key(grid.index(r, c), grid.index(r + 1, c)));
+            if (r + 1 < n && c + 1 < n) edges.insert(key(grid.index(r, c + 1), grid.index(r + 1, c)));
+        }
+    }
+    // Bend pairs: for each interior edge, the two vertices opposite it.
+    std::map<std::pair<uint32_t, uint32_t>, std::vector<uint32_t>> opposite;
+    for (size_t t = 0; t < grid.triangles.size(); t += 3)
+        for (int e = 0; e < 3; ++e)
+            opposite[key(grid.triangles[t + e], grid.triangles[t + (e + 1) % 3])].push_back(grid.triangles[t + (e + 2) % 3]);
+    for (const auto& [edge, opp] : opposite)
+        if (opp.size() == 2) bends.insert(key(opp[0], opp[1]));
+
+    std::set<std::pair<uint32_t, uint32_t>> cooked_edges, cooked_bends;
+    for (uint32_t b = 0; b < a.batch_count; ++b) {
+        const ConstraintBatch& batch = a.batches[b];
+        for (uint32_t l = batch.first_lane; l < batch.first_lane + batch.lane_count; ++l) {
+            if (a.lane_weight[l] == 0.0f) continue;
+            const uint32_t p = a.particle_of_slot[a.index_a[l]], q = a.particle_of_slot[a.index_b[l]];
+            REQUIRE(p != kNoParticle);
+            REQUIRE(q != kNoParticle);
+            const Vec3 x = grid.positions[p], y = grid.positions[q];
+            const double rest = std::sqrt(double(x.x - y.x) * (x.x - y.x) + double(x.y - y.y) * (x.y - y.y) +
+                                          double(x.z - y.z) * (x.z - y.z));
+            CHECK(a.rest_length[l] == doctest::Approx(rest).epsilon(1e-6));
+            auto& target = batch.kind == ConstraintKind::bend ? cooked_bends : cooked_edges;
+            CHECK(target.insert(key(p, q)).second);  // no spring twice
+        }
+    }
+    CHECK(cooked_edges == edges);
+    CHECK(cooked_bends == bends);
+}
+
+TEST_CASE("drape 100 x 100: at least 95% of the constraints sit on contiguous runs") {
+    auto w = make_scene(scenes::SeedScene::drape, scene_options(100));
+    const ClothAsset& a = w->cooked.asset();
+    const uint32_t n = 100;
+    // Two corners pinned, not adjacent: no spring joins two pinned particles, none is dropped.
+    CHECK(a.total_constraints() == 6 * n * n - 12 * n + 6);
+    const double fraction = double(a.constraints_on_runs) / double(a.total_constraints());
+    MESSAGE("constraints on runs: ", a.constraints_on_runs, " of ", a.total_constraints(), " = ", fraction);
+    CHECK(fraction >= 0.95);
+
+    // The run invariants the AVX2 kernel relies on, checked independently of validate_asset.
+    uint32_t on_runs = 0, lanes_seen = 0;
+    std::vector<int> colour_of_slot(a.slot_count, -1);
+    uint16_t current_colour = 0xFFFE;
+    for (uint32_t b = 0; b < a.batch_count; ++b) {
+        const ConstraintBatch& batch = a.batches[b];
+        CAPTURE(b);
+        CHECK(batch.first_lane == lanes_seen);
+        lanes_seen += batch.lane_count;
+        if (batch.colour != current_colour) {
+            current_colour = batch.colour;
+            std::fill(colour_of_slot.begin(), colour_of_slot.end(), -1);
+        }
+        if (batch.layout == BatchLayout::run) {
+            CHECK(batch.lane_count % kSimdWidth == 0);
+            CHECK(batch.a0 + batch.lane_count <= a.slot_count);
+            CHECK(batch.b0 + batch.lane_count <= a.slot_count);
+            const uint32_t gap = batch.a0 < batch.b0 ? batch.b0 - batch.a0 : batch.a0 - batch.b0;
+            CHECK(gap >= batch.lane_count);  // the a side and the b side do not overlap
+            for (uint32_t k = 0; k < batch.lane_count; ++k) {
+                const uint32_t l = batch.first_lane + k;
+                if (a.index_a[l] != batch.a0 + k || a.index_b[l] != batch.b0 + k) {
+                    FAIL_CHECK("run ", b, " is not contiguous at lane ", k);
+                    break;
+                }
+                if (a.lane_weight[l] != 0.0f) ++on_runs;
+            }
+        }
+        if (batch.colour == 0xFFFF) continue;  // the overflow colour shares particles by design
+        for (uint32_t l = batch.first_lane; l < batch.first_lane + batch.lane_count; ++l) {
+            if (a.lane_weight[l] == 0.0f) continue;
+            for (uint32_t s : {a.index_a[l], a.index_b[l]}) {
+                if (colour_of_slot[s] != -1) {
+                    FAIL_CHECK("colour ", batch.colour, " touches slot ", s, " twice");
+                }
+                colour_of_slot[s] = int(b);
+            }
+        }
+    }
+    CHECK(lanes_seen == a.lane_count);
+    CHECK(on_runs == a.constraints_on_runs);
+    CHECK(validate_asset(a).ok());
+
+    // The step reports the same split.
+    step_n(*w, 1);
+    const WorldStats stats = world_stats(w->world);
+    CHECK(stats.run_projections == uint64_t(a.constraints_on_runs) * 3);
+    CHECK(stats.indexed_projections == uint64_t(a.total_constraints() - a.constraints_on_runs) * 3);
+}
+
+TEST_CASE("slot permutation maps both ways and padding slots are pinned") {
+    auto w = make_scene(scenes::SeedScene::drape, scene_options(25));
+    const ClothAsset& a = w->cooked.asset();
+    CHECK(a.slot_count % kSimdWidth == 0);
+    std::vector<int> seen(a.slot_count, 0);
+    for (uint32_t p = 0; p < a.particle_count; ++p) {
+        const uint32_t s = a.slot_of_particle[p];
+        REQUIRE(s < a.slot_count);
+        CHECK(a.particle_of_slot[s] == p);
+        CHECK(++seen[s] == 1);
+        const Vec3 start = w->mesh.positions[p];
+        CHECK(a.start_x[s] == start.x);
+        CHECK(a.start_y[s] == start.y);
+        CHECK(a.start_z[s] == start.z);
+    }
+    for (uint32_t s = 0; s < a.slot_count; ++s)
+        if (a.particle_of_slot[s] == kNoParticle) CHECK(a.inverse_mass[s] == 0.0f);
+    // The two pinned corners and nothing else.
+    uint32_t pinned = 0;
+    for (uint32_t p = 0; p < a.particle_count; ++p) pinned += a.inverse_mass[a.slot_of_particle[p]] == 0.0f;
+    CHECK(pinned == 2);
+    CHECK(a.inverse_mass[a.slot_of_particle[w->mesh.index(0, 0)]] == 0.0f);
+    CHECK(a.inverse_mass[a.slot_of_particle[w->mesh.index(0, 24)]] == 0.0f);
+    // Tethers: one lane per free particle, to pinned anchors, at the rest-mesh distances.
+    CHECK(a.tethered_particles == a.particle_count - 2);
+    std::vector<int> tethered(a.slot_count, 0);
+    for (uint32_t b = 0; b < a.tether_batch_count; ++b) {
+        const TetherBatch& t = a.tether_batches[b];
+        for (uint32_t k = 0; k < t.lane_count; ++k) {
+            const float r0 = a.tether_rest[0][t.first_lane + k], r1 = a.tether_rest[1][t.first_lane + k];
+            if (std::isinf(r0) && std::isinf(r1)) continue;
+            const uint32_t s = t.particle0 + k;
+            REQUIRE(s < a.slot_count);
+            ++tethered[s];
+            CHECK(a.inverse_mass[s] > 0.0f);
+            for (int side = 0; side < 2; ++side) {
+                const uint32_t q = t.anchor[side];
+                CHECK(a.inverse_mass[q] == 0.0f);
+                const double dx = double(a.start_x[s]) - a.start_x[q], dy = double(a.start_y[s]) - a.start_y[q],
+                             dz = double(a.start_z[s]) - a.start_z[q];
+                CHECK(a.tether_rest[side][t.first_lane + k] == doctest::Approx(std::sqrt(dx * dx + dy * dy + dz * dz)));
+            }
+        }
+    }
+    for (uint32_t p = 0; p < a.particle_count; ++p) {
+        const uint32_t s = a.slot_of_particle[p];
+        CHECK(tethered[s] == (a.inverse_mass[s] > 0.0f ? 1 : 0));
+    }
+}

@@ -1,0 +1,152 @@
+// Helpers shared by Weft's tests: seed worlds, hand-made worlds, position snapshots.
+#pragma once
+
+#include <doctest/doctest.h>
+
+#include <cmath>
+#include <cstdlib>
+#include <cstring>
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "metrics.h"
+#include "seed_scenes.h"
+#include "weft/weft.h"
+
+namespace weft::test {
+
+// doctest prints these in failure messages.
+inline const char* code_name(ErrorCode code) {
+    switch (code) {
+        case ErrorCode::ok: return "ok";
+        case ErrorCode::invalid_argument: return "invalid_argument";
+        case ErrorCode::non_finite: return "non_finite";
+        case ErrorCode::out_of_range: return "out_of_range";
+        case ErrorCode::capacity_exceeded: return "capacity_exceeded";
+        case ErrorCode::memory_too_small: return "memory_too_small";
+        case ErrorCode::unsupported: return "unsupported";
+        case ErrorCode::corrupt_asset: return "corrupt_asset";
+    }
+    return "?";
+}
+
+// The SIMD paths this build and CPU can run (scalar always).
+inline std::vector<SimdPath> available_paths() {
+    std::vector<SimdPath> paths{SimdPath::scalar};
+    if (simd_path_available(SimdPath::avx2)) paths.push_back(SimdPath::avx2);
+    return paths;
+}
+
+inline scenes::SceneOptions scene_options(uint32_t n, SimdPath path = SimdPath::automatic) {
+    scenes::SceneOptions o;
+    o.n = n;
+    o.simd = path;
+    return o;
+}
+
+// Builds a seed world; fails the test (REQUIRE) if it cannot. Heap-allocated because SeedWorld
+// owns arrays the world points into and must not move once built.
+inline std::unique_ptr<scenes::SeedWorld> make_scene(scenes::SeedScene scene, const scenes::SceneOptions& o) {
+    auto w = std::make_unique<scenes::SeedWorld>();
+    const std::string error = scenes::make_seed_world(scene, o, w.get());
+    INFO("scene ", scenes::scene_name(scene), " n ", o.n, ": ", error);
+    REQUIRE(error.empty());
+    REQUIRE(w->world != nullptr);
+    return w;
+}
+
+inline std::vector<Vec3> read_all(const World* world, ClothId cloth, uint32_t count) {
+    std::vector<Vec3> out(count);
+    const Result r = read_positions(world, cloth, out.data(), count);
+    INFO(r.message);
+    REQUIRE(r.ok());
+    return out;
+}
+
+inline std::vector<Vec3> read_all(const scenes::SeedWorld& w) {
+    return read_all(w.world, w.cloth, w.cooked.asset().particle_count);
+}
+
+inline ClothView view_of(const World* world, ClothId cloth) {
+    ClothView v;
+    const Result r = view_cloth(world, cloth, &v);
+    INFO(r.message);
+    REQUIRE(r.ok());
+    return v;
+}
+
+inline ClothView view_of(const scenes::SeedWorld& w) { return view_of(w.world, w.cloth); }
+
+inline bool same_bits(const std::vector<Vec3>& a, const std::vector<Vec3>& b) {
+    return a.size() == b.size() && std::memcmp(a.data(), b.data(), a.size() * sizeof(Vec3)) == 0;
+}
+
+inline bool all_finite(const std::vector<Vec3>& p) {
+    for (const Vec3& v : p)
+        if (!std::isfinite(v.x) || !std::isfinite(v.y) || !std::isfinite(v.z)) return false;
+    return true;
+}
+
+inline double max_abs_difference(const std::vector<Vec3>& a, const std::vector<Vec3>& b) {
+    double worst = 0.0;
+    for (size_t i = 0; i < a.size() && i < b.size(); ++i) {
+        worst = std::fmax(worst, std::fabs(double(a[i].x) - b[i].x));
+        worst = std::fmax(worst, std::fabs(double(a[i].y) - b[i].y));
+        worst = std::fmax(worst, std::fabs(double(a[i].z) - b[i].z));
+    }
+    return worst;
+}
+
+inline void step_n(const scenes::SeedWorld& w, uint32_t steps) {
+    for (uint32_t i = 0; i < steps; ++i) {
+        const Result r = step(w.world, w.dt_s);
+        INFO(r.message);
+        REQUIRE(r.ok());
+    }
+}
+
+// A world built by hand in a block the test owns.
+struct OwnedWorld {
+    std::unique_ptr<unsigned char[], void (*)(void*)> memory{nullptr, std::free};
+    World* world = nullptr;
+    size_t bytes = 0;
+};
+
+inline Result make_world(const WorldDesc& desc, OwnedWorld* out) {
+    const MemoryRequirements need = world_memory_requirements(desc);
+    REQUIRE(need.bytes > 0);
+    REQUIRE(need.alignment > 0);
+    out->bytes = need.bytes;
+    const size_t rounded = (need.bytes + need.alignment - 1) / need.alignment * need.alignment;
+    out->memory = {static_cast<unsigned char*>(std::aligned_alloc(need.alignment, rounded)), std::free};
+    REQUIRE(out->memory != nullptr);
+    return create_world(desc, out->memory.get(), need.bytes, &out->world);
+}
+
+// A world sized for exactly these assets (one cloth each), `colliders` colliders.
+inline WorldDesc world_for(const std::vector<const ClothAsset*>& assets, uint32_t colliders = 0,
+                           SimdPath path = SimdPath::automatic) {
+    WorldDesc d;
+    d.max_cloths = 0;
+    for (const ClothAsset* a : assets) reserve_cloth(d, *a);
+    d.max_colliders = colliders;
+    d.simd = path;
+    return d;
+}
+
+// Cooks a mesh; fails the test if it cannot.
+inline CookedCloth cook(const ClothMeshDesc& mesh, const CookOptions& options = {}) {
+    CookedCloth cooked;
+    const Result r = cook_cloth(mesh, options, &cooked);
+    INFO(r.message);
+    REQUIRE(r.ok());
+    return cooked;
+}
+
+}  // namespace weft::test
+
+namespace weft {
+// doctest stringifies enums as numbers; this overload (found by argument-dependent lookup) names them.
+inline doctest::String toString(ErrorCode code) { return test::code_name(code); }
+}  // namespace weft
