@@ -5,6 +5,10 @@
 #include "integrate/verlet.h"
 #include "kernels.h"
 
+#if defined(WEFT_SIMD_REQUIRE_AVX2) && !WEFT_HAVE_AVX2
+#error "WEFT_SIMD=avx2 but this file is not compiled for AVX2 + FMA"
+#endif
+
 namespace weft {
 
 #if WEFT_HAVE_AVX2

@@ -15,6 +15,14 @@
 #define WEFT_HAVE_AVX2 0
 #endif
 
+#if !defined(WEFT_SCALAR_FMA)
+#if defined(__FMA__)
+#define WEFT_SCALAR_FMA 1
+#else
+#define WEFT_SCALAR_FMA 0
+#endif
+#endif
+
 namespace weft::simd {
 
 // --- scalar: one lane ---------------------------------------------------------------------------
@@ -38,17 +46,20 @@ inline Float1 operator-(Float1 a, Float1 b) { return {a.v - b.v}; }
 inline Float1 operator*(Float1 a, Float1 b) { return {a.v * b.v}; }
 inline Float1 operator/(Float1 a, Float1 b) { return {a.v / b.v}; }
 inline Float1 sqrt(Float1 a) { return {std::sqrt(a.v)}; }
-// a * b + c, rounded once.
+// a * b + c, rounded once. WEFT_SCALAR_FMA is set for the whole library by the build (not per
+// file), so every translation unit agrees: with a SIMD path the scalar path fuses too (std::fma is
+// one instruction on FMA targets, a correctly rounded library call elsewhere) and stays bit-identical
+// to it; a scalar-only build rounds twice.
 inline Float1 mul_add(Float1 a, Float1 b, Float1 c) {
-#if defined(__FMA__)
+#if WEFT_SCALAR_FMA
     return {std::fma(a.v, b.v, c.v)};
 #else
     return {a.v * b.v + c.v};
 #endif
 }
-// c - a * b, rounded once.
+// c - a * b, rounded once (see mul_add).
 inline Float1 neg_mul_add(Float1 a, Float1 b, Float1 c) {
-#if defined(__FMA__)
+#if WEFT_SCALAR_FMA
     return {std::fma(-a.v, b.v, c.v)};
 #else
     return {c.v - a.v * b.v};
