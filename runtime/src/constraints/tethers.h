@@ -48,9 +48,15 @@ void project_tethers(const Particles& p, const ClothAsset& asset, const TetherBa
         const auto is_free = load(p.inverse_mass + i, F{}) > zero;
         const F ra = load(rest_a + k, F{}) * scale, rb = load(rest_b + k, F{}) * scale;  // +inf: padding
 
-        // Projection onto ball A, and whether it lies in ball B.
+        // Most particles sit inside both balls: nothing to do, and no square root to find out.
         const F dax = x - Ax, day = y - Ay, daz = z - Az;
-        const F la = sqrt(mul_add(dax, dax, mul_add(day, day, daz * daz)));
+        const F dbx = x - Bx, dby = y - By, dbz = z - Bz;
+        const F la2 = mul_add(dax, dax, mul_add(day, day, daz * daz));
+        const F lb2 = mul_add(dbx, dbx, mul_add(dby, dby, dbz * dbz));
+        if (!any((la2 > ra * ra) | (lb2 > rb * rb))) continue;
+
+        // Projection onto ball A, and whether it lies in ball B.
+        const F la = sqrt(la2);
         const F sa = keep_if((la > ra) & (la > min_len), (la - ra) / la);
         const F pax = neg_mul_add(sa, dax, x), pay = neg_mul_add(sa, day, y), paz = neg_mul_add(sa, daz, z);
         const F qbx = pax - Bx, qby = pay - By, qbz = paz - Bz;
@@ -60,8 +66,7 @@ void project_tethers(const Particles& p, const ClothAsset& asset, const TetherBa
         F rx = pax, ry = pay, rz = paz;
         if (!all(a_ok)) {
             // Projection onto ball B, and whether it lies in ball A.
-            const F dbx = x - Bx, dby = y - By, dbz = z - Bz;
-            const F lb = sqrt(mul_add(dbx, dbx, mul_add(dby, dby, dbz * dbz)));
+            const F lb = sqrt(lb2);
             const F sb = keep_if((lb > rb) & (lb > min_len), (lb - rb) / lb);
             const F pbx = neg_mul_add(sb, dbx, x), pby = neg_mul_add(sb, dby, y), pbz = neg_mul_add(sb, dbz, z);
             const F qax = pbx - Ax, qay = pby - Ay, qaz = pbz - Az;

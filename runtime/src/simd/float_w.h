@@ -70,6 +70,7 @@ inline Float1 max(Float1 a, Float1 b) { return {a.v > b.v ? a.v : b.v}; }
 inline Mask1 operator>(Float1 a, Float1 b) { return {a.v > b.v}; }
 inline Mask1 operator<(Float1 a, Float1 b) { return {a.v < b.v}; }
 inline Mask1 operator&(Mask1 a, Mask1 b) { return {a.v && b.v}; }
+inline Mask1 operator|(Mask1 a, Mask1 b) { return {a.v || b.v}; }
 // The value where the mask holds, +0 elsewhere (also when the value is NaN or infinite).
 inline Float1 keep_if(Mask1 m, Float1 a) { return {m.v ? a.v : 0.0f}; }
 // a where the mask holds, b elsewhere.
@@ -120,6 +121,7 @@ inline Float8 max(Float8 a, Float8 b) { return {_mm256_max_ps(a.v, b.v)}; }
 inline Mask8 operator>(Float8 a, Float8 b) { return {_mm256_cmp_ps(a.v, b.v, _CMP_GT_OQ)}; }
 inline Mask8 operator<(Float8 a, Float8 b) { return {_mm256_cmp_ps(a.v, b.v, _CMP_LT_OQ)}; }
 inline Mask8 operator&(Mask8 a, Mask8 b) { return {_mm256_and_ps(a.v, b.v)}; }
+inline Mask8 operator|(Mask8 a, Mask8 b) { return {_mm256_or_ps(a.v, b.v)}; }
 inline Float8 keep_if(Mask8 m, Float8 a) { return {_mm256_and_ps(m.v, a.v)}; }
 inline Float8 select(Mask8 m, Float8 a, Float8 b) { return {_mm256_blendv_ps(b.v, a.v, m.v)}; }
 inline bool any(Mask8 m) { return _mm256_movemask_ps(m.v) != 0; }
