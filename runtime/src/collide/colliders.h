@@ -45,8 +45,10 @@ inline void apply_friction(Vec3W<F>& target, const Vec3W<F>& previous, const Vec
     target.z = neg_mul_add(cancel, tangent.z, target.z);
 }
 
-// Sphere (p0 == p1), capsule, or finite cylinder (no contact beyond the axis ends, eq. 6).
-template <class F, bool kCylinder>
+// Sphere (p0 only), capsule, or finite cylinder (no contact beyond the axis ends, eq. 6).
+enum class SegmentShape { sphere, capsule, cylinder };
+
+template <class F, SegmentShape kShape>
 void collide_segment(const Particles& p, const ColliderKernelArgs& c) {
     using namespace simd;
     const Vec3 axis{c.p1.x - c.p0.x, c.p1.y - c.p0.y, c.p1.z - c.p0.z};
@@ -54,27 +56,31 @@ void collide_segment(const Particles& p, const ColliderKernelArgs& c) {
     const F inv_axis_len2 = splat(axis_len2 > 0.0f ? 1.0f / axis_len2 : 0.0f, F{});
     const Vec3W<F> p0{splat(c.p0.x, F{}), splat(c.p0.y, F{}), splat(c.p0.z, F{})};
     const Vec3W<F> ax{splat(axis.x, F{}), splat(axis.y, F{}), splat(axis.z, F{})};
-    const F radius = splat(c.radius, F{});
+    const F radius = splat(c.radius, F{}), radius2 = splat(c.radius * c.radius, F{});
     const F zero = splat(0.0f, F{}), one = splat(1.0f, F{});
-    const F min_distance = splat(1e-9f, F{});
+    const F min_distance2 = splat(1e-18f, F{});
     const bool friction = c.friction > 0.0f;
     for (uint32_t i = 0; i < p.slot_count; i += F::width) {
         const Vec3W<F> x{load(p.x + i, F{}), load(p.y + i, F{}), load(p.z + i, F{})};
         const Vec3W<F> rel{x.x - p0.x, x.y - p0.y, x.z - p0.z};
-        F t = dot(rel, ax) * inv_axis_len2;
         auto contact = load(p.inverse_mass + i, F{}) > zero;
-        if constexpr (kCylinder) {
-            contact = contact & (t > zero) & (t < one);
-        } else {
-            t = max(zero, min(t, one));
+        Vec3W<F> d = rel;  // from the closest axis point (the centre, for a sphere)
+        if constexpr (kShape != SegmentShape::sphere) {
+            F t = dot(rel, ax) * inv_axis_len2;
+            if constexpr (kShape == SegmentShape::cylinder) {
+                contact = contact & (t > zero) & (t < one);
+            } else {
+                t = max(zero, min(t, one));
+            }
+            d = {neg_mul_add(t, ax.x, rel.x), neg_mul_add(t, ax.y, rel.y), neg_mul_add(t, ax.z, rel.z)};
         }
-        const Vec3W<F> d{neg_mul_add(t, ax.x, rel.x), neg_mul_add(t, ax.y, rel.y),
-                         neg_mul_add(t, ax.z, rel.z)};
-        const F dist = sqrt(dot(d, d));
-        const F penetration = radius - dist;
-        contact = contact & (penetration > zero) & (dist > min_distance);
+        // Inside test on squared distances: no square root for the lanes that miss (most of them).
+        const F dist2 = dot(d, d);
+        contact = contact & (dist2 < radius2) & (dist2 > min_distance2);
         if (!any(contact)) continue;
-        const F inv_dist = splat(1.0f, F{}) / dist;  // one division, not three
+        const F dist = sqrt(dist2);
+        const F penetration = radius - dist;
+        const F inv_dist = one / dist;  // one division, not three
         const Vec3W<F> n{d.x * inv_dist, d.y * inv_dist, d.z * inv_dist};
         // Closest surface point: x + n * penetration (eq. 7 and 8 written as a push).
         Vec3W<F> target{mul_add(n.x, penetration, x.x), mul_add(n.y, penetration, x.y),
@@ -122,9 +128,9 @@ template <class F>
 void collide(const Particles& p, const ColliderKernelArgs& c) {
     switch (static_cast<ColliderShape>(c.shape)) {
         case ColliderShape::plane: collide_plane<F>(p, c); break;
-        case ColliderShape::cylinder: collide_segment<F, true>(p, c); break;
-        case ColliderShape::sphere:
-        case ColliderShape::capsule: collide_segment<F, false>(p, c); break;
+        case ColliderShape::cylinder: collide_segment<F, SegmentShape::cylinder>(p, c); break;
+        case ColliderShape::sphere: collide_segment<F, SegmentShape::sphere>(p, c); break;
+        case ColliderShape::capsule: collide_segment<F, SegmentShape::capsule>(p, c); break;
     }
 }
 
