@@ -6,7 +6,8 @@
 //   3. move every particle by the weighted displacement of its nodes (a partition of unity), so the
 //      whole cloth follows the coarse correction smoothly instead of only the node particles; this
 //      is done inside the integration pass (integrate/verlet.h), so step 1 predicts the nodes.
-// The coarse cloth has no bend constraints (measured: they flare a draped skirt into an umbrella)
+// The coarse projection uses the square-root-free form (distance.h): same rest state, measured
+// the same on the sphere (stays at n = 50, 100, 200), 20% cheaper. The coarse cloth has no bend constraints (measured: they flare a draped skirt into an umbrella)
 // and is bilateral (unilateral coarse constraints gave 100%+ local strain spikes).
 #pragma once
 
@@ -37,7 +38,7 @@ inline void solve_coarse_level(const ClothAsset& a, const CoarseState& st, float
     for (uint32_t c = 0; c < a.coarse_constraint_count; ++c) {
         const uint32_t i = a.coarse_a[c], j = a.coarse_b[c];
         Float1 xa{st.x[i]}, ya{st.y[i]}, za{st.z[i]}, xb{st.x[j]}, yb{st.y[j]}, zb{st.z[j]};
-        project_distance<Float1, true>(xa, ya, za, Float1{a.coarse_inverse_mass[i]}, xb, yb, zb,
+        project_distance<Float1, false>(xa, ya, za, Float1{a.coarse_inverse_mass[i]}, xb, yb, zb,
                                        Float1{a.coarse_inverse_mass[j]}, Float1{a.coarse_rest[c]}, weight,
                                        alpha);
         st.x[i] = xa.v, st.y[i] = ya.v, st.z[i] = za.v;

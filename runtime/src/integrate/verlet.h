@@ -94,27 +94,31 @@ template <class F, bool kWind>
 void integrate_with_coarse_lattice(const Particles& p, const IntegrateArgs& args, const ClothAsset& a,
                                    const CoarseState& st) {
     const uint32_t rows = a.lattice_plane_rows, cols = a.lattice_plane_cols;
-    for (uint32_t plane = 0; plane < 4; ++plane) {
-        const uint32_t row_parity = plane >> 1, column_parity = plane & 1;
+    for (uint32_t column_parity = 0; column_parity < 2; ++column_parity) {
+        // Fine rows in order (plane row r of row parity 0, then of parity 1): the coarse rows only
+        // grow, so each is interpolated to the plane columns once per column parity.
         float* lower[3] = {st.column_rows[0], st.column_rows[1], st.column_rows[2]};
         float* upper[3] = {st.column_rows[3], st.column_rows[4], st.column_rows[5]};
         uint32_t loaded = ~0u;  // coarse row held in `lower` (loaded + 1 in `upper`)
         for (uint32_t r = 0; r < rows; ++r) {
-            const uint32_t coarse_row = a.coarse_row_node[row_parity][r];
-            if (loaded != ~0u && coarse_row == loaded + 1) {  // slide the window up one coarse row
-                for (int axis = 0; axis < 3; ++axis) std::swap(lower[axis], upper[axis]);
-                interpolate_coarse_row<F>(a, st, coarse_row + 1, column_parity, upper);
-            } else if (coarse_row != loaded) {
-                interpolate_coarse_row<F>(a, st, coarse_row, column_parity, lower);
-                interpolate_coarse_row<F>(a, st, coarse_row + 1, column_parity, upper);
+            for (uint32_t row_parity = 0; row_parity < 2; ++row_parity) {
+                const uint32_t coarse_row = a.coarse_row_node[row_parity][r];
+                if (loaded != ~0u && coarse_row == loaded + 1) {  // slide the window up one coarse row
+                    for (int axis = 0; axis < 3; ++axis) std::swap(lower[axis], upper[axis]);
+                    interpolate_coarse_row<F>(a, st, coarse_row + 1, column_parity, upper);
+                } else if (coarse_row != loaded) {
+                    interpolate_coarse_row<F>(a, st, coarse_row, column_parity, lower);
+                    interpolate_coarse_row<F>(a, st, coarse_row + 1, column_parity, upper);
+                }
+                loaded = coarse_row;
+                const float frac = a.coarse_row_frac[row_parity][r];
+                const uint32_t base = ((row_parity * 2 + column_parity) * rows + r) * cols;
+                uint32_t c = 0;
+                for (; c + F::width <= cols; c += F::width)
+                    integrate_lattice_lanes<F, kWind>(p, args, lower, upper, frac, base + c, c);
+                for (; c < cols; ++c)
+                    integrate_lattice_lanes<simd::Float1, kWind>(p, args, lower, upper, frac, base + c, c);
             }
-            loaded = coarse_row;
-            const float frac = a.coarse_row_frac[row_parity][r];
-            const uint32_t base = (plane * rows + r) * cols;
-            uint32_t c = 0;
-            for (; c + F::width <= cols; c += F::width)
-                integrate_lattice_lanes<F, kWind>(p, args, lower, upper, frac, base + c, c);
-            for (; c < cols; ++c) integrate_lattice_lanes<simd::Float1, kWind>(p, args, lower, upper, frac, base + c, c);
         }
     }
     integrate_slots<F, kWind>(p, args, 4 * rows * cols, p.slot_count);  // padding after the planes
