@@ -1,23 +1,423 @@
-#include <chrono>
+// weft-bench: the seed paper's experiments (section 3) timed on the scalar and the SIMD path.
+//
+//   weft-bench drape  [--sizes 25,50,75,100,200,400] [--config default|plain] [--sweeps 3]
+//                     [--iterations I] [--substeps S] [--steps 300] [--warmup 30] [--repeat 1]
+//                     [--json] [--json-out FILE] [--no-tethers] [--no-passes] [--paths scalar,avx2]
+//   weft-bench flag   [same] [--wind 20]
+//   weft-bench sphere [same] [--inflation 0.01]
+//   weft-bench passes [same]        every scene, to show which passes each one pays for
+//
+// The budget is `--sweeps` spent by the runtime's automatic policy (config "default") or the seed's
+// plain method (config "plain"); --iterations / --substeps give an explicit split instead.
+// Single-threaded. Pin it for stable figures: taskset -c 1 weft-bench drape.
+#include <CLI/CLI.hpp>
+#include <nlohmann/json.hpp>
+
+#include <cmath>
 #include <cstdio>
-#include "seed_scenes.h"
-#include "metrics.h"
+#include <cstring>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "bench_run.h"
+
+namespace {
+
 using namespace weft;
-int main(int argc, char** argv) {
-    uint32_t n = argc > 1 ? atoi(argv[1]) : 100;
-    for (SimdPath path : {SimdPath::scalar, SimdPath::avx2}) {
-        scenes::SceneOptions o; o.n = n; o.simd = path; o.profile = true;
-        scenes::SeedWorld sw;
-        std::string err = scenes::make_seed_world(scenes::SeedScene::drape, o, &sw);
-        if (!err.empty()) { printf("error %s\n", err.c_str()); return 1; }
-        const auto& a = sw.cooked.asset();
-        printf("slots %u lanes %u batches %u colours %u on_runs %u/%u tethers %u\n", a.slot_count, a.lane_count, a.batch_count, a.colour_count, a.constraints_on_runs, a.total_constraints(), a.tether_count);
-        auto t0 = std::chrono::steady_clock::now();
-        for (int i = 0; i < 330; ++i) step(sw.world, sw.dt_s);
-        auto t1 = std::chrono::steady_clock::now();
-        { auto st = world_stats(sw.world); for (int p = 0; p < 5; ++p) printf("  %s %.1f us\n", pass_name(Pass(p)), st.pass_ns[p] / 330e3); }
-        ClothView v; view_cloth(sw.world, sw.cloth, &v);
-        auto s = metrics::stretch_strain(v);
-        printf("%s: %.1f us/step mean strain %.4f max %.4f speed %.4f tether %.4f\n", simd_path_name(path), std::chrono::duration<double, std::micro>(t1 - t0).count() / 330, s.mean, s.max, metrics::mean_speed(v), metrics::max_tether_excess(v));
+using weft::scenes::SeedScene;
+
+// The seed paper's table (section 3): grid n -> step time in ms on a Pentium 4 2.4 GHz.
+std::optional<double> paper_ms(SeedScene scene, uint32_t n) {
+    if (scene != SeedScene::drape) return std::nullopt;
+    switch (n) {
+        case 25: return 2.0;
+        case 50: return 9.4;
+        case 75: return 17.3;
+        case 100: return 33.4;
+        default: return std::nullopt;
     }
+}
+
+struct CliOptions {
+    std::vector<uint32_t> sizes;
+    std::string config = "default";  // scenes::Config: "default" (automatic budget policy) or "plain"
+    uint32_t sweeps = 3;             // the budget: passes over every constraint per step
+    uint32_t iterations = 0;         // with substeps: an explicit split (0 = the config's)
+    uint32_t substeps = 0;
+    uint32_t steps = 300;
+    uint32_t warmup = 30;
+    uint32_t repeat = 1;
+    bool json = false;
+    bool no_tethers = false;
+    bool no_passes = false;
+    std::string json_out;  // also append the JSON lines to this file
+    std::vector<std::string> paths{"scalar", "avx2"};
+    float wind_m_s = 20.0f;
+    float inflation_m = 0.01f;
+};
+
+void add_common_options(CLI::App* app, CliOptions& o) {
+    app->add_option("--sizes", o.sizes, "grid sizes n (n x n particles), comma separated")
+        ->delimiter(',')
+        ->check(CLI::Range(2u, 4096u))
+        ->capture_default_str();
+    app->add_option("--config", o.config,
+                    "default: the runtime's defaults and automatic budget policy; plain: the seed's method "
+                    "(1 substep, no tethers, no coarse level)")
+        ->check(CLI::IsMember({"default", "plain"}))
+        ->capture_default_str();
+    app->add_option("--sweeps", o.sweeps, "solver budget: passes over every constraint per step")
+        ->check(CLI::Range(1u, 1000u))
+        ->capture_default_str();
+    app->add_option("--iterations", o.iterations,
+                    "constraint sweeps per substep; with --iterations or --substeps the split is explicit "
+                    "(sweeps = substeps x iterations) instead of the policy's")
+        ->check(CLI::Range(1u, 1000u));
+    app->add_option("--substeps", o.substeps, "Verlet substeps per step (explicit split, default 1)")
+        ->check(CLI::Range(1u, 64u));
+    app->add_option("--steps", o.steps, "timed steps (the median is reported)")
+        ->check(CLI::Range(1u, 10000000u))
+        ->capture_default_str();
+    app->add_option("--warmup", o.warmup, "untimed steps before timing")->capture_default_str();
+    app->add_option("--repeat", o.repeat, "independent runs per size and path; the lowest median is reported")
+        ->check(CLI::Range(1u, 100u))
+        ->capture_default_str();
+    app->add_option("--paths", o.paths, "SIMD paths to run: scalar, avx2")
+        ->delimiter(',')
+        ->check(CLI::IsMember({"scalar", "avx2"}))
+        ->capture_default_str();
+    app->add_flag("--json", o.json, "one JSON object per line (per size x path)");
+    app->add_option("--json-out", o.json_out, "also append the JSON lines to this file (with the tables on stdout)");
+    app->add_flag("--no-tethers", o.no_tethers, "disable the long-range attachments");
+    app->add_flag("--no-passes", o.no_passes, "skip the second, profiled run (no per-pass costs)");
+}
+
+bool explicit_split(const CliOptions& o) { return o.iterations > 0 || o.substeps > 0; }
+
+std::string fmt(const char* format, double v) {
+    char buf[64];
+    std::snprintf(buf, sizeof buf, format, v);
+    return buf;
+}
+
+// Rounds to `digits` decimals so the JSON prints short numbers (nlohmann prints the shortest
+// representation that reads back to the same double).
+double round_to(double v, int digits) {
+    const double scale = std::pow(10.0, digits);
+    return std::round(v * scale) / scale;
+}
+
+// The 1-minute load average (Linux), or a negative value when unknown. Other processes on the
+// machine inflate the timings; the bench reports how busy it was instead of hiding it.
+double load_average() {
+    double load = -1.0;
+    if (std::FILE* f = std::fopen("/proc/loadavg", "r")) {
+        if (std::fscanf(f, "%lf", &load) != 1) load = -1.0;
+        std::fclose(f);
+    }
+    return load;
+}
+
+bool bit_identical(const std::vector<Vec3>& a, const std::vector<Vec3>& b) {
+    return a.size() == b.size() && std::memcmp(a.data(), b.data(), a.size() * sizeof(Vec3)) == 0;
+}
+
+// Results of one scene at one size: index 0 scalar, 1 avx2 (either may be missing).
+struct SizeResult {
+    uint32_t n = 0;
+    std::optional<bench::Measurement> path[2];
+};
+
+nlohmann::ordered_json to_json(const bench::Measurement& m, const CliOptions& o, const bench::Measurement* scalar) {
+    nlohmann::ordered_json j;
+    const auto paper = paper_ms(m.scene, m.n);
+    j["scene"] = scenes::scene_name(m.scene);
+    j["n"] = m.n;
+    j["particles"] = m.particles;
+    j["springs"] = m.springs;
+    // The split the runtime actually ran (the automatic policy picks it from the budget).
+    j["iterations"] = m.split.iterations;
+    j["substeps"] = m.split.substeps;
+    j["simd"] = simd_path_name(m.path);
+    j["config"] = o.config;
+    j["policy"] = explicit_split(o) ? "explicit_split" : "automatic";
+    j["sweeps"] = explicit_split(o) ? m.split.substeps * m.split.iterations : o.sweeps;  // the budget asked for
+    j["relaxation"] = round_to(m.split.relaxation, 4);
+    j["tethers"] = m.split.tethers;
+    j["coarse_level"] = m.split.coarse_level;
+    j["coarse_nodes"] = m.coarse_nodes;
+    if (m.scene == SeedScene::flag) j["wind_m_s"] = round_to(o.wind_m_s, 3);
+    if (m.scene == SeedScene::sphere) j["inflation_m"] = round_to(o.inflation_m, 6);
+    j["warmup"] = m.warmup;
+    j["steps"] = m.steps;
+    j["us_per_step"] = round_to(m.total_us.median, 2);
+    j["repeats"] = m.repeat_medians_us.size();
+    if (m.repeat_medians_us.size() > 1) {
+        nlohmann::ordered_json medians = nlohmann::ordered_json::array();
+        for (double v : m.repeat_medians_us) medians.push_back(round_to(v, 2));
+        j["us_per_step_repeats"] = medians;
+    }
+    j["us_p10"] = round_to(m.total_us.p10, 2);
+    j["us_p90"] = round_to(m.total_us.p90, 2);
+    j["us_min"] = round_to(m.total_us.min, 2);
+    j["us_mean"] = round_to(m.total_us.mean, 2);
+    j["per_particle_ns"] = round_to(m.total_us.median * 1e3 / m.particles, 3);
+    j["max_strain"] = round_to(m.strain.max, 6);
+    j["mean_strain"] = round_to(m.strain.mean, 6);
+    j["rest_speed"] = round_to(m.rest_speed, 6);
+    j["max_tether_excess"] = round_to(m.max_tether_excess, 6);
+    j["min_y"] = round_to(m.bounds.min.y, 4);
+    j["max_y"] = round_to(m.bounds.max.y, 4);
+    j["finite"] = m.finite;
+    if (paper) {
+        j["paper_ms"] = *paper;
+        j["speedup_vs_paper"] = round_to(*paper * 1e3 / m.total_us.median, 1);
+    } else {
+        j["paper_ms"] = nullptr;
+        j["speedup_vs_paper"] = nullptr;
+    }
+    if (scalar && m.path != SimdPath::scalar) {
+        j["speedup_vs_scalar"] = round_to(scalar->total_us.median / m.total_us.median, 2);
+        j["identical_to_scalar"] = bit_identical(m.final_positions, scalar->final_positions);
+    } else {
+        j["speedup_vs_scalar"] = m.path == SimdPath::scalar ? nlohmann::ordered_json(1.0) : nullptr;
+    }
+    j["load_avg_1min"] = round_to(load_average(), 2);
+    j["contiguous_fraction"] = round_to(double(m.constraints_on_runs) / double(m.springs), 6);
+    j["slots"] = m.slots;
+    j["constraint_lanes"] = m.lanes;
+    j["batches"] = m.batches;
+    j["colours"] = m.colours;
+    // One "<pass>_us" field per pass the runtime has (Pass order = the order they run in a step).
+    for (int i = 0; i < bench::kPassCount; ++i) {
+        const std::string key = std::string(pass_name(Pass(i))) + "_us";
+        if (m.passes_measured) {
+            j[key] = round_to(m.pass_us[i], 2);
+        } else {
+            j[key] = nullptr;
+        }
+    }
+    if (m.passes_measured) {
+        nlohmann::ordered_json absent = nlohmann::ordered_json::array();
+        for (int i = 0; i < bench::kPassCount; ++i)
+            if (!m.pass_present[i]) absent.push_back(pass_name(Pass(i)));
+        j["absent_passes"] = absent;
+        j["us_per_step_profiled"] = round_to(m.total_profiled_us.median, 2);
+        j["profile_overhead_pct"] = round_to(100.0 * (m.total_profiled_us.median / m.total_us.median - 1.0), 1);
+    }
+    return j;
+}
+
+void print_header(SeedScene scene, const CliOptions& o, const std::vector<SizeResult>& results) {
+    const char* what = scene == SeedScene::drape    ? "2 m square cloth pinned at two corners"
+                       : scene == SeedScene::flag   ? "2 m x 1.2 m flag pinned along its pole, wind along +x"
+                                                    : "2 m square cloth dropped on a 0.5 m sphere";
+    std::printf("weft-bench %s: %s; dt 0.033 s", scenes::scene_name(scene), what);
+    if (scene == SeedScene::flag) std::printf(", wind %g m/s", double(o.wind_m_s));
+    if (scene == SeedScene::sphere) std::printf(", inflation %g m", double(o.inflation_m));
+    // The split as run (the same for every size unless the policy says otherwise).
+    const SizeResult& first = results.front();
+    const bench::Measurement& m = first.path[0] ? *first.path[0] : *first.path[1];
+    std::printf("\nconfig %s, %s budget %u sweep(s): %u substep(s) x %u iteration(s), relaxation %g, tethers %s, "
+                "coarse level %s\n",
+                o.config.c_str(), explicit_split(o) ? "explicit" : "automatic",
+                m.split.substeps * m.split.iterations, m.split.substeps, m.split.iterations,
+                double(m.split.relaxation), m.split.tethers ? "on" : "off", m.split.coarse_level ? "on" : "off");
+    std::printf("single thread; %u warm-up steps, median of %u timed steps", o.warmup, o.steps);
+    if (o.repeat > 1) std::printf(" (lowest of %u runs)", o.repeat);
+    std::printf("; cloth metrics after step %u\n", o.warmup + o.steps);
+    // Other processes (on this machine or, in a VM, on the host) only ever add time: say how busy it was.
+    if (const double load = load_average(); load >= 0.0) std::printf("1-minute load average at the start: %.2f\n", load);
+    std::printf("\n");
+}
+
+void print_table(SeedScene scene, const std::vector<SizeResult>& results) {
+    std::printf("%5s %9s %8s %8s %10s %10s %7s %8s %8s %10s %11s %7s %8s\n", "n", "particles", "springs",
+                "paper ms", "scalar us", "avx2 us", "simd x", "paper/sc", "paper/sd", "max strain",
+                "mean strain", "on runs", "ns/part");
+    bool mismatch = false;
+    for (const SizeResult& r : results) {
+        const bench::Measurement* s = r.path[0] ? &*r.path[0] : nullptr;
+        const bench::Measurement* v = r.path[1] ? &*r.path[1] : nullptr;
+        const bench::Measurement& any = s ? *s : *v;
+        const auto paper = paper_ms(scene, r.n);
+        const bool same = !(s && v) || bit_identical(s->final_positions, v->final_positions);
+        mismatch |= !same;
+        const bench::Measurement& best = v ? *v : *s;
+        std::printf("%5u %9u %8u %8s %10s %10s %7s %8s %8s %10s%c %10s %6.1f%% %8s\n", r.n, any.particles, any.springs,
+                    paper ? fmt("%.1f", *paper).c_str() : "-",
+                    s ? fmt("%.1f", s->total_us.median).c_str() : "-",
+                    v ? fmt("%.1f", v->total_us.median).c_str() : "-",
+                    s && v ? fmt("%.2fx", s->total_us.median / v->total_us.median).c_str() : "-",
+                    paper && s ? fmt("%.0fx", *paper * 1e3 / s->total_us.median).c_str() : "-",
+                    paper && v ? fmt("%.0fx", *paper * 1e3 / v->total_us.median).c_str() : "-",
+                    fmt("%.4f", any.strain.max).c_str(), same ? ' ' : '*', fmt("%.5f", any.strain.mean).c_str(),
+                    100.0 * any.constraints_on_runs / any.springs,
+                    fmt("%.2f", best.total_us.median * 1e3 / best.particles).c_str());
+    }
+    std::printf("\nsimd x = scalar / avx2 time; paper/sc, paper/sd = the paper's step time over ours (scalar, avx2);\n"
+                "on runs = springs solved as contiguous SIMD runs; ns/part = fastest path per particle per step.\n");
+    if (results.size() && results[0].path[0] && results[0].path[1])
+        std::printf("avx2 final positions bit-identical to scalar: %s\n",
+                    mismatch ? "NO (rows marked *; strain shown is scalar's)" : "yes, every size");
+}
+
+void print_passes(const std::vector<std::pair<SeedScene, std::vector<SizeResult>>>& all) {
+    std::printf("\nper-pass cost, us/step (median over the timed steps of a profiled run; '-' = pass not in the step)\n");
+    std::printf("%-7s %5s %-6s", "scene", "n", "path");
+    for (int i = 0; i < bench::kPassCount; ++i) std::printf(" %11s", pass_name(Pass(i)));
+    std::printf(" %10s %10s %9s\n", "profiled", "unprofiled", "overhead");
+    for (const auto& [scene, results] : all) {
+        for (const SizeResult& r : results) {
+            for (const auto& m : r.path) {
+                if (!m || !m->passes_measured) continue;
+                std::printf("%-7s %5u %-6s", scenes::scene_name(scene), m->n, simd_path_name(m->path));
+                for (int i = 0; i < bench::kPassCount; ++i)
+                    std::printf(" %11s", m->pass_present[i] ? fmt("%.1f", m->pass_us[i]).c_str() : "-");
+                std::printf(" %10.1f %10.1f %8.1f%%\n", m->total_profiled_us.median, m->total_us.median,
+                            100.0 * (m->total_profiled_us.median / m->total_us.median - 1.0));
+            }
+        }
+    }
+}
+
+void print_summary(const std::vector<std::pair<SeedScene, std::vector<SizeResult>>>& all) {
+    std::printf("\ncloth state after the last step (scalar run; speed = mean particle speed over the last step)\n");
+    std::printf("%-7s %5s %10s %11s %10s %14s %9s %9s %7s\n", "scene", "n", "max strain", "mean strain", "speed m/s",
+                "tether excess", "lowest y", "highest y", "finite");
+    for (const auto& [scene, results] : all) {
+        for (const SizeResult& r : results) {
+            const bench::Measurement& m = r.path[0] ? *r.path[0] : *r.path[1];
+            std::printf("%-7s %5u %10.4f %11.5f %10.4f %14.4f %9.3f %9.3f %7s\n", scenes::scene_name(scene), r.n,
+                        m.strain.max, m.strain.mean, m.rest_speed, m.max_tether_excess, double(m.bounds.min.y),
+                        double(m.bounds.max.y), m.finite ? "yes" : "NO");
+        }
+    }
+}
+
+// Runs one scene over every size and path; false on any failure.
+bool run_scene(SeedScene scene, const CliOptions& o, std::FILE* json_file, std::vector<SizeResult>* results) {
+    bench::RunOptions ro;
+    ro.scene = scene;
+    scenes::apply_config(o.config == "plain" ? scenes::Config::plain : scenes::Config::default_config, o.sweeps,
+                         ro.scene_options);
+    if (explicit_split(o)) {
+        ro.scene_options.explicit_split = true;
+        ro.scene_options.substeps = o.substeps > 0 ? o.substeps : 1;
+        ro.scene_options.iterations = o.iterations > 0 ? o.iterations : 3;
+        ro.scene_options.sweeps = ro.scene_options.substeps * ro.scene_options.iterations;
+    }
+    if (o.no_tethers) ro.scene_options.tethers = false;
+    ro.scene_options.wind_m_s = o.wind_m_s;
+    ro.scene_options.sphere_inflation_m = o.inflation_m;
+    ro.warmup = o.warmup;
+    ro.steps = o.steps;
+    ro.passes = !o.no_passes;
+    ro.repeats = o.repeat;
+
+    bool want[2] = {false, false};
+    for (const std::string& p : o.paths) want[p == "avx2" ? 1 : 0] = true;
+    if (want[1] && !simd_path_available(SimdPath::avx2)) {
+        std::fprintf(stderr, "weft-bench: the avx2 path is not available in this build or on this CPU; skipping it\n");
+        want[1] = false;
+    }
+    bool ok = true;
+    for (uint32_t n : o.sizes) {
+        SizeResult r;
+        r.n = n;
+        for (int i = 0; i < 2; ++i) {
+            if (!want[i]) continue;
+            bench::Measurement m;
+            const SimdPath path = i == 0 ? SimdPath::scalar : SimdPath::avx2;
+            if (std::string err = bench::measure(ro, n, path, &m); !err.empty()) {
+                std::fprintf(stderr, "weft-bench: %s n=%u %s: %s\n", scenes::scene_name(scene), n,
+                             simd_path_name(path), err.c_str());
+                ok = false;
+                continue;
+            }
+            if (!m.finite) {
+                std::fprintf(stderr, "weft-bench: %s n=%u %s: non-finite particle positions\n",
+                             scenes::scene_name(scene), n, simd_path_name(path));
+                ok = false;
+            }
+            r.path[i] = std::move(m);
+            if (o.json || json_file) {
+                const bench::Measurement* scalar = r.path[0] ? &*r.path[0] : nullptr;
+                const std::string line = to_json(*r.path[i], o, scalar).dump();
+                if (o.json) {
+                    std::printf("%s\n", line.c_str());
+                    std::fflush(stdout);
+                }
+                if (json_file) std::fprintf(json_file, "%s\n", line.c_str());
+            }
+        }
+        if (r.path[0] || r.path[1]) results->push_back(std::move(r));
+    }
+    return ok;
+}
+
+int run(const std::vector<SeedScene>& scenes_to_run, const CliOptions& o, bool full_tables) {
+    bool ok = true;
+    std::FILE* json_file = nullptr;
+    if (!o.json_out.empty()) {
+        json_file = std::fopen(o.json_out.c_str(), "a");
+        if (!json_file) {
+            std::fprintf(stderr, "weft-bench: cannot open %s for writing\n", o.json_out.c_str());
+            return 1;
+        }
+    }
+    std::vector<std::pair<SeedScene, std::vector<SizeResult>>> all;
+    for (SeedScene scene : scenes_to_run) {
+        std::vector<SizeResult> results;
+        ok &= run_scene(scene, o, json_file, &results);
+        if (!o.json && full_tables && !results.empty()) {
+            print_header(scene, o, results);
+            print_table(scene, results);
+        }
+        all.emplace_back(scene, std::move(results));
+    }
+    if (!o.json) {
+        if (!full_tables) {
+            std::printf("weft-bench passes: which passes each seed scene pays for; config %s, %u sweep(s)%s, "
+                        "median of %u steps after %u\n",
+                        o.config.c_str(), o.sweeps, explicit_split(o) ? " (explicit split)" : "", o.steps, o.warmup);
+        }
+        if (!o.no_passes) print_passes(all);
+        print_summary(all);
+    }
+    if (json_file && std::fclose(json_file) != 0) ok = false;
+    return ok ? 0 : 1;
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+    CLI::App app{"weft-bench: the seed paper's cloth experiments, timed on the scalar and AVX2 paths"};
+    app.require_subcommand(1, 1);
+
+    CliOptions drape_o, flag_o, sphere_o, passes_o;
+    drape_o.sizes = {25, 50, 75, 100, 200, 400};
+    flag_o.sizes = {25, 50, 100};
+    sphere_o.sizes = {25, 50, 100};
+    passes_o.sizes = {50};
+
+    CLI::App* drape = app.add_subcommand("drape", "the paper's timing experiment: a square cloth pinned at two corners");
+    add_common_options(drape, drape_o);
+    CLI::App* flag = app.add_subcommand("flag", "a flag pinned along its pole, in wind (adds the wind pass)");
+    add_common_options(flag, flag_o);
+    flag->add_option("--wind", flag_o.wind_m_s, "wind speed, m/s (the paper: 10, 20, 40)")->capture_default_str();
+    CLI::App* sphere = app.add_subcommand("sphere", "a cloth dropped on a sphere (adds the collide pass)");
+    add_common_options(sphere, sphere_o);
+    sphere->add_option("--inflation", sphere_o.inflation_m, "collision skin added to the 0.5 m radius, m")
+        ->capture_default_str();
+    CLI::App* passes = app.add_subcommand("passes", "per-pass costs of drape, flag and sphere side by side");
+    add_common_options(passes, passes_o);
+
+    CLI11_PARSE(app, argc, argv);
+
+    if (drape->parsed()) return run({SeedScene::drape}, drape_o, true);
+    if (flag->parsed()) return run({SeedScene::flag}, flag_o, true);
+    if (sphere->parsed()) return run({SeedScene::sphere}, sphere_o, true);
+    return run({SeedScene::drape, SeedScene::flag, SeedScene::sphere}, passes_o, false);
 }

@@ -357,7 +357,10 @@ Result build_tethers(const ClothMeshDesc& mesh, const std::vector<uint32_t>& slo
         for (uint32_t q : pinned) {  // ties to the lower index
             const float d = distance(rest[p], rest[q]);
             if (d < best[0]) best[0] = d, anchor[0] = q;
-            if (d > best[1]) best[1] = d, anchor[1] = q;
+        }
+        for (uint32_t q : pinned) {  // another pin, even where two are equally far (odd grids)
+            const float d = distance(rest[p], rest[q]);
+            if (q != anchor[0] && d > best[1]) best[1] = d, anchor[1] = q;
         }
         if (!two) best[1] = best[0], anchor[1] = anchor[0];
         Tether t{{slot_of_particle[anchor[0]], slot_of_particle[anchor[1]]}, slot_of_particle[p], {best[0], best[1]}};

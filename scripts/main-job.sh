@@ -1,0 +1,39 @@
+#!/usr/bin/env bash
+# The main job: builds Release and runs Weft's experiments. Until the garment pipeline exists these
+# are the seed paper's (Liu, Sun, Xu 2008, section 3): the drape timing table beside the paper's,
+# then the flag (wind) and sphere (collision) scenes. Timings: lowest median of 3 runs (see README).
+#   bash scripts/main-job.sh
+# Environment: WEFT_BUILD_DIR (default build), WEFT_OUT_DIR (default out; JSON lines land there),
+# WEFT_BENCH_CPU (CPU to pin the single-threaded bench to; default 1 when there are two or more).
+set -euo pipefail
+
+root=$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)
+cd "$root"
+build_dir=${WEFT_BUILD_DIR:-build}
+out_dir=${WEFT_OUT_DIR:-out}
+mkdir -p "$build_dir" "$out_dir"
+
+echo "== build (Release, $build_dir)"
+cmake -S "$root" -B "$build_dir" -G Ninja -DCMAKE_BUILD_TYPE=Release -DWEFT_SANITIZE=OFF >"$build_dir/configure.log" 2>&1 ||
+  { cat "$build_dir/configure.log"; exit 1; }
+ninja -C "$build_dir" weft-bench >"$build_dir/build.log" 2>&1 || { grep -E -A5 'error|FAILED' "$build_dir/build.log" | head -n 80; exit 1; }
+
+bench=("$build_dir/tools/bench/weft-bench")
+cpus=$(nproc 2>/dev/null || echo 1)
+cpu=${WEFT_BENCH_CPU:-$([[ $cpus -ge 2 ]] && echo 1 || echo 0)}
+if command -v taskset >/dev/null && [[ $cpus -ge 2 ]]; then
+  bench=(taskset -c "$cpu" "${bench[@]}")
+fi
+json="$out_dir/seed-bench.jsonl"
+: >"$json"
+
+echo "== machine: $(grep -m1 'model name' /proc/cpuinfo | cut -d: -f2- | sed 's/^ *//'), $cpus CPUs, load $(cut -d' ' -f1-3 /proc/loadavg)"
+echo "== bench: ${bench[*]}"
+echo
+"${bench[@]}" drape --sizes 25,50,75,100 --repeat 3 --json-out "$json"
+echo
+"${bench[@]}" flag --sizes 25,50,100 --json-out "$json"
+echo
+"${bench[@]}" sphere --sizes 25,50,100 --json-out "$json"
+echo
+echo "main-job: done; $(wc -l <"$json") JSON lines in $json"

@@ -1,0 +1,65 @@
+#!/usr/bin/env bash
+# Builds and tests Weft twice: Release (build/), then AddressSanitizer + UBSan, RelWithDebInfo
+# (build-asan/). Both configurations run even when the first fails, so one report shows both.
+#   bash scripts/test.sh
+# Environment: WEFT_BUILD_DIR, WEFT_ASAN_BUILD_DIR (build directories, relative to the repository),
+# WEFT_SKIP_ASAN=1 (Release only), WEFT_CTEST_ARGS (extra ctest arguments, e.g. "-LE slow").
+# Exits non-zero when anything failed; the last line is always a one-line summary.
+set -euo pipefail
+
+root=$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)
+cd "$root"
+build_dir=${WEFT_BUILD_DIR:-build}
+asan_dir=${WEFT_ASAN_BUILD_DIR:-build-asan}
+jobs=$(nproc 2>/dev/null || echo 2)
+read -r -a ctest_extra <<<"${WEFT_CTEST_ARGS:-}"
+start=$SECONDS
+results=()  # one entry per configuration: "name: outcome"
+failed=0
+
+# Configures, builds and tests one configuration; records its outcome in `results`.
+run_config() {  # name dir cmake-args...
+  local name=$1 dir=$2
+  shift 2
+  mkdir -p "$dir"
+  echo "== $name: configure ($dir)"
+  if ! cmake -S "$root" -B "$dir" -G Ninja "$@" >"$dir/configure.log" 2>&1; then
+    cat "$dir/configure.log"
+    results+=("$name: configure FAILED")
+    return 1
+  fi
+  echo "== $name: build"
+  if ! ninja -C "$dir" -j "$jobs" >"$dir/build.log" 2>&1; then
+    grep -E -A5 'error|FAILED' "$dir/build.log" | head -n 80
+    results+=("$name: build FAILED")
+    return 1
+  fi
+  local warnings
+  warnings=$(grep -c 'warning:' "$dir/build.log" || true)
+  [[ "$warnings" == 0 ]] || echo "   $warnings compiler warning(s), see $dir/build.log"
+  echo "== $name: ctest"
+  # Passing tests are kept in $dir/ctest.log; failures, their output and the totals are shown.
+  { (cd "$dir" && ctest --output-on-failure -j "$jobs" "${ctest_extra[@]}") 2>&1; echo $? >"$dir/ctest.rc"; } |
+    tee "$dir/ctest.log" | grep -E -v '^ +Start +[0-9]+: |Test +#[0-9]+: .* Passed +[0-9.]+ sec' || true
+  # ctest ends with "100% tests passed, 0 tests failed out of N" or "... K tests failed out of N".
+  local total bad
+  total=$(sed -n 's/.*tests failed out of \([0-9][0-9]*\).*/\1/p' "$dir/ctest.log" | tail -n1)
+  bad=$(sed -n 's/.* \([0-9][0-9]*\) tests failed out of .*/\1/p' "$dir/ctest.log" | tail -n1)
+  if [[ "$(cat "$dir/ctest.rc")" != 0 ]]; then
+    results+=("$name: ${bad:-?} of ${total:-?} tests FAILED")
+    return 1
+  fi
+  results+=("$name: ${total:-0} tests passed")
+}
+
+run_config release "$build_dir" -DCMAKE_BUILD_TYPE=Release -DWEFT_SANITIZE=OFF || failed=1
+
+if [[ -z "${WEFT_SKIP_ASAN:-}" ]]; then
+  export ASAN_OPTIONS=${ASAN_OPTIONS:-abort_on_error=0:halt_on_error=1:detect_stack_use_after_return=1}
+  export UBSAN_OPTIONS=${UBSAN_OPTIONS:-print_stacktrace=1:halt_on_error=1}
+  run_config asan "$asan_dir" -DCMAKE_BUILD_TYPE=RelWithDebInfo -DWEFT_SANITIZE=ON || failed=1
+fi
+
+summary=$(printf '%s; ' "${results[@]}")
+echo "test.sh: $([[ $failed == 0 ]] && echo PASS || echo FAIL) (${summary%; }) in $((SECONDS - start))s"
+exit "$failed"
