@@ -1,11 +1,12 @@
 // weft-bench: the seed paper's experiments (section 3) timed on the scalar and the SIMD path.
 //
-//   weft-bench drape  [--sizes 25,50,75,100,200,400] [--config default|plain] [--sweeps 3]
+//   weft-bench drape  [--sizes 25,50,75,100,200,400] [--config both|default|plain] [--sweeps 3]
 //                     [--iterations I] [--substeps S] [--steps 300] [--warmup 30] [--repeat 1]
 //                     [--json] [--json-out FILE] [--no-tethers] [--no-passes] [--paths scalar,avx2]
 //   weft-bench flag   [same] [--wind 20]
-//   weft-bench sphere [same] [--inflation 0.01]
+//   weft-bench sphere [same] [--budgets 3,4,6,10] [--friction 0.5] [--offset 0] [--inflation 0.01]
 //   weft-bench passes [same]        every scene, to show which passes each one pays for
+//   weft-bench levers [--size 100] [--sweeps 3] [--json]   docs/solver.md's table
 //
 // The budget is `--sweeps` spent by the runtime's automatic policy (config "default") or the seed's
 // plain method (config "plain"); --iterations / --substeps give an explicit split instead.
@@ -21,6 +22,7 @@
 #include <vector>
 
 #include "bench_run.h"
+#include "levers.h"
 
 namespace {
 
@@ -41,8 +43,11 @@ std::optional<double> paper_ms(SeedScene scene, uint32_t n) {
 
 struct CliOptions {
     std::vector<uint32_t> sizes;
-    std::string config = "default";  // scenes::Config: "default" (automatic budget policy) or "plain"
+    std::string config = "both";  // "default" (automatic budget policy), "plain" or both, one after the other
     uint32_t sweeps = 3;             // the budget: passes over every constraint per step
+    std::vector<uint32_t> budgets;   // several budgets (sweeps) in one run; empty: just `sweeps`
+    float friction = 0.5f;           // sphere: Coulomb friction of the sphere
+    float offset_m = 0.0f;           // sphere: drop point off the sphere's top, along x
     uint32_t iterations = 0;         // with substeps: an explicit split (0 = the config's)
     uint32_t substeps = 0;
     uint32_t steps = 300;
@@ -64,8 +69,8 @@ void add_common_options(CLI::App* app, CliOptions& o) {
         ->capture_default_str();
     app->add_option("--config", o.config,
                     "default: the runtime's defaults and automatic budget policy; plain: the seed's method "
-                    "(1 substep, no tethers, no coarse level)")
-        ->check(CLI::IsMember({"default", "plain"}))
+                    "(1 substep, no tethers, no coarse level); both: plain, then default")
+        ->check(CLI::IsMember({"both", "default", "plain"}))
         ->capture_default_str();
     app->add_option("--sweeps", o.sweeps, "solver budget: passes over every constraint per step")
         ->check(CLI::Range(1u, 1000u))
@@ -148,7 +153,15 @@ nlohmann::ordered_json to_json(const bench::Measurement& m, const CliOptions& o,
     j["coarse_level"] = m.split.coarse_level;
     j["coarse_nodes"] = m.coarse_nodes;
     if (m.scene == SeedScene::flag) j["wind_m_s"] = round_to(o.wind_m_s, 3);
-    if (m.scene == SeedScene::sphere) j["inflation_m"] = round_to(o.inflation_m, 6);
+    if (m.scene == SeedScene::sphere) {
+        const bench::SphereOutcome outcome = bench::sphere_outcome(m, m.n, o.inflation_m);
+        j["inflation_m"] = round_to(o.inflation_m, 6);
+        j["friction"] = round_to(o.friction, 4);
+        j["offset_m"] = round_to(o.offset_m, 4);
+        j["middle_y"] = round_to(outcome.middle.y, 4);
+        j["middle_gap_m"] = round_to(outcome.middle_gap_m, 5);
+        j["stays"] = outcome.stays;
+    }
     j["warmup"] = m.warmup;
     j["steps"] = m.steps;
     j["us_per_step"] = round_to(m.total_us.median, 2);
@@ -311,6 +324,8 @@ bool run_scene(SeedScene scene, const CliOptions& o, std::FILE* json_file, std::
     if (o.no_tethers) ro.scene_options.tethers = false;
     ro.scene_options.wind_m_s = o.wind_m_s;
     ro.scene_options.sphere_inflation_m = o.inflation_m;
+    ro.scene_options.sphere_friction = o.friction;
+    ro.scene_options.sphere_offset_m = o.offset_m;
     ro.warmup = o.warmup;
     ro.steps = o.steps;
     ro.passes = !o.no_passes;
@@ -357,6 +372,36 @@ bool run_scene(SeedScene scene, const CliOptions& o, std::FILE* json_file, std::
     return ok;
 }
 
+// The sphere's verdict per configuration and budget (issue: stays on the sphere at what cost).
+void print_sphere_rows(const std::vector<std::pair<CliOptions, std::vector<SizeResult>>>& runs) {
+    std::printf("\nsphere: friction %g, offset %g m; stays = at rest, nothing below y = -1 m, middle particle within 2 cm\n"
+                "outside the inflated sphere; ratio = time over plain's at 3 sweeps, same size and path\n",
+                double(runs.front().first.friction), double(runs.front().first.offset_m));
+    std::printf("%-8s %6s %5s %6s %-6s %9s %6s %9s %8s %9s %9s %9s %6s\n", "config", "sweeps", "n", "split", "path",
+                "us/step", "ratio", "middle_y", "min_y", "mean str%", "max str%", "rest m/s", "stays");
+    for (const auto& [co, results] : runs) {
+        for (const SizeResult& r : results) {
+            for (int i = 0; i < 2; ++i) {
+                if (!r.path[i]) continue;
+                const bench::Measurement& m = *r.path[i];
+                double plain3 = 0.0;  // plain at 3 sweeps, same n and path, if it ran
+                for (const auto& [po, presults] : runs)
+                    if (po.config == "plain" && po.sweeps == 3)
+                        for (const SizeResult& pr : presults)
+                            if (pr.n == r.n && pr.path[i]) plain3 = pr.path[i]->total_us.median;
+                const bench::SphereOutcome s = bench::sphere_outcome(m, r.n, co.inflation_m);
+                char split[16];
+                std::snprintf(split, sizeof split, "%ux%u", m.split.substeps, m.split.iterations);
+                std::printf("%-8s %6u %5u %6s %-6s %9.1f %6s %9.3f %8.2f %9.3f %9.2f %9.4f %6s\n", co.config.c_str(),
+                            co.sweeps, r.n, split, simd_path_name(m.path), m.total_us.median,
+                            plain3 > 0.0 ? fmt("%.2f", m.total_us.median / plain3).c_str() : "-", double(s.middle.y),
+                            double(m.bounds.min.y), 100.0 * m.strain.mean, 100.0 * m.strain.max, m.rest_speed,
+                            s.stays ? "yes" : "no");
+            }
+        }
+    }
+}
+
 int run(const std::vector<SeedScene>& scenes_to_run, const CliOptions& o, bool full_tables) {
     bool ok = true;
     std::FILE* json_file = nullptr;
@@ -367,24 +412,37 @@ int run(const std::vector<SeedScene>& scenes_to_run, const CliOptions& o, bool f
             return 1;
         }
     }
-    std::vector<std::pair<SeedScene, std::vector<SizeResult>>> all;
+    // Every configuration asked for, at every budget asked for.
+    std::vector<std::string> configs = o.config == "both" ? std::vector<std::string>{"plain", "default"}
+                                                          : std::vector<std::string>{o.config};
+    std::vector<uint32_t> budgets = o.budgets.empty() ? std::vector<uint32_t>{o.sweeps} : o.budgets;
     for (SeedScene scene : scenes_to_run) {
-        std::vector<SizeResult> results;
-        ok &= run_scene(scene, o, json_file, &results);
-        if (!o.json && full_tables && !results.empty()) {
-            print_header(scene, o, results);
-            print_table(scene, results);
+        std::vector<std::pair<CliOptions, std::vector<SizeResult>>> runs;
+        for (const std::string& config : configs) {
+            for (uint32_t sweeps : budgets) {
+                CliOptions co = o;
+                co.config = config;
+                co.sweeps = sweeps;
+                std::vector<SizeResult> results;
+                ok &= run_scene(scene, co, json_file, &results);
+                if (!o.json && full_tables && !results.empty()) {
+                    print_header(scene, co, results);
+                    print_table(scene, results);
+                }
+                runs.emplace_back(co, std::move(results));
+            }
         }
-        all.emplace_back(scene, std::move(results));
-    }
-    if (!o.json) {
-        if (!full_tables) {
-            std::printf("weft-bench passes: which passes each seed scene pays for; config %s, %u sweep(s)%s, "
-                        "median of %u steps after %u\n",
-                        o.config.c_str(), o.sweeps, explicit_split(o) ? " (explicit split)" : "", o.steps, o.warmup);
+        if (!o.json) {
+            std::vector<std::pair<SeedScene, std::vector<SizeResult>>> all;
+            for (const auto& [co, results] : runs) all.emplace_back(scene, results);
+            if (!full_tables)
+                std::printf("weft-bench passes: which passes %s pays for; %u sweep(s)%s, median of %u steps after %u\n",
+                            scenes::scene_name(scene), o.sweeps, explicit_split(o) ? " (explicit split)" : "", o.steps,
+                            o.warmup);
+            if (!o.no_passes) print_passes(all);
+            print_summary(all);
+            if (scene == SeedScene::sphere && full_tables) print_sphere_rows(runs);
         }
-        if (!o.no_passes) print_passes(all);
-        print_summary(all);
     }
     if (json_file && std::fclose(json_file) != 0) ok = false;
     return ok ? 0 : 1;
@@ -399,7 +457,9 @@ int main(int argc, char** argv) {
     CliOptions drape_o, flag_o, sphere_o, passes_o;
     drape_o.sizes = {25, 50, 75, 100, 200, 400};
     flag_o.sizes = {25, 50, 100};
-    sphere_o.sizes = {25, 50, 100};
+    sphere_o.sizes = {100};
+    sphere_o.budgets = {3, 4, 6, 10};
+    sphere_o.paths = {"avx2"};
     passes_o.sizes = {50};
 
     CLI::App* drape = app.add_subcommand("drape", "the paper's timing experiment: a square cloth pinned at two corners");
@@ -411,6 +471,19 @@ int main(int argc, char** argv) {
     add_common_options(sphere, sphere_o);
     sphere->add_option("--inflation", sphere_o.inflation_m, "collision skin added to the 0.5 m radius, m")
         ->capture_default_str();
+    sphere->add_option("--friction", sphere_o.friction, "Coulomb friction of the sphere")->capture_default_str();
+    sphere->add_option("--offset", sphere_o.offset_m, "drop point off the sphere's top along x, m")->capture_default_str();
+    sphere->add_option("--budgets", sphere_o.budgets, "sweeps per step to run, comma separated")
+        ->delimiter(',')
+        ->check(CLI::Range(1u, 1000u))
+        ->capture_default_str();
+    uint32_t levers_size = 100, levers_sweeps = 3, levers_steps = 300;
+    bool levers_json = false;
+    CLI::App* levers = app.add_subcommand("levers", "docs/solver.md: every lever at equal budget, drape and sphere");
+    levers->add_option("--size", levers_size, "grid size n")->check(CLI::Range(2u, 4096u))->capture_default_str();
+    levers->add_option("--sweeps", levers_sweeps, "the budget")->check(CLI::Range(1u, 1000u))->capture_default_str();
+    levers->add_option("--steps", levers_steps, "timed steps after 30 warm-up steps")->capture_default_str();
+    levers->add_flag("--json", levers_json, "one JSON object per lever and scene");
     CLI::App* passes = app.add_subcommand("passes", "per-pass costs of drape, flag and sphere side by side");
     add_common_options(passes, passes_o);
 
@@ -419,5 +492,6 @@ int main(int argc, char** argv) {
     if (drape->parsed()) return run({SeedScene::drape}, drape_o, true);
     if (flag->parsed()) return run({SeedScene::flag}, flag_o, true);
     if (sphere->parsed()) return run({SeedScene::sphere}, sphere_o, true);
+    if (levers->parsed()) return bench::run_levers(levers_size, levers_sweeps, levers_steps, levers_json);
     return run({SeedScene::drape, SeedScene::flag, SeedScene::sphere}, passes_o, false);
 }
