@@ -234,7 +234,7 @@ void print_header(SeedScene scene, const CliOptions& o, const std::vector<SizeRe
     const bench::Measurement& m = first.path[0] ? *first.path[0] : *first.path[1];
     std::printf("\nconfig %s, %s budget %u sweep(s): %u substep(s) x %u iteration(s), relaxation %g, tethers %s, "
                 "coarse level %s\n",
-                o.config.c_str(), explicit_split(o) ? "explicit" : "automatic",
+                o.config.c_str(), explicit_split(o) || o.config == "plain" ? "explicit" : "automatic",
                 m.split.substeps * m.split.iterations, m.split.substeps, m.split.iterations,
                 double(m.split.relaxation), m.split.tethers ? "on" : "off", m.split.coarse_level ? "on" : "off");
     std::printf("single thread; %u warm-up steps, median of %u timed steps", o.warmup, o.steps);
