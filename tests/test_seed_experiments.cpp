@@ -184,6 +184,27 @@ TEST_CASE("seed flag: below full extension, stronger wind streams the flag furth
     CHECK(calm.mean_x_last_50 < 0.3);  // no wind: it hangs from its pole
 }
 
+namespace {
+
+double closest_edge_midpoint(const ClothView& v) {
+    const ClothAsset& a = *v.asset;
+    double closest = 1e9;
+    for (uint32_t b = 0; b < a.batch_count; ++b) {
+        const ConstraintBatch& batch = a.batches[b];
+        if (batch.kind == ConstraintKind::bend) continue;
+        for (uint32_t l = batch.first_lane; l < batch.first_lane + batch.lane_count; ++l) {
+            if (a.lane_weight[l] == 0.0f) continue;
+            const uint32_t p = a.index_a[l], q = a.index_b[l];
+            const double mx = 0.5 * (double(v.x[p]) + v.x[q]), my = 0.5 * (double(v.y[p]) + v.y[q]),
+                         mz = 0.5 * (double(v.z[p]) + v.z[q]);
+            closest = std::min(closest, std::sqrt(mx * mx + my * my + mz * mz));
+        }
+    }
+    return closest;
+}
+
+}  // namespace
+
 // (c) The sphere (figure 8): cloth dropped on a 0.5 m sphere inflated by 1 cm. After every step no
 // free particle is inside the inflated radius, and every stretch/shear edge's midpoint stays out of
 // the true sphere (the reason for inflating).
@@ -206,17 +227,7 @@ TEST_CASE("seed sphere: particles stay outside the inflated sphere and edges out
                 closest_particle = std::min(closest_particle, d);
                 if (d < inflated + 1e-3) touched = true;
             }
-            for (uint32_t b = 0; b < a.batch_count; ++b) {
-                const ConstraintBatch& batch = a.batches[b];
-                if (batch.kind == ConstraintKind::bend) continue;
-                for (uint32_t l = batch.first_lane; l < batch.first_lane + batch.lane_count; ++l) {
-                    if (a.lane_weight[l] == 0.0f) continue;
-                    const uint32_t p = a.index_a[l], q = a.index_b[l];
-                    const double mx = 0.5 * (double(v.x[p]) + v.x[q]), my = 0.5 * (double(v.y[p]) + v.y[q]),
-                                 mz = 0.5 * (double(v.z[p]) + v.z[q]);
-                    closest_midpoint = std::min(closest_midpoint, std::sqrt(mx * mx + my * my + mz * mz));
-                }
-            }
+            closest_midpoint = std::min(closest_midpoint, closest_edge_midpoint(v));
             if (closest_particle < inflated - 1e-5 || closest_midpoint < 0.5) {
                 FAIL_CHECK("step ", i, ": closest particle ", closest_particle, " m, closest edge midpoint ",
                            closest_midpoint, " m");
@@ -230,27 +241,6 @@ TEST_CASE("seed sphere: particles stay outside the inflated sphere and edges out
         CHECK(closest_midpoint >= 0.5);
     }
 }
-
-namespace {
-
-double closest_edge_midpoint(const ClothView& v) {
-    const ClothAsset& a = *v.asset;
-    double closest = 1e9;
-    for (uint32_t b = 0; b < a.batch_count; ++b) {
-        const ConstraintBatch& batch = a.batches[b];
-        if (batch.kind == ConstraintKind::bend) continue;
-        for (uint32_t l = batch.first_lane; l < batch.first_lane + batch.lane_count; ++l) {
-            if (a.lane_weight[l] == 0.0f) continue;
-            const uint32_t p = a.index_a[l], q = a.index_b[l];
-            const double mx = 0.5 * (double(v.x[p]) + v.x[q]), my = 0.5 * (double(v.y[p]) + v.y[q]),
-                         mz = 0.5 * (double(v.z[p]) + v.z[q]);
-            closest = std::min(closest, std::sqrt(mx * mx + my * my + mz * mz));
-        }
-    }
-    return closest;
-}
-
-}  // namespace
 
 TEST_CASE("seed sphere: without inflation edges cut into the sphere (figure 8, left)") {
     // The control experiment: it shows the midpoint check above can fail. The cloth lands on the

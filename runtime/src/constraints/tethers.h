@@ -17,6 +17,26 @@
 
 namespace weft {
 
+// The projection of x onto the ball around `centre` (offset d = x - centre, |d|^2 = len2, radius r)
+// and whether it lies inside the other ball (within a relative 1e-5).
+template <class F>
+struct OntoBall {
+    F x, y, z;
+    decltype(F{} > F{}) inside_other;
+};
+
+template <class F>
+inline OntoBall<F> project_onto_ball(F x, F y, F z, F dx, F dy, F dz, F len2, F r, F ox, F oy, F oz, F other_r) {
+    using namespace simd;
+    const F len = sqrt(len2);
+    const F s = keep_if((len > r) & (len > splat(kMinSpringLength_m, F{})), (len - r) / len);
+    OntoBall<F> out{neg_mul_add(s, dx, x), neg_mul_add(s, dy, y), neg_mul_add(s, dz, z), {}};
+    const F qx = out.x - ox, qy = out.y - oy, qz = out.z - oz;
+    const F tolerance = other_r * splat(1.0f + 1e-5f, F{});
+    out.inside_other = tolerance * tolerance > mul_add(qx, qx, mul_add(qy, qy, qz * qz)) - splat(1e-12f, F{});
+    return out;
+}
+
 template <class F>
 void project_tethers(const Particles& p, const ClothAsset& asset, const TetherBatch& batch, float slack) {
     using namespace simd;
@@ -35,7 +55,6 @@ void project_tethers(const Particles& p, const ClothAsset& asset, const TetherBa
     const F nx = splat(abx * inv_d, F{}), ny = splat(aby * inv_d, F{}), nz = splat(abz * inv_d, F{});
     const F D2 = splat(d2, F{}), half_inv_d = splat(0.5f * inv_d, F{});
     const F scale = splat(1.0f + slack, F{});
-    const F inside_tolerance = splat(1.0f + 1e-5f, F{});
     const F zero = splat(0.0f, F{});
     const F min_len = splat(kMinSpringLength_m, F{});
     const float* const rest_a = asset.tether_rest[0] + batch.first_lane;
@@ -55,23 +74,12 @@ void project_tethers(const Particles& p, const ClothAsset& asset, const TetherBa
         const F lb2 = mul_add(dbx, dbx, mul_add(dby, dby, dbz * dbz));
         if (!any((la2 > ra * ra) | (lb2 > rb * rb))) continue;
 
-        // Projection onto ball A, and whether it lies in ball B.
-        const F la = sqrt(la2);
-        const F sa = keep_if((la > ra) & (la > min_len), (la - ra) / la);
-        const F pax = neg_mul_add(sa, dax, x), pay = neg_mul_add(sa, day, y), paz = neg_mul_add(sa, daz, z);
-        const F qbx = pax - Bx, qby = pay - By, qbz = paz - Bz;
-        const F rb_tol = rb * inside_tolerance;
-        const auto a_ok = rb_tol * rb_tol > mul_add(qbx, qbx, mul_add(qby, qby, qbz * qbz)) - splat(1e-12f, F{});
-
-        F rx = pax, ry = pay, rz = paz;
-        if (!all(a_ok)) {
+        // Projection onto ball A, and whether it lies in ball B (then it is the answer).
+        const OntoBall<F> pa = project_onto_ball(x, y, z, dax, day, daz, la2, ra, Bx, By, Bz, rb);
+        F rx = pa.x, ry = pa.y, rz = pa.z;
+        if (!all(pa.inside_other)) {
             // Projection onto ball B, and whether it lies in ball A.
-            const F lb = sqrt(lb2);
-            const F sb = keep_if((lb > rb) & (lb > min_len), (lb - rb) / lb);
-            const F pbx = neg_mul_add(sb, dbx, x), pby = neg_mul_add(sb, dby, y), pbz = neg_mul_add(sb, dbz, z);
-            const F qax = pbx - Ax, qay = pby - Ay, qaz = pbz - Az;
-            const F ra_tol = ra * inside_tolerance;
-            const auto b_ok = ra_tol * ra_tol > mul_add(qax, qax, mul_add(qay, qay, qaz * qaz)) - splat(1e-12f, F{});
+            const OntoBall<F> pb = project_onto_ball(x, y, z, dbx, dby, dbz, lb2, rb, Ax, Ay, Az, ra);
             // The circle where the spheres meet: centre A + n t, radius sqrt(r_a^2 - t^2).
             const F t = (D2 + ra * ra - rb * rb) * half_inv_d;
             const F rc2 = neg_mul_add(t, t, ra * ra);
@@ -88,9 +96,10 @@ void project_tethers(const Particles& p, const ClothAsset& asset, const TetherBa
             // the point on the axis that splits the gap in proportion to the lengths.
             const F axis_t = ra * splat(d, F{}) / (ra + rb);
             const F px_axis = mul_add(nx, axis_t, Ax), py_axis = mul_add(ny, axis_t, Ay), pz_axis = mul_add(nz, axis_t, Az);
-            rx = select(a_ok, pax, select(b_ok, pbx, select(circle_ok, pcx, px_axis)));
-            ry = select(a_ok, pay, select(b_ok, pby, select(circle_ok, pcy, py_axis)));
-            rz = select(a_ok, paz, select(b_ok, pbz, select(circle_ok, pcz, pz_axis)));
+            const auto a_ok = pa.inside_other, b_ok = pb.inside_other;
+            rx = select(a_ok, pa.x, select(b_ok, pb.x, select(circle_ok, pcx, px_axis)));
+            ry = select(a_ok, pa.y, select(b_ok, pb.y, select(circle_ok, pcy, py_axis)));
+            rz = select(a_ok, pa.z, select(b_ok, pb.z, select(circle_ok, pcz, pz_axis)));
         }
         store(p.x + i, select(is_free, rx, x));
         store(p.y + i, select(is_free, ry, y));
