@@ -7,7 +7,7 @@ set -euo pipefail
 packages=(
   build-essential cmake ninja-build pkg-config  # toolchain
   libglm-dev libembree-dev                      # runtime: maths, BVH queries
-  doctest-dev                                   # tests
+  doctest-dev libcgal-dev                       # tests (CGAL meshes the irregular disc; weft-bake later)
   libcli11-dev nlohmann-json3-dev libxxhash-dev # tools: command lines, JSON, asset hashing
   clang libclang-rt-14-dev                      # fuzzing (clang -fsanitize=fuzzer)
 )
