@@ -65,6 +65,8 @@ struct ColliderKernelArgs {
     Vec3 motion;        // displacement of the collider over this substep (friction is relative)
 };
 
+struct WindArgs;
+
 struct Kernels {
     SimdPath path;
     // Verlet, plus the coarse level's displacement when `coarse` is not null.
@@ -74,6 +76,7 @@ struct Kernels {
     void (*project_indexed[2])(const Particles&, const ClothAsset&, const ConstraintBatch&, const DistanceArgs&);
     void (*project_tethers)(const Particles&, const ClothAsset&, const TetherBatch&, float slack);
     void (*collide)(const Particles&, const ColliderKernelArgs&);
+    void (*apply_wind)(const Particles&, const ClothAsset&, const WindArgs&);
 };
 
 const Kernels& scalar_kernels();

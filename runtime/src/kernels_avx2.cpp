@@ -1,4 +1,5 @@
 // The AVX2 + FMA path: the same kernel templates at eight lanes.
+#include "aerodynamics/wind.h"
 #include "collide/colliders.h"
 #include "constraints/distance.h"
 #include "constraints/tethers.h"
@@ -18,7 +19,7 @@ const Kernels* avx2_kernels() {
     static constexpr Kernels kernels{SimdPath::avx2, integrate_verlet<F>,
                                      {project_run<F, true>, project_run<F, false>},
                                      {project_indexed<true>, project_indexed<false>},
-                                     project_tethers<F>, collide<F>};
+                                     project_tethers<F>, collide<F>, apply_wind<F>};
     return &kernels;
 }
 #else

@@ -1,5 +1,6 @@
 // The scalar path: every kernel template at one lane. Always compiled; the reference the SIMD
 // path is tested against.
+#include "aerodynamics/wind.h"
 #include "collide/colliders.h"
 #include "constraints/distance.h"
 #include "constraints/tethers.h"
@@ -13,7 +14,7 @@ const Kernels& scalar_kernels() {
     static constexpr Kernels kernels{SimdPath::scalar, integrate_verlet<F>,
                                      {project_run<F, true>, project_run<F, false>},
                                      {project_indexed<true>, project_indexed<false>},
-                                     project_tethers<F>, collide<F>};
+                                     project_tethers<F>, collide<F>, apply_wind<F>};
     return kernels;
 }
 

@@ -46,7 +46,7 @@ void apply_external_forces(World& world, ClothInstance& cloth, float h) {
     PassTimer timer(world, Pass::wind);
     const WindArgs args{world.wind_m_s, world.desc.air_density_kg_m3, cloth.settings.drag_coefficient,
                         cloth.settings.lift_coefficient, cloth.previous_substep_s, h};
-    apply_wind(cloth.particles, *cloth.asset, args);
+    world.kernels->apply_wind(cloth.particles, *cloth.asset, args);
 }
 
 IntegrateArgs integrate_args(const World& world, const ClothInstance& cloth, float h) {

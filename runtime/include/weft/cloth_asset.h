@@ -58,6 +58,15 @@ struct TetherBatch {
     uint32_t anchor[2] = {0, 0};
 };
 
+// Triangles as a run for the wind pass: lane k is the triangle (a0 + k, b0 + k, c0 + k), so a lattice
+// cloth's wind is computed with plain vector loads (its quads' corners sit in the parity planes at
+// constant offsets, like its springs).
+struct TriangleRun {
+    uint32_t first_lane = 0;  // into wind_lane_weight
+    uint32_t lane_count = 0;  // a multiple of kSimdWidth; padding lanes have weight 0
+    uint32_t a0 = 0, b0 = 0, c0 = 0;
+};
+
 // The asset proper. Every array is indexed by internal particle slot unless said otherwise; slots
 // are the order chosen at cook time so that constraint batches become contiguous runs.
 struct ClothAsset {
@@ -93,6 +102,14 @@ struct ClothAsset {
 
     uint32_t triangle_count = 0;
     const uint32_t* triangles = nullptr;  // [3 * triangle_count] slots, caller winding
+
+    // The wind pass's view of the triangles: runs first (the first wind_run_triangles entries of
+    // `triangles` are the runs' real lanes), then triangles[wind_run_triangles..] one at a time.
+    uint32_t wind_run_count = 0;
+    const TriangleRun* wind_runs = nullptr;
+    uint32_t wind_lane_count = 0;
+    const float* wind_lane_weight = nullptr;  // [wind_lane_count] 1 real, 0 padding
+    uint32_t wind_run_triangles = 0;
 
     // The coarse level (hierarchical position-based dynamics, Mueller 2008): a sparse subset of the
     // particles (nodes, about coarse_spacing_m apart) joined by distance constraints, solved once per
@@ -183,6 +200,9 @@ public:
     std::vector<float> tether_rest[2];
     std::vector<TetherBatch> tether_batches;
     std::vector<uint32_t> triangles;
+    std::vector<TriangleRun> wind_runs;
+    std::vector<float> wind_lane_weight;
+    uint32_t wind_run_triangles = 0;
     std::vector<uint32_t> coarse_node_slot, coarse_a, coarse_b;
     std::vector<float> coarse_inverse_mass, coarse_rest;
     std::vector<uint32_t> coarse_weight_node[kCoarseWeights];

@@ -48,6 +48,11 @@ void CookedCloth::refresh_asset(uint32_t particle_count, uint32_t colour_count, 
     a.tethered_particles = tethered_particles;
     a.triangle_count = uint32_t(triangles.size() / 3);
     a.triangles = triangles.data();
+    a.wind_run_count = uint32_t(wind_runs.size());
+    a.wind_runs = wind_runs.data();
+    a.wind_lane_count = uint32_t(wind_lane_weight.size());
+    a.wind_lane_weight = wind_lane_weight.data();
+    a.wind_run_triangles = wind_run_triangles;
     a.coarse_node_count = uint32_t(coarse_node_slot.size());
     a.coarse_node_slot = coarse_node_slot.data();
     a.coarse_inverse_mass = coarse_inverse_mass.data();
@@ -402,27 +407,72 @@ Result build_tethers(const ClothMeshDesc& mesh, const std::vector<uint32_t>& slo
     return {};
 }
 
-// Triangles in slots, grouped by first-fit colour: consecutive triangles then share no vertex, so
-// the wind pass, which adds each triangle's force to its three vertices, never waits for the store
-// of the triangle before (measured 2x on the seed flag).
+// Triangles in slots for the wind pass (and rendering): first the runs, triangles with the same
+// corner offsets (b - a, c - a) and consecutive a, padded like the spring runs, so the SIMD pass
+// loads their corners as vectors; then the rest, grouped by first-fit colour so that consecutive
+// triangles share no vertex (the pass adds each triangle's force to its three vertices and would
+// otherwise wait for the store of the triangle before).
 void order_triangles(const ClothMeshDesc& mesh, const std::vector<uint32_t>& slot_of_particle, uint32_t slot_count,
-                     std::vector<uint32_t>& out) {
+                     const CookOptions& options, CookedCloth& out) {
+    struct Tri {
+        uint32_t a, b, c;  // slots, caller winding
+    };
+    std::vector<Tri> tris(mesh.triangle_count);
+    for (uint32_t t = 0; t < mesh.triangle_count; ++t)
+        tris[t] = {slot_of_particle[mesh.triangles[3 * t]], slot_of_particle[mesh.triangles[3 * t + 1]],
+                   slot_of_particle[mesh.triangles[3 * t + 2]]};
+    auto offsets = [](const Tri& t) { return std::pair<int64_t, int64_t>{int64_t(t.b) - t.a, int64_t(t.c) - t.a}; };
+    std::sort(tris.begin(), tris.end(), [&](const Tri& l, const Tri& r) {
+        return offsets(l) != offsets(r) ? offsets(l) < offsets(r) : l.a < r.a;
+    });
+    // A run's three corner ranges must not overlap (each is loaded and stored as one vector).
+    auto fits = [&](const Tri& first, uint32_t lanes) {
+        const int64_t ob = int64_t(first.b) - first.a, oc = int64_t(first.c) - first.a;
+        const int64_t len = lanes;
+        return std::llabs(ob) >= len && std::llabs(oc) >= len && std::llabs(oc - ob) >= len &&
+               std::max({first.a, first.b, first.c}) + lanes <= slot_count;
+    };
+    std::vector<Tri> singles;
+    out.triangles.clear();
+    out.wind_runs.clear();
+    out.wind_lane_weight.clear();
+    out.wind_run_triangles = 0;
+    for (size_t i = 0; i < tris.size();) {
+        size_t j = i + 1;
+        while (j < tris.size() && offsets(tris[j]) == offsets(tris[i]) &&
+               tris[j].a - tris[j - 1].a <= options.max_run_gap + 1 &&
+               fits(tris[i], round_up(tris[j].a - tris[i].a + 1, kSimdWidth)))
+            ++j;
+        const uint32_t lanes = round_up(tris[j - 1].a - tris[i].a + 1, kSimdWidth);
+        if (j - i >= options.min_run_lanes && fits(tris[i], lanes)) {
+            TriangleRun run;
+            run.first_lane = uint32_t(out.wind_lane_weight.size());
+            run.lane_count = lanes;
+            run.a0 = tris[i].a, run.b0 = tris[i].b, run.c0 = tris[i].c;
+            out.wind_lane_weight.resize(run.first_lane + lanes, 0.0f);
+            for (size_t k = i; k < j; ++k) {
+                out.wind_lane_weight[run.first_lane + (tris[k].a - run.a0)] = 1.0f;
+                out.triangles.insert(out.triangles.end(), {tris[k].a, tris[k].b, tris[k].c});
+            }
+            out.wind_run_triangles += uint32_t(j - i);
+            out.wind_runs.push_back(run);
+        } else {
+            singles.insert(singles.end(), tris.begin() + i, tris.begin() + j);
+        }
+        i = j;
+    }
     std::vector<uint64_t> used(slot_count, 0);
-    std::vector<std::pair<uint32_t, uint32_t>> coloured;  // (colour, triangle)
-    for (uint32_t t = 0; t < mesh.triangle_count; ++t) {
-        const uint32_t* v = mesh.triangles + 3 * t;
-        const uint32_t a = slot_of_particle[v[0]], b = slot_of_particle[v[1]], c = slot_of_particle[v[2]];
-        const uint64_t taken = used[a] | used[b] | used[c];
+    std::vector<std::pair<uint32_t, uint32_t>> coloured;  // (colour, single)
+    for (uint32_t t = 0; t < singles.size(); ++t) {
+        const uint64_t taken = used[singles[t].a] | used[singles[t].b] | used[singles[t].c];
         uint32_t colour = 0;
         while (colour < 63 && (taken & (uint64_t(1) << colour))) ++colour;
-        for (uint32_t s : {a, b, c}) used[s] |= uint64_t(1) << colour;
+        for (uint32_t s : {singles[t].a, singles[t].b, singles[t].c}) used[s] |= uint64_t(1) << colour;
         coloured.push_back({colour, t});
     }
     std::stable_sort(coloured.begin(), coloured.end());
-    out.clear();
-    out.reserve(size_t(mesh.triangle_count) * 3);
     for (const auto& [colour, t] : coloured)
-        for (int k = 0; k < 3; ++k) out.push_back(slot_of_particle[mesh.triangles[3 * t + k]]);
+        out.triangles.insert(out.triangles.end(), {singles[t].a, singles[t].b, singles[t].c});
 }
 
 }  // namespace
@@ -487,7 +537,7 @@ Result cook_cloth(const ClothMeshDesc& mesh, const CookOptions& options, CookedC
     std::vector<float> mass(n);
     for (uint32_t p = 0; p < n; ++p) mass[p] = inverse_mass[p] > 0.0f ? 1.0f / inverse_mass[p] : 0.0f;
     build_coarse_level(mesh, layout, mass, inverse_mass, options.coarse_spacing_m, cooked);
-    order_triangles(mesh, cooked.slot_of_particle, slot_count, cooked.triangles);
+    order_triangles(mesh, cooked.slot_of_particle, slot_count, options, cooked);
 
     cooked.refresh_asset(n, colours, counts, on_runs, tethered);
     if (Result r = validate_asset(cooked.asset()); !r.ok()) return r;  // cooking bug: never hand it out

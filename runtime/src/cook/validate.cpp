@@ -156,6 +156,28 @@ Result check_tethers(const ClothAsset& a) {
 Result check_triangles(const ClothAsset& a) {
     if (a.triangle_count > 0 && a.triangles == nullptr)
         return make_error(ErrorCode::corrupt_asset, "asset is missing its triangles");
+    if (a.wind_run_count > 0 && (a.wind_runs == nullptr || a.wind_lane_weight == nullptr))
+        return make_error(ErrorCode::corrupt_asset, "asset is missing its wind runs");
+    uint32_t next_lane = 0, real = 0;
+    for (uint32_t i = 0; i < a.wind_run_count; ++i) {
+        const TriangleRun& r = a.wind_runs[i];
+        if (r.first_lane != next_lane || r.lane_count % kSimdWidth != 0 || r.lane_count > a.wind_lane_count - r.first_lane)
+            return make_error(ErrorCode::corrupt_asset, "wind run %u does not tile the lanes", i);
+        next_lane += r.lane_count;
+        if (r.lane_count > a.slot_count || r.a0 > a.slot_count - r.lane_count || r.b0 > a.slot_count - r.lane_count ||
+            r.c0 > a.slot_count - r.lane_count)
+            return make_error(ErrorCode::corrupt_asset, "wind run %u reaches past the slots", i);
+        const auto apart = [&](uint32_t u, uint32_t v) { return (u > v ? u - v : v - u) >= r.lane_count; };
+        if (!apart(r.a0, r.b0) || !apart(r.a0, r.c0) || !apart(r.b0, r.c0))
+            return make_error(ErrorCode::corrupt_asset, "wind run %u overlaps its own corners", i);
+        for (uint32_t k = 0; k < r.lane_count; ++k) {
+            const float w = a.wind_lane_weight[r.first_lane + k];
+            if (w != 0.0f && w != 1.0f) return make_error(ErrorCode::corrupt_asset, "wind lane weight is not 0 or 1");
+            real += w == 1.0f;
+        }
+    }
+    if (next_lane != a.wind_lane_count || real != a.wind_run_triangles || a.wind_run_triangles > a.triangle_count)
+        return make_error(ErrorCode::corrupt_asset, "wind runs disagree with the triangles");
     for (uint32_t i = 0; i < 3 * a.triangle_count; ++i)
         if (a.triangles[i] >= a.slot_count || a.particle_of_slot[a.triangles[i]] == kNoParticle)
             return make_error(ErrorCode::corrupt_asset, "triangle %u uses a slot without a particle", i / 3);

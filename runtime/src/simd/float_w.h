@@ -66,6 +66,7 @@ inline Float1 neg_mul_add(Float1 a, Float1 b, Float1 c) {
 #endif
 }
 inline Float1 min(Float1 a, Float1 b) { return {a.v < b.v ? a.v : b.v}; }
+inline Float1 abs(Float1 a) { return {std::fabs(a.v)}; }
 inline Float1 max(Float1 a, Float1 b) { return {a.v > b.v ? a.v : b.v}; }
 inline Mask1 operator>(Float1 a, Float1 b) { return {a.v > b.v}; }
 inline Mask1 operator<(Float1 a, Float1 b) { return {a.v < b.v}; }
@@ -117,6 +118,7 @@ inline Float8 mul_add(Float8 a, Float8 b, Float8 c) { return {_mm256_fmadd_ps(a.
 inline Float8 neg_mul_add(Float8 a, Float8 b, Float8 c) { return {_mm256_fnmadd_ps(a.v, b.v, c.v)}; }
 // Operand order matches Float1's `a < b ? a : b` for NaN inputs (minps returns the second).
 inline Float8 min(Float8 a, Float8 b) { return {_mm256_min_ps(a.v, b.v)}; }
+inline Float8 abs(Float8 a) { return {_mm256_andnot_ps(_mm256_set1_ps(-0.0f), a.v)}; }
 inline Float8 max(Float8 a, Float8 b) { return {_mm256_max_ps(a.v, b.v)}; }
 inline Mask8 operator>(Float8 a, Float8 b) { return {_mm256_cmp_ps(a.v, b.v, _CMP_GT_OQ)}; }
 inline Mask8 operator<(Float8 a, Float8 b) { return {_mm256_cmp_ps(a.v, b.v, _CMP_LT_OQ)}; }
