@@ -14,6 +14,7 @@
 // Nothing here allocates, throws, locks or reads global state.
 #include <chrono>
 #include <cmath>
+#include <utility>
 
 #include "aerodynamics/wind.h"
 #include "integrate/verlet.h"
@@ -82,8 +83,13 @@ void correct_coarse_level(World& world, ClothInstance& cloth, float h) {
 
 void integrate(World& world, ClothInstance& cloth, float h) {
     PassTimer timer(world, Pass::integrate);
-    world.kernels->integrate(cloth.particles, integrate_args(world, cloth, h), *cloth.asset,
+    Particles& p = cloth.particles;
+    world.kernels->integrate(p, integrate_args(world, cloth, h), *cloth.asset,
                              has_coarse_level(cloth) ? &cloth.coarse : nullptr);
+    // The pass wrote x(t+h) over x(t-h): x(t) is now the previous position.
+    std::swap(p.x, p.previous_x);
+    std::swap(p.y, p.previous_y);
+    std::swap(p.z, p.previous_z);
 }
 
 void correct_springs(World& world, ClothInstance& cloth, float h) {
