@@ -45,6 +45,22 @@ inline void apply_friction(Vec3W<F>& target, const Vec3W<F>& previous, const Vec
     target.z = neg_mul_add(cancel, tangent.z, target.z);
 }
 
+// The response (seed eq. 7 and 8): lanes in contact move to the closest surface point,
+// x + n * penetration, then friction; the other lanes keep their position.
+template <class F, class Mask>
+inline void resolve_contact(const Particles& p, uint32_t i, const Vec3W<F>& x, const Vec3W<F>& n, F penetration,
+                            Mask contact, const ColliderKernelArgs& c) {
+    using namespace simd;
+    Vec3W<F> target{mul_add(n.x, penetration, x.x), mul_add(n.y, penetration, x.y), mul_add(n.z, penetration, x.z)};
+    if (c.friction > 0.0f) {
+        const Vec3W<F> previous{load(p.previous_x + i, F{}), load(p.previous_y + i, F{}), load(p.previous_z + i, F{})};
+        apply_friction(target, previous, n, penetration, c);
+    }
+    store(p.x + i, select(contact, target.x, x.x));
+    store(p.y + i, select(contact, target.y, x.y));
+    store(p.z + i, select(contact, target.z, x.z));
+}
+
 // Sphere (p0 only), capsule, or finite cylinder (no contact beyond the axis ends, eq. 6).
 enum class SegmentShape { sphere, capsule, cylinder };
 
@@ -59,7 +75,6 @@ void collide_segment(const Particles& p, const ColliderKernelArgs& c) {
     const F radius = splat(c.radius, F{}), radius2 = splat(c.radius * c.radius, F{});
     const F zero = splat(0.0f, F{}), one = splat(1.0f, F{});
     const F min_distance2 = splat(1e-18f, F{});
-    const bool friction = c.friction > 0.0f;
     for (uint32_t i = 0; i < p.slot_count; i += F::width) {
         const Vec3W<F> x{load(p.x + i, F{}), load(p.y + i, F{}), load(p.z + i, F{})};
         const Vec3W<F> rel{x.x - p0.x, x.y - p0.y, x.z - p0.z};
@@ -82,17 +97,7 @@ void collide_segment(const Particles& p, const ColliderKernelArgs& c) {
         const F penetration = radius - dist;
         const F inv_dist = one / dist;  // one division, not three
         const Vec3W<F> n{d.x * inv_dist, d.y * inv_dist, d.z * inv_dist};
-        // Closest surface point: x + n * penetration (eq. 7 and 8 written as a push).
-        Vec3W<F> target{mul_add(n.x, penetration, x.x), mul_add(n.y, penetration, x.y),
-                        mul_add(n.z, penetration, x.z)};
-        if (friction) {
-            const Vec3W<F> previous{load(p.previous_x + i, F{}), load(p.previous_y + i, F{}),
-                                    load(p.previous_z + i, F{})};
-            apply_friction(target, previous, n, penetration, c);
-        }
-        store(p.x + i, select(contact, target.x, x.x));
-        store(p.y + i, select(contact, target.y, x.y));
-        store(p.z + i, select(contact, target.z, x.z));
+        resolve_contact(p, i, x, n, penetration, contact, c);
     }
 }
 
@@ -104,23 +109,13 @@ void collide_plane(const Particles& p, const ColliderKernelArgs& c) {
     const Vec3W<F> p0{splat(c.p0.x, F{}), splat(c.p0.y, F{}), splat(c.p0.z, F{})};
     const F offset = splat(c.radius, F{});
     const F zero = splat(0.0f, F{});
-    const bool friction = c.friction > 0.0f;
     for (uint32_t i = 0; i < p.slot_count; i += F::width) {
         const Vec3W<F> x{load(p.x + i, F{}), load(p.y + i, F{}), load(p.z + i, F{})};
         const Vec3W<F> rel{x.x - p0.x, x.y - p0.y, x.z - p0.z};
         const F penetration = offset - dot(rel, n);
         const auto contact = (load(p.inverse_mass + i, F{}) > zero) & (penetration > zero);
         if (!any(contact)) continue;
-        Vec3W<F> target{mul_add(n.x, penetration, x.x), mul_add(n.y, penetration, x.y),
-                        mul_add(n.z, penetration, x.z)};
-        if (friction) {
-            const Vec3W<F> previous{load(p.previous_x + i, F{}), load(p.previous_y + i, F{}),
-                                    load(p.previous_z + i, F{})};
-            apply_friction(target, previous, n, penetration, c);
-        }
-        store(p.x + i, select(contact, target.x, x.x));
-        store(p.y + i, select(contact, target.y, x.y));
-        store(p.z + i, select(contact, target.z, x.z));
+        resolve_contact(p, i, x, n, penetration, contact, c);
     }
 }
 
