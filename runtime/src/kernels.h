@@ -40,9 +40,9 @@ struct CoarseState {
 // Padding after the node arrays: the lattice form reads a coarse row as a 32-entry table.
 inline constexpr uint32_t kCoarseNodePadding = 40;
 
-// Verlet (seed section 1.1): x' = x + (x - x_prev) * (h / h_prev) * damping + (g + a_wind) h^2.
+// Verlet (seed section 1.1): x' = x + (x - x_prev) * (h / h_prev) * damping + (g + a_wind) * h2.
 struct IntegrateArgs {
-    float h_s;             // this substep
+    float h2_s2;           // h^2; h^2 / 2 on a cloth's first step (see integrate_args in step.cpp)
     float velocity_scale;  // (h / h_prev) * exp(-damping h): time-corrected, damped
     Vec3 gravity;          // m/s^2
     bool wind;             // add the wind arrays

@@ -51,9 +51,13 @@ void apply_external_forces(World& world, ClothInstance& cloth, float h) {
 }
 
 IntegrateArgs integrate_args(const World& world, const ClothInstance& cloth, float h) {
-    // Time-corrected Verlet: the implied velocity (x - x_prev) / h_prev carried over h.
-    const float ratio = cloth.previous_substep_s > 0.0f ? h / cloth.previous_substep_s : 1.0f;
-    return {h, ratio * std::exp(-cloth.settings.damping_per_s * h), world.gravity_m_s2, world.desc.wind};
+    // Time-corrected Verlet: the implied velocity (x - x_prev) / h_prev carried over h. The first
+    // step starts from rest (x_prev = x): x1 = x0 + a h^2 / 2 is the exact start, after which
+    // Verlet is exact for a constant acceleration (a free fall matches x0 + g t^2 / 2; test).
+    const bool first = !(cloth.previous_substep_s > 0.0f);
+    const float ratio = first ? 1.0f : h / cloth.previous_substep_s;
+    return {(first ? 0.5f : 1.0f) * h * h, ratio * std::exp(-cloth.settings.damping_per_s * h), world.gravity_m_s2,
+            world.desc.wind};
 }
 
 bool has_coarse_level(const ClothInstance& cloth) {
@@ -68,7 +72,7 @@ void correct_coarse_level(World& world, ClothInstance& cloth, float h) {
     const IntegrateArgs args = integrate_args(world, cloth, h);
     const Particles& p = cloth.particles;
     using simd::Float1;
-    const Float1 h2{args.h_s * args.h_s}, scale{args.velocity_scale};
+    const Float1 h2{args.h2_s2}, scale{args.velocity_scale};
     auto predict = [&](uint32_t s) -> Vec3 {
         if (!(p.inverse_mass[s] > 0.0f)) return {p.x[s], p.y[s], p.z[s]};
         const Float1 ax{args.gravity.x + (args.wind ? p.wind_x[s] : 0.0f)};

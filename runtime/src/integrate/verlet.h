@@ -37,7 +37,7 @@ inline void integrate_lanes(const Particles& p, const IntegrateArgs& args, uint3
         if constexpr (kTail) store_first(q, v, lanes);
         else store(q, v);
     };
-    const F h2 = splat(args.h_s * args.h_s, F{});
+    const F h2 = splat(args.h2_s2, F{});
     const F velocity_scale = splat(args.velocity_scale, F{});
     F ax = splat(args.gravity.x, F{}), ay = splat(args.gravity.y, F{}), az = splat(args.gravity.z, F{});
     if constexpr (kWind) {
