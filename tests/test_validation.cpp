@@ -27,6 +27,8 @@ struct AssetCopy {
     std::vector<float> coarse_weight[kCoarseWeights];
     std::vector<uint32_t> coarse_row_node[2], coarse_col_node[2];
     std::vector<float> coarse_row_frac[2], coarse_col_frac[2];
+    std::vector<TriangleRun> wind_runs;
+    std::vector<float> wind_lane_weight;
     ClothAsset asset;
 
     template <class T>
@@ -54,6 +56,8 @@ struct AssetCopy {
             tether_rest[side].assign(a.tether_rest[side], a.tether_rest[side] + a.tether_lane_count);
         tether_batches.assign(a.tether_batches, a.tether_batches + a.tether_batch_count);
         triangles.assign(a.triangles, a.triangles + 3 * a.triangle_count);
+        copy(wind_runs, a.wind_runs, a.wind_run_count);
+        copy(wind_lane_weight, a.wind_lane_weight, a.wind_lane_count);
         copy(coarse_node_slot, a.coarse_node_slot, a.coarse_node_count);
         copy(coarse_inverse_mass, a.coarse_inverse_mass, a.coarse_node_count);
         copy(coarse_a, a.coarse_a, a.coarse_constraint_count);
@@ -94,6 +98,8 @@ struct AssetCopy {
         asset.tether_batches = tether_batches.data();
         asset.tether_batch_count = uint32_t(tether_batches.size());
         asset.triangles = triangles.data();
+        repoint(asset.wind_runs, wind_runs);
+        repoint(asset.wind_lane_weight, wind_lane_weight);
         repoint(asset.coarse_node_slot, coarse_node_slot);
         repoint(asset.coarse_inverse_mass, coarse_inverse_mass);
         repoint(asset.coarse_a, coarse_a);
@@ -515,4 +521,27 @@ TEST_CASE("corrupt asset: coarse lattice column table past the coarse columns") 
 
 TEST_CASE("corrupt asset: coarse lattice planes larger than the slots") {
     expect_corrupt([](AssetCopy& c) { c.asset.lattice_plane_rows = c.asset.slot_count; });
+}
+
+TEST_CASE("the fixture has triangle runs for the wind pass") {
+    Fixture f;
+    CHECK(f.original().wind_run_count > 0);
+    CHECK(f.original().wind_run_triangles > 0);
+    CHECK(f.original().wind_run_triangles <= f.original().triangle_count);
+}
+
+TEST_CASE("corrupt asset: wind run reaching past the slots") {
+    expect_corrupt([](AssetCopy& c) { c.wind_runs[0].c0 = uint32_t(c.particle_of_slot.size()) - 1; });
+}
+
+TEST_CASE("corrupt asset: wind run whose corners overlap") {
+    expect_corrupt([](AssetCopy& c) { c.wind_runs[0].b0 = c.wind_runs[0].a0 + 1; });
+}
+
+TEST_CASE("corrupt asset: wind lane weight other than 0 or 1") {
+    expect_corrupt([](AssetCopy& c) { c.wind_lane_weight[0] = 0.5f; });
+}
+
+TEST_CASE("corrupt asset: wind runs counting more triangles than the asset has") {
+    expect_corrupt([](AssetCopy& c) { c.asset.wind_run_triangles = c.asset.triangle_count + 1; });
 }
