@@ -3,6 +3,7 @@
 // follow x0 + g t^2 / 2 to float rounding, whatever the substeps.
 #include <doctest/doctest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <cstdlib>
 #include <memory>
@@ -62,4 +63,105 @@ TEST_CASE("free fall: a rigid triangle with no damping follows y0 - g t^2 / 2") 
             CHECK(out[k].z == doctest::Approx(positions[k].z).epsilon(1e-6));
         }
     }
+}
+
+// The catenary: a narrow strip of cloth of length L hung by its two ends a span D < L apart comes to
+// rest near y = a cosh(x / a) (the inextensible, bending-free limit), L = 2 a sinh(D / (2 a)). The
+// strip starts as a V of the right length with its flat rest pose given separately; bending is made
+// soft (compliance) so only the length constraints and gravity shape it. Tethers are off: the V
+// satisfies every tether exactly (each particle sits at the bottom of its two-ball lens), so with
+// them the strip stays a V (docs/solver.md). The residual is the strip's stretch at a finite budget,
+// so the error must shrink as the budget grows.
+namespace {
+
+struct CatenaryRun {
+    double sag = 0.0, expected_sag = 0.0, worst = 0.0;
+};
+
+CatenaryRun hang_strip(uint32_t sweeps) {
+    const uint32_t along = 81, across = 3;  // 2 m x 5 cm, 2.5 cm spacing
+    const double length = 2.0, span = 1.6, width = 0.05;
+    std::vector<Vec3> rest, start;
+    std::vector<float> masses;
+    std::vector<int32_t> lattice;
+    for (uint32_t i = 0; i < along; ++i) {
+        const double s = length * i / (along - 1) - 0.5 * length;  // arc length from the middle
+        // The V: two straight halves of length L/2 from (+-D/2, 0) down to the middle.
+        const double half = 0.5 * length, depth = std::sqrt(half * half - 0.25 * span * span);
+        const double x = s * (0.5 * span) / half, y = -depth * (1.0 - std::fabs(s) / half);
+        for (uint32_t j = 0; j < across; ++j) {
+            const double z = width * j / (across - 1) - 0.5 * width;
+            rest.push_back({float(s), 0.0f, float(z)});
+            start.push_back({float(x), float(y), float(z)});
+            const bool end = i == 0 || i == along - 1;
+            masses.push_back(end ? 0.0f : float(0.15 * (length / (along - 1)) * (width / (across - 1))));
+            lattice.push_back(int32_t(i));
+            lattice.push_back(int32_t(j));
+        }
+    }
+    std::vector<uint32_t> triangles;
+    for (uint32_t i = 0; i + 1 < along; ++i)
+        for (uint32_t j = 0; j + 1 < across; ++j) {
+            const uint32_t a = i * across + j, b = a + 1, c = a + across, d = c + 1;
+            triangles.insert(triangles.end(), {a, c, b, b, c, d});
+        }
+    ClothMeshDesc mesh;
+    mesh.particle_count = uint32_t(start.size());
+    mesh.positions = start.data();
+    mesh.rest_positions = rest.data();
+    mesh.triangle_count = uint32_t(triangles.size() / 3);
+    mesh.triangles = triangles.data();
+    mesh.masses = masses.data();
+    mesh.lattice = lattice.data();
+    CookedCloth cooked;
+    REQUIRE(cook_cloth(mesh, CookOptions{}, &cooked).ok());
+
+    WorldDesc wd;
+    wd.max_cloths = 0;
+    reserve_cloth(wd, cooked.asset());
+    const MemoryRequirements need = world_memory_requirements(wd);
+    std::unique_ptr<unsigned char[], void (*)(void*)> block(
+        static_cast<unsigned char*>(std::aligned_alloc(need.alignment, (need.bytes + 63) / 64 * 64)), std::free);
+    World* world = nullptr;
+    REQUIRE(create_world(wd, block.get(), need.bytes, &world).ok());
+    ClothDesc cd;
+    cd.asset = &cooked.asset();
+    cd.sweeps = sweeps;
+    cd.tethers = false;
+    cd.compliance_m_per_n[static_cast<int>(ConstraintKind::bend)] = 10.0f;  // bending-free limit
+    ClothId cloth;
+    REQUIRE(add_cloth(world, cd, &cloth).ok());
+    for (int i = 0; i < 900; ++i) REQUIRE(step(world, 0.033f).ok());
+
+    std::vector<Vec3> out(start.size());
+    REQUIRE(read_positions(world, cloth, out.data(), uint32_t(out.size())).ok());
+    // The catenary's parameter a: L = 2 a sinh(D / 2a), by bisection (the left side falls with a).
+    double lo = 0.01, hi = 100.0;
+    for (int it = 0; it < 200; ++it) {
+        const double a = 0.5 * (lo + hi);
+        (2.0 * a * std::sinh(span / (2.0 * a)) > length ? lo : hi) = a;
+    }
+    const double a = 0.5 * (lo + hi);
+    CatenaryRun run;
+    run.expected_sag = a * (std::cosh(span / (2.0 * a)) - 1.0);
+    // The centre line (middle row) against y(x) = a (cosh(x / a) - cosh(D / 2a)).
+    for (uint32_t i = 0; i < along; ++i) {
+        const Vec3 p = out[i * across + 1];
+        const double expected = a * (std::cosh(p.x / a) - std::cosh(span / (2.0 * a)));
+        run.worst = std::max(run.worst, std::fabs(p.y - expected));
+    }
+    run.sag = -out[(along / 2) * across + 1].y;
+    return run;
+}
+
+}  // namespace
+
+TEST_CASE("catenary: a hanging strip comes to rest near the catenary, closer with a larger budget") {
+    const CatenaryRun small = hang_strip(20), large = hang_strip(100);
+    MESSAGE("catenary sag ", small.expected_sag, " m; strip sag at 20 sweeps ", small.sag, " m (centre line within ",
+            small.worst, " m), at 100 sweeps ", large.sag, " m (within ", large.worst, " m)");
+    CHECK(std::fabs(small.sag - small.expected_sag) < 0.15 * small.expected_sag);
+    CHECK(std::fabs(large.sag - large.expected_sag) < 0.10 * large.expected_sag);
+    CHECK(large.worst < small.worst);  // more budget, less stretch, closer to the inextensible limit
+    CHECK(large.worst < 0.05);
 }
