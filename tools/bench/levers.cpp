@@ -38,6 +38,9 @@ std::vector<Lever> levers(uint32_t sweeps) {
     out.push_back(split("iterations, under-relaxed 0.8", 1, 0.8f, false, false));
     out.push_back(split("iterations, over-relaxed 1.3", 1, 1.3f, false, false));
     out.push_back(split("tethers (iterations)", 1, 1.0f, true, false));
+    Lever both = split("tethers before and after sweeps", 1, 1.0f, true, false);
+    both.options.tethers_before_sweeps = true;
+    out.push_back(both);
     out.push_back(split("tethers (substeps, 0.8)", sweeps, 0.8f, true, false));
     out.push_back(split("coarse level (iterations)", 1, 1.0f, false, true));
     out.push_back(split("coarse level (substeps, 0.8)", sweeps, 0.8f, false, true));

@@ -112,6 +112,7 @@ std::string make_seed_world(SeedScene scene, const SceneOptions& o, SeedWorld* o
     cd.substeps = o.substeps;
     cd.iterations = o.iterations;
     cd.tethers = o.tethers;
+    cd.tethers_before_sweeps = o.tethers_before_sweeps;
     cd.relaxation = o.relaxation;
     cd.coarse_level = o.coarse_level;
     cd.damping_per_s = o.damping_per_s;

@@ -41,6 +41,7 @@ struct SceneOptions {
     uint32_t substeps = 1;
     uint32_t iterations = 3;
     bool tethers = true;
+    bool tethers_before_sweeps = false;
     bool coarse_level = true;
     float coarse_spacing_m = CookOptions{}.coarse_spacing_m;
     uint32_t tethers_per_particle = 2;  // nearest pinned particles each particle is tethered to

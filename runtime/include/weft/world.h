@@ -89,6 +89,10 @@ struct ClothDesc {
     float damping_per_s = 1.0f;
 
     bool tethers = true;          // use the asset's long-range attachments (either policy)
+    // Also project the tethers before the sweeps, not only after them: the springs then start from
+    // positions within reach of the pins. Measured on the n = 100 drape: max strain 0.02% instead
+    // of 3.0%, for one more tether pass (about 1.2x the step time; docs/solver.md).
+    bool tethers_before_sweeps = false;
     float tether_slack = 0.0f;    // allowed extension before a tether acts, fraction of its length
 
     // Wind (only when the world has the wind feature): drag and lift coefficients of (2), (3).
