@@ -147,10 +147,11 @@ void collide(World& world, ClothInstance& cloth, uint32_t substeps) {
 void step_cloth(World& world, ClothInstance& cloth, float dt) {
     const float h = dt / float(cloth.split.substeps);
     for (uint32_t substep = 0; substep < cloth.split.substeps; ++substep) {
-        apply_external_forces(world, cloth, h);                 // 1. F_ext: wind (gravity, damping in 2)
+        apply_external_forces(world, cloth, h);                // 1. F_ext: wind (gravity, damping in 2)
         correct_coarse_level(world, cloth, h);                 // 3a. coarse level (on predicted nodes)
         integrate(world, cloth, h);                            // 2. Verlet (+ the coarse correction)
-        if (cloth.settings.tethers_before_sweeps) apply_tethers(world, cloth);
+        if (cloth.settings.tethers_before_sweeps)
+            apply_tethers(world, cloth);                       //     (optional) tethers first
         for (uint32_t it = 0; it < cloth.split.iterations; ++it)
             correct_springs(world, cloth, h);                  // 3b. the springs, batch by batch
         apply_tethers(world, cloth);                           // 3c. the long-range attachments
