@@ -9,6 +9,7 @@
 #include <memory>
 #include <vector>
 
+#include "test_support.h"
 #include "weft/weft.h"
 
 using namespace weft;
@@ -23,19 +24,13 @@ TEST_CASE("free fall: a rigid triangle with no damping follows y0 - g t^2 / 2") 
     mesh.triangle_count = 1;
     mesh.triangles = triangles.data();
     mesh.masses = masses.data();
-    CookedCloth cooked;
-    REQUIRE(cook_cloth(mesh, CookOptions{}, &cooked).ok());
+    const CookedCloth cooked = test::cook(mesh);
 
     for (uint32_t substeps : {1u, 3u, 7u}) {
         CAPTURE(substeps);
-        WorldDesc wd;
-        wd.max_cloths = 0;
-        reserve_cloth(wd, cooked.asset());
-        const MemoryRequirements need = world_memory_requirements(wd);
-        std::unique_ptr<unsigned char[], void (*)(void*)> block(
-            static_cast<unsigned char*>(std::aligned_alloc(need.alignment, (need.bytes + 63) / 64 * 64)), std::free);
-        World* world = nullptr;
-        REQUIRE(create_world(wd, block.get(), need.bytes, &world).ok());
+        test::OwnedWorld owned;
+        REQUIRE(test::make_world(test::world_for({&cooked.asset()}), &owned).ok());
+        World* world = owned.world;
         ClothDesc cd;
         cd.asset = &cooked.asset();
         cd.policy = BudgetPolicy::explicit_split;
@@ -113,17 +108,11 @@ CatenaryRun hang_strip(uint32_t sweeps) {
     mesh.triangles = triangles.data();
     mesh.masses = masses.data();
     mesh.lattice = lattice.data();
-    CookedCloth cooked;
-    REQUIRE(cook_cloth(mesh, CookOptions{}, &cooked).ok());
+    const CookedCloth cooked = test::cook(mesh);
 
-    WorldDesc wd;
-    wd.max_cloths = 0;
-    reserve_cloth(wd, cooked.asset());
-    const MemoryRequirements need = world_memory_requirements(wd);
-    std::unique_ptr<unsigned char[], void (*)(void*)> block(
-        static_cast<unsigned char*>(std::aligned_alloc(need.alignment, (need.bytes + 63) / 64 * 64)), std::free);
-    World* world = nullptr;
-    REQUIRE(create_world(wd, block.get(), need.bytes, &world).ok());
+    test::OwnedWorld owned;
+    REQUIRE(test::make_world(test::world_for({&cooked.asset()}), &owned).ok());
+    World* world = owned.world;
     ClothDesc cd;
     cd.asset = &cooked.asset();
     cd.sweeps = sweeps;
