@@ -49,6 +49,7 @@ void project_tethers(const Particles& p, const ClothAsset& asset, const TetherBa
     const float d = std::sqrt(d2);
     const bool has_axis = d > kMinSpringLength_m;
     const float inv_d = has_axis ? 1.0f / d : 0.0f;
+    const auto axis_exists = splat(has_axis ? 1.0f : 0.0f, F{}) > splat(0.0f, F{});  // once per batch
 
     const F Ax = splat(ax, F{}), Ay = splat(ay, F{}), Az = splat(az, F{});
     const F Bx = splat(bx, F{}), By = splat(by, F{}), Bz = splat(bz, F{});
@@ -88,7 +89,7 @@ void project_tethers(const Particles& p, const ClothAsset& asset, const TetherBa
             const F un = mul_add(ux, nx, mul_add(uy, ny, uz * nz));
             const F vx = neg_mul_add(un, nx, ux), vy = neg_mul_add(un, ny, uy), vz = neg_mul_add(un, nz, uz);
             const F lv = sqrt(mul_add(vx, vx, mul_add(vy, vy, vz * vz)));
-            const auto circle_ok = (rc2 > zero) & (lv > min_len) & (splat(has_axis ? 1.0f : 0.0f, F{}) > zero);
+            const auto circle_ok = (rc2 > zero) & (lv > min_len) & axis_exists;
             const F sc = sqrt(max(rc2, zero)) / lv;
             const F pcx = mul_add(vx, sc, cx), pcy = mul_add(vy, sc, cy), pcz = mul_add(vz, sc, cz);
             // Balls that only touch (a particle on the straight line between its anchors, e.g. the
