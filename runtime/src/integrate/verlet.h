@@ -23,38 +23,38 @@ inline F verlet_predict(F x, F previous, F acceleration, F velocity_scale, F h2)
     return simd::mul_add(acceleration, h2, simd::mul_add(x - previous, velocity_scale, x));
 }
 
-// One lane group at slot i; with kTail only its first `lanes` lanes exist (a row's tail: the others
-// are neither read nor written).
-template <class F, bool kWind, bool kTail = false>
+// One lane group at slot i. Lanes below `done_lanes` already hold this pass's result (the group
+// overlaps the previous one at a row's end) and are kept: a row's tail costs one more full group
+// instead of masked loads and stores (vmaskmovps, measured slower than the whole group here).
+template <class F, bool kWind>
 inline void integrate_lanes(const Particles& p, const IntegrateArgs& args, uint32_t i, F cx, F cy, F cz,
-                            uint32_t lanes = F::width) {
+                            uint32_t done_lanes = 0) {
     using namespace simd;
-    auto ld = [lanes](const float* q) {
-        if constexpr (kTail) return load_first(q, lanes, F{});
-        else return load(q, F{});
-    };
-    auto st = [lanes](float* q, F v) {
-        if constexpr (kTail) store_first(q, v, lanes);
-        else store(q, v);
-    };
     const F h2 = splat(args.h2_s2, F{});
     const F velocity_scale = splat(args.velocity_scale, F{});
     F ax = splat(args.gravity.x, F{}), ay = splat(args.gravity.y, F{}), az = splat(args.gravity.z, F{});
     if constexpr (kWind) {
-        ax = ax + ld(p.wind_x + i);
-        ay = ay + ld(p.wind_y + i);
-        az = az + ld(p.wind_z + i);
+        ax = ax + load(p.wind_x + i, F{});
+        ay = ay + load(p.wind_y + i, F{});
+        az = az + load(p.wind_z + i, F{});
     }
-    const auto is_free = ld(p.inverse_mass + i) > splat(0.0f, F{});  // pinned particles stay put
-    const F x = ld(p.x + i), y = ld(p.y + i), z = ld(p.z + i);
-    const F nx = verlet_predict(x, ld(p.previous_x + i), ax, velocity_scale, h2) + cx;
-    const F ny = verlet_predict(y, ld(p.previous_y + i), ay, velocity_scale, h2) + cy;
-    const F nz = verlet_predict(z, ld(p.previous_z + i), az, velocity_scale, h2) + cz;
+    const auto is_free = load(p.inverse_mass + i, F{}) > splat(0.0f, F{});  // pinned particles stay put
+    const F x = load(p.x + i, F{}), y = load(p.y + i, F{}), z = load(p.z + i, F{});
+    const F px = load(p.previous_x + i, F{}), py = load(p.previous_y + i, F{}), pz = load(p.previous_z + i, F{});
+    F nx = select(is_free, verlet_predict(x, px, ax, velocity_scale, h2) + cx, x);
+    F ny = select(is_free, verlet_predict(y, py, ay, velocity_scale, h2) + cy, y);
+    F nz = select(is_free, verlet_predict(z, pz, az, velocity_scale, h2) + cz, z);
+    if (done_lanes > 0) {
+        const auto fresh = lanes_from(done_lanes, F{});
+        nx = select(fresh, nx, px);
+        ny = select(fresh, ny, py);
+        nz = select(fresh, nz, pz);
+    }
     // x(t+h) overwrites x(t-h), which is no longer needed; the caller then swaps the two arrays, so
     // x(t) becomes the previous position without being copied (3 stores a lane instead of 6).
-    st(p.previous_x + i, select(is_free, nx, x));
-    st(p.previous_y + i, select(is_free, ny, y));
-    st(p.previous_z + i, select(is_free, nz, z));
+    store(p.previous_x + i, nx);
+    store(p.previous_y + i, ny);
+    store(p.previous_z + i, nz);
 }
 
 // No coarse level: a flat pass over slots [first, end), lane groups then single lanes.
@@ -87,19 +87,18 @@ void integrate_with_coarse_weights(const Particles& p, const IntegrateArgs& args
 
 // Lattice coarse form: plane row by plane row, blending the two coarse rows around it (each
 // already interpolated to every plane column) with contiguous loads.
-template <class F, bool kWind, bool kTail = false>
+template <class F, bool kWind>
 inline void integrate_lattice_lanes(const Particles& p, const IntegrateArgs& args, float* const lower[3],
                                     float* const upper[3], float frac, uint32_t slot, uint32_t c,
-                                    uint32_t lanes = F::width) {
+                                    uint32_t done_lanes = 0) {
     using namespace simd;
     const F f = splat(frac, F{});
     F d[3];
     for (int axis = 0; axis < 3; ++axis) {
-        const F l = kTail ? load_first(lower[axis] + c, lanes, F{}) : load(lower[axis] + c, F{});
-        const F u = kTail ? load_first(upper[axis] + c, lanes, F{}) : load(upper[axis] + c, F{});
+        const F l = load(lower[axis] + c, F{}), u = load(upper[axis] + c, F{});
         d[axis] = mul_add(f, u - l, l);
     }
-    integrate_lanes<F, kWind, kTail>(p, args, slot, d[0], d[1], d[2], lanes);
+    integrate_lanes<F, kWind>(p, args, slot, d[0], d[1], d[2], done_lanes);
 }
 
 template <class F, bool kWind>
@@ -128,8 +127,13 @@ void integrate_with_coarse_lattice(const Particles& p, const IntegrateArgs& args
                 uint32_t c = 0;
                 for (; c + F::width <= cols; c += F::width)
                     integrate_lattice_lanes<F, kWind>(p, args, lower, upper, frac, base + c, c);
-                if (c < cols)  // the row's tail, as one masked lane group
-                    integrate_lattice_lanes<F, kWind, true>(p, args, lower, upper, frac, base + c, c, cols - c);
+                if (c < cols && cols >= F::width) {  // the row's tail: one group overlapping the last
+                    integrate_lattice_lanes<F, kWind>(p, args, lower, upper, frac, base + cols - F::width,
+                                                      cols - F::width, F::width - (cols - c));
+                } else {  // rows narrower than a lane group
+                    for (; c < cols; ++c)
+                        integrate_lattice_lanes<simd::Float1, kWind>(p, args, lower, upper, frac, base + c, c);
+                }
             }
         }
     }

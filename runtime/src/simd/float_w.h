@@ -37,8 +37,6 @@ struct Mask1 {
 inline Float1 load(const float* p, Float1) { return {*p}; }
 inline void store(float* p, Float1 a) { *p = a.v; }
 // The first n lanes at p (n >= 1): the tail of a row. Other lanes read as 0 and are not written.
-inline Float1 load_first(const float* p, uint32_t, Float1) { return {*p}; }
-inline void store_first(float* p, Float1 a, uint32_t) { *p = a.v; }
 // base[index[k]] for every lane k.
 inline Float1 gather(const float* base, const uint32_t* index, Float1) { return {base[*index]}; }
 // table[index[k]] for a small table (at most 32 entries, readable up to entry 39).
@@ -80,6 +78,8 @@ inline Float1 keep_if(Mask1 m, Float1 a) { return {m.v ? a.v : 0.0f}; }
 // a where the mask holds, b elsewhere.
 inline Float1 select(Mask1 m, Float1 a, Float1 b) { return {m.v ? a.v : b.v}; }
 inline bool any(Mask1 m) { return m.v; }
+// Lanes k >= n (the one lane is lane 0).
+inline Mask1 lanes_from(uint32_t n, Float1) { return {n == 0}; }
 inline bool all(Mask1 m) { return m.v; }
 
 #if WEFT_HAVE_AVX2
@@ -96,11 +96,10 @@ struct Mask8 {
 // aligned ones when the data happens to be aligned.
 inline Float8 load(const float* p, Float8) { return {_mm256_loadu_ps(p)}; }
 inline void store(float* p, Float8 a) { _mm256_storeu_ps(p, a.v); }
-inline __m256i first_lanes(uint32_t n) {
-    return _mm256_cmpgt_epi32(_mm256_set1_epi32(int(n)), _mm256_setr_epi32(0, 1, 2, 3, 4, 5, 6, 7));
+// Lanes k >= n.
+inline Mask8 lanes_from(uint32_t n, Float8) {
+    return {_mm256_castsi256_ps(_mm256_cmpgt_epi32(_mm256_setr_epi32(1, 2, 3, 4, 5, 6, 7, 8), _mm256_set1_epi32(int(n))))};
 }
-inline Float8 load_first(const float* p, uint32_t n, Float8) { return {_mm256_maskload_ps(p, first_lanes(n))}; }
-inline void store_first(float* p, Float8 a, uint32_t n) { _mm256_maskstore_ps(p, first_lanes(n), a.v); }
 inline Float8 gather(const float* base, const uint32_t* index, Float8) {
     return {_mm256_i32gather_ps(base, _mm256_loadu_si256(reinterpret_cast<const __m256i*>(index)), 4)};
 }
