@@ -287,7 +287,7 @@ TEST_CASE("a frame's calls allocate nothing: set_wind, set_collider, step, read_
         const std::string scene_name = scenes::scene_name(scene);
         CAPTURE(scene_name);
         auto w = make_scene(scene, SimdPath::automatic, true, 25);
-        std::vector<Vec3> positions(w->cooked.asset().particle_count);
+        std::vector<Vec3> positions(w->asset().particle_count);
         ColliderDesc sphere;
         sphere.radius_m = 0.5f;
         sphere.inflation_m = 0.01f;
@@ -325,7 +325,7 @@ TEST_CASE("a frame's calls allocate nothing: set_wind, set_collider, step, read_
 TEST_CASE("reset_cloth and set_cloth_settings between frames allocate nothing") {
     auto w = make_scene(SeedScene::drape, SimdPath::automatic, false, 25);
     ClothDesc settings;
-    settings.asset = &w->cooked.asset();
+    settings.asset = &w->asset();
     uint32_t failures = 0;
     uint64_t allocations = 0;
     {

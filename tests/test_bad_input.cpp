@@ -109,7 +109,7 @@ TEST_CASE("set_particle refuses a negative inverse mass") {
 }
 TEST_CASE("set_particle refuses an out-of-range particle index") {
     expect_refused(ErrorCode::out_of_range, [](scenes::SeedWorld& w) {
-        return set_particle(w.world, w.cloth, w.cooked.asset().particle_count, {0.0f, 1.0f, 0.0f}, 1.0f);
+        return set_particle(w.world, w.cloth, w.asset().particle_count, {0.0f, 1.0f, 0.0f}, 1.0f);
     });
     expect_refused(ErrorCode::out_of_range, [](scenes::SeedWorld& w) {
         return set_particle(w.world, w.cloth, 0xFFFFFFFFu, {0.0f, 1.0f, 0.0f}, 1.0f);
@@ -157,7 +157,7 @@ TEST_CASE("set_collider refuses NaN and unknown colliders") {
 TEST_CASE("add_cloth beyond max_cloths") {
     expect_refused(ErrorCode::capacity_exceeded, [](scenes::SeedWorld& w) {
         ClothDesc d;
-        d.asset = &w.cooked.asset();
+        d.asset = &w.asset();
         ClothId id;
         return add_cloth(w.world, d, &id);  // seed worlds hold exactly one cloth
     });
@@ -196,7 +196,7 @@ void expect_second_cloth_refused(const WorldDesc& desc, const ClothAsset& asset)
 
 TEST_CASE("add_cloth beyond max_particles") {
     auto w = make_scene(scenes::SeedScene::drape, scene_options(12));
-    const ClothAsset& asset = w->cooked.asset();
+    const ClothAsset& asset = w->asset();
     WorldDesc d = world_for({&asset, &asset});
     d.max_particles -= 1;  // one slot short of two cloths
     expect_second_cloth_refused(d, asset);
@@ -204,7 +204,7 @@ TEST_CASE("add_cloth beyond max_particles") {
 
 TEST_CASE("add_cloth beyond max_constraints") {
     auto w = make_scene(scenes::SeedScene::drape, scene_options(12));
-    const ClothAsset& asset = w->cooked.asset();
+    const ClothAsset& asset = w->asset();
     WorldDesc d = world_for({&asset, &asset});
     d.max_constraints -= 1;  // one lane short of two cloths
     expect_second_cloth_refused(d, asset);
@@ -212,7 +212,7 @@ TEST_CASE("add_cloth beyond max_constraints") {
 
 TEST_CASE("add_cloth beyond max_coarse_nodes") {
     auto w = make_scene(scenes::SeedScene::sphere, scene_options(25));
-    const ClothAsset& asset = w->cooked.asset();
+    const ClothAsset& asset = w->asset();
     REQUIRE(asset.coarse_node_count > 0);
     WorldDesc d = world_for({&asset, &asset});
     d.max_coarse_nodes -= 1;  // one node short of two cloths
@@ -248,7 +248,7 @@ TEST_CASE("add_cloth and set_cloth_settings refuse bad settings: substeps 0, rel
         {"no asset", [](ClothDesc& d) { d.asset = nullptr; }, ErrorCode::invalid_argument},
     };
     auto w = make_scene(scenes::SeedScene::drape, scene_options(10));
-    const ClothAsset& asset = w->cooked.asset();
+    const ClothAsset& asset = w->asset();
     for (const Case& c : cases) {
         CAPTURE(c.name);
         // add_cloth into an empty world with room for the cloth: refused, and the world stays empty.
@@ -269,7 +269,7 @@ TEST_CASE("add_cloth and set_cloth_settings refuse bad settings: substeps 0, rel
         // set_cloth_settings on a running cloth: refused, nothing changes.
         expect_refused(scenes::SeedScene::drape, c.expected, [&](scenes::SeedWorld& sw) {
             ClothDesc s;
-            s.asset = &sw.cooked.asset();
+            s.asset = &sw.asset();
             c.spoil(s);
             return set_cloth_settings(sw.world, sw.cloth, s);
         });
@@ -280,7 +280,7 @@ TEST_CASE("set_cloth_settings refuses a different asset") {
     auto other = make_scene(scenes::SeedScene::drape, scene_options(20));
     expect_refused(scenes::SeedScene::drape, ErrorCode::invalid_argument, [&](scenes::SeedWorld& w) {
         ClothDesc d;
-        d.asset = &other->cooked.asset();
+        d.asset = &other->asset();
         return set_cloth_settings(w.world, w.cloth, d);
     });
 }
@@ -288,7 +288,7 @@ TEST_CASE("set_cloth_settings refuses a different asset") {
 TEST_CASE("add_cloth refuses null arguments") {
     auto w = make_scene(scenes::SeedScene::drape, scene_options(10));
     ClothDesc d;
-    d.asset = &w->cooked.asset();
+    d.asset = &w->asset();
     ClothId id;
     check_refused(add_cloth(nullptr, d, &id), ErrorCode::invalid_argument);
     check_refused(add_cloth(w->world, d, nullptr), ErrorCode::invalid_argument);
@@ -316,7 +316,7 @@ namespace {
 // A drape world with one free collider slot; adding `desc` must fail with `expected`.
 void expect_collider_refused(const ColliderDesc& desc, ErrorCode expected) {
     auto scene = make_scene(scenes::SeedScene::drape, scene_options(12));
-    const ClothAsset& asset = scene->cooked.asset();
+    const ClothAsset& asset = scene->asset();
     OwnedWorld world, twin;
     REQUIRE(make_world(world_for({&asset}, 1), &world).ok());
     REQUIRE(make_world(world_for({&asset}, 1), &twin).ok());
@@ -409,7 +409,7 @@ TEST_CASE("create_world refuses a block that is too small or null") {
 TEST_CASE("create_world works in a block that starts off a cache line") {
     // The requirement includes a cache line of slack so the block may start anywhere.
     auto scene = make_scene(scenes::SeedScene::flag, scene_options(16));
-    const ClothAsset& asset = scene->cooked.asset();
+    const ClothAsset& asset = scene->asset();
     WorldDesc desc = world_for({&asset});
     desc.wind = true;
     const MemoryRequirements need = world_memory_requirements(desc);
@@ -522,18 +522,18 @@ TEST_CASE("cook_cloth refuses a mesh without particles or with null triangles") 
 
 TEST_CASE("read_positions refuses a wrong count and a null buffer") {
     auto w = make_scene(scenes::SeedScene::drape, scene_options(10));
-    const uint32_t n = w->cooked.asset().particle_count;
+    const uint32_t n = w->asset().particle_count;
     std::vector<Vec3> out(n + 1, Vec3{7.0f, 7.0f, 7.0f});
     check_refused(read_positions(w->world, w->cloth, out.data(), n - 1), ErrorCode::out_of_range);
     check_refused(read_positions(w->world, w->cloth, out.data(), n + 1), ErrorCode::out_of_range);
-    check_refused(read_positions(w->world, w->cloth, out.data(), w->cooked.asset().slot_count), ErrorCode::out_of_range);
+    check_refused(read_positions(w->world, w->cloth, out.data(), w->asset().slot_count), ErrorCode::out_of_range);
     check_refused(read_positions(w->world, w->cloth, nullptr, n), ErrorCode::invalid_argument);
     for (const Vec3& v : out) CHECK(v.x == 7.0f);  // nothing written on refusal
 }
 
 TEST_CASE("an invalid cloth id is refused everywhere") {
     expect_refused(ErrorCode::out_of_range, [](scenes::SeedWorld& w) {
-        std::vector<Vec3> out(w.cooked.asset().particle_count);
+        std::vector<Vec3> out(w.asset().particle_count);
         return read_positions(w.world, ClothId{1}, out.data(), uint32_t(out.size()));
     });
     expect_refused(ErrorCode::out_of_range, [](scenes::SeedWorld& w) {
@@ -542,7 +542,7 @@ TEST_CASE("an invalid cloth id is refused everywhere") {
     expect_refused(ErrorCode::out_of_range, [](scenes::SeedWorld& w) { return reset_cloth(w.world, ClothId{1}); });
     expect_refused(ErrorCode::out_of_range, [](scenes::SeedWorld& w) {
         ClothDesc d;
-        d.asset = &w.cooked.asset();
+        d.asset = &w.asset();
         return set_cloth_settings(w.world, ClothId{0xFFFFFFFFu}, d);
     });
     expect_refused(ErrorCode::out_of_range, [](scenes::SeedWorld& w) {

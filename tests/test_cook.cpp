@@ -99,7 +99,7 @@ TEST_CASE("cooked springs are exactly the mesh edges and the bend pairs, with re
 
 TEST_CASE("drape 100 x 100: at least 95% of the constraints sit on contiguous runs") {
     auto w = make_scene(scenes::SeedScene::drape, scene_options(100));
-    const ClothAsset& a = w->cooked.asset();
+    const ClothAsset& a = w->asset();
     const uint32_t n = 100;
     // Two corners pinned, not adjacent: no spring joins two pinned particles, none is dropped.
     CHECK(a.total_constraints() == 6 * n * n - 12 * n + 6);
@@ -159,7 +159,7 @@ TEST_CASE("drape 100 x 100: at least 95% of the constraints sit on contiguous ru
 
 TEST_CASE("slot permutation maps both ways and padding slots are pinned") {
     auto w = make_scene(scenes::SeedScene::drape, scene_options(25));
-    const ClothAsset& a = w->cooked.asset();
+    const ClothAsset& a = w->asset();
     CHECK(a.slot_count % kSimdWidth == 0);
     std::vector<int> seen(a.slot_count, 0);
     for (uint32_t p = 0; p < a.particle_count; ++p) {

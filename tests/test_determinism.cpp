@@ -117,7 +117,7 @@ TEST_CASE("scalar vs avx2: substeps, compliance and relaxation") {
         o.relaxation = 1.3f;
         worlds[i] = make_scene(SeedScene::flag, o);
         ClothDesc d;
-        d.asset = &worlds[i]->cooked.asset();
+        d.asset = &worlds[i]->asset();
         d.policy = BudgetPolicy::explicit_split;
         d.coarse_level = true;
         d.substeps = 3;

@@ -43,7 +43,7 @@ TEST_CASE("stepping never changes inverse masses, and pinned and padding slots n
             const std::string label = std::string(variant.name) + ", " + simd_path_name(path);
             CAPTURE(label);
             auto w = make_variant(variant, path);
-            const ClothAsset& a = w->cooked.asset();
+            const ClothAsset& a = w->asset();
             step_n(*w, 40);
             const ClothView v = view_of(*w);
             uint32_t changed_mass = 0, moved = 0, first_bad = kNoParticle;
@@ -74,7 +74,7 @@ TEST_CASE("stepping one cloth leaves a second cloth in the same block untouched"
             const std::string label = std::string(variant.name) + ", " + simd_path_name(path);
             CAPTURE(label);
             auto scene = make_variant(variant, path);  // for its asset and settings
-            const ClothAsset& a = scene->cooked.asset();
+            const ClothAsset& a = scene->asset();
             WorldDesc d = world_for({&a, &a}, variant.scene == SeedScene::sphere ? 1 : 0, path);
             d.wind = variant.scene == SeedScene::flag;
             OwnedWorld world;

@@ -67,7 +67,7 @@ TEST_CASE("profile: the sphere pays for collisions, not for wind or tethers (not
     CHECK(pass_ns(w->world, Pass::collide) > 0);
     CHECK(pass_ns(w->world, Pass::coarse) > 0);  // held by a collider: the coarse level carries tension
     CHECK(pass_ns(w->world, Pass::wind) == 0);
-    CHECK(w->cooked.asset().tether_batch_count == 0);
+    CHECK(w->asset().tether_batch_count == 0);
     CHECK(pass_ns(w->world, Pass::tethers) == 0);
 }
 

@@ -111,7 +111,7 @@ TEST_CASE("seed drape: with tethers no particle ends further than its tether len
             scenes::SceneOptions o = scene_options(n);
             o.tethers_per_particle = tethers_per_particle;
             auto w = make_scene(SeedScene::drape, o);
-            REQUIRE(w->cooked.asset().tethered_particles == w->cooked.asset().particle_count - 2);
+            REQUIRE(w->asset().tethered_particles == w->asset().particle_count - 2);
             double worst = 0.0;
             for (uint32_t i = 1; i <= 330; ++i) {
                 REQUIRE(step(w->world, w->dt_s).ok());
@@ -213,7 +213,7 @@ TEST_CASE("seed sphere: particles stay outside the inflated sphere and edges out
         const std::string path_name = simd_path_name(path);
         CAPTURE(path_name);
         auto w = make_scene(SeedScene::sphere, scene_options(50, path));
-        const ClothAsset& a = w->cooked.asset();
+        const ClothAsset& a = w->asset();
         const float inflated = 0.5f + 0.01f;
         double closest_particle = 1e9, closest_midpoint = 1e9;
         bool touched = false;

@@ -65,7 +65,7 @@ inline std::vector<Vec3> read_all(const World* world, ClothId cloth, uint32_t co
 }
 
 inline std::vector<Vec3> read_all(const scenes::SeedWorld& w) {
-    return read_all(w.world, w.cloth, w.cooked.asset().particle_count);
+    return read_all(w.world, w.cloth, w.asset().particle_count);
 }
 
 inline ClothView view_of(const World* world, ClothId cloth) {

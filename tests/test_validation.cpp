@@ -152,7 +152,7 @@ struct Fixture {
         o.tethers_per_particle = 2;  // two distinct anchors per lane
         return o;
     }
-    const ClothAsset& original() const { return scene->cooked.asset(); }
+    const ClothAsset& original() const { return scene->asset(); }
 };
 
 // Applies `corrupt` to a copy of a valid asset and checks that validation and add_cloth refuse it.

@@ -53,7 +53,7 @@ std::string timed_run(const RunOptions& options, uint32_t n, SimdPath path, bool
                       Summary* out) {
     scenes::SeedWorld sw;
     if (std::string err = make_world(options, n, path, false, &sw); !err.empty()) return err;
-    const ClothAsset& a = sw.cooked.asset();
+    const ClothAsset& a = sw.asset();
     m.particles = a.particle_count;
     m.springs = a.total_constraints();
     m.slots = a.slot_count;

@@ -7,27 +7,9 @@
 #include <string>
 #include <vector>
 
-#include "weft/weft.h"
+#include "scene.h"
 
 namespace weft::scenes {
-
-inline constexpr float kSeedTimeStep_s = 0.033f;
-inline constexpr float kCottonDensity_kg_m2 = 0.150f;  // Penava et al. 2014 (shared/data/README.md)
-
-// An n x n grid (n >= 2) of side `size_m`, one diagonal per quad (the paper's spring counts).
-// `vertical` lays it in the x-y plane (a flag, pole along y at x = x0), otherwise in the x-z plane
-// at height `height_m`, centred on the y axis. Masses are area-weighted (seed eq. 9).
-struct GridMesh {
-    uint32_t n = 0;
-    std::vector<Vec3> positions;
-    std::vector<uint32_t> triangles;
-    std::vector<float> masses;
-    std::vector<int32_t> lattice;  // (row, column) per particle
-    uint32_t index(uint32_t row, uint32_t col) const { return row * n + col; }
-    ClothMeshDesc desc() const;
-};
-GridMesh make_grid(uint32_t n, float width_m, float height_m_or_length, bool vertical, float y_m,
-                   float density_kg_m2 = kCottonDensity_kg_m2);
 
 enum class SeedScene { drape, flag, sphere };
 const char* scene_name(SeedScene scene);
@@ -71,12 +53,16 @@ void apply_config(Config config, uint32_t sweeps, SceneOptions& options);
 struct SeedWorld {
     SeedScene scene{};
     GridMesh mesh;
-    CookedCloth cooked;
+    std::unique_ptr<CookedCloth> cooked;  // behind a pointer: the world points at its asset
     std::unique_ptr<unsigned char[], void (*)(void*)> memory{nullptr, nullptr};
     World* world = nullptr;
     ClothId cloth{};
     float dt_s = kSeedTimeStep_s;
+    const ClothAsset& asset() const { return cooked->asset(); }
 };
+
+// The experiment as a scene (what samples/scenes/*.json also describe).
+Scene seed_scene(SeedScene scene, const SceneOptions& options);
 
 // Builds the scene; returns the failure message (empty on success).
 std::string make_seed_world(SeedScene scene, const SceneOptions& options, SeedWorld* out);

@@ -1,0 +1,143 @@
+#include "scene.h"
+
+#include <cstdlib>
+
+namespace weft::scenes {
+
+ClothMeshDesc GridMesh::desc() const {
+    ClothMeshDesc d;
+    d.particle_count = uint32_t(positions.size());
+    d.positions = positions.data();
+    d.triangle_count = uint32_t(triangles.size() / 3);
+    d.triangles = triangles.data();
+    d.masses = masses.data();
+    d.lattice = lattice.data();
+    return d;
+}
+
+GridMesh make_grid(uint32_t n, float width_m, float length_m, bool vertical, float y_m, float density_kg_m2) {
+    GridMesh g;
+    g.n = n;
+    const float dx = width_m / float(n - 1), dz = length_m / float(n - 1);
+    for (uint32_t r = 0; r < n; ++r) {
+        for (uint32_t c = 0; c < n; ++c) {
+            if (vertical) {  // rows go down from the top, columns out from the pole at x = 0
+                g.positions.push_back({float(c) * dx, y_m - float(r) * dz, 0.0f});
+            } else {
+                g.positions.push_back({-0.5f * width_m + float(c) * dx, y_m, -0.5f * length_m + float(r) * dz});
+            }
+            g.lattice.push_back(int32_t(r));
+            g.lattice.push_back(int32_t(c));
+        }
+    }
+    g.masses.assign(size_t(n) * n, 0.0f);
+    const float triangle_mass = density_kg_m2 * 0.5f * dx * dz;
+    for (uint32_t r = 0; r + 1 < n; ++r) {
+        for (uint32_t c = 0; c + 1 < n; ++c) {
+            const uint32_t a = g.index(r, c), b = g.index(r, c + 1), d = g.index(r + 1, c), e = g.index(r + 1, c + 1);
+            for (uint32_t v : {a, d, b, b, d, e}) g.triangles.push_back(v);
+            for (uint32_t v : {a, d, b, b, d, e}) g.masses[v] += triangle_mass / 3.0f;  // eq. (9)
+        }
+    }
+    return g;
+}
+
+namespace {
+
+// A pin index: negative counts from the end. Returns false when out of range.
+bool resolve_index(int32_t i, uint32_t n, uint32_t* out) {
+    const int64_t v = i < 0 ? int64_t(n) + i : int64_t(i);
+    if (v < 0 || v >= int64_t(n)) return false;
+    *out = uint32_t(v);
+    return true;
+}
+
+std::string make_grid_cloth(const GridSource& g, const CookOptions& cook, SceneCloth* out) {
+    if (g.n < 2 || g.n > 4096) return "grid n must be in [2, 4096]";
+    if (!(g.width_m > 0.0f) || !(g.length_m > 0.0f) || !(g.areal_density_kg_m2 > 0.0f))
+        return "grid width, length and areal density must be positive";
+    out->mesh = make_grid(g.n, g.width_m, g.length_m, g.vertical, g.y_m, g.areal_density_kg_m2);
+    GridMesh& mesh = out->mesh;
+    for (Vec3& p : mesh.positions) p = {p.x + g.offset_m.x, p.y + g.offset_m.y, p.z + g.offset_m.z};
+    for (const auto& [row, col] : g.pins) {
+        uint32_t r, c;
+        if (!resolve_index(row, g.n, &r) || !resolve_index(col, g.n, &c)) return "grid pin outside the grid";
+        mesh.masses[mesh.index(r, c)] = 0.0f;
+    }
+    for (int32_t row : g.pin_rows) {
+        uint32_t r;
+        if (!resolve_index(row, g.n, &r)) return "pinned row outside the grid";
+        for (uint32_t c = 0; c < g.n; ++c) mesh.masses[mesh.index(r, c)] = 0.0f;
+    }
+    for (int32_t col : g.pin_columns) {
+        uint32_t c;
+        if (!resolve_index(col, g.n, &c)) return "pinned column outside the grid";
+        for (uint32_t r = 0; r < g.n; ++r) mesh.masses[mesh.index(r, c)] = 0.0f;
+    }
+    out->cooked = std::make_unique<CookedCloth>();
+    if (Result r = cook_cloth(mesh.desc(), cook, out->cooked.get()); !r.ok()) return r.message;
+    out->asset = &out->cooked->asset();
+    return {};
+}
+
+// Placeholder until the binary asset loader lands (same session): refuses with a message.
+std::string load_baked_cloth(const std::string& path, SceneCloth*) {
+    return "cannot load '" + path + "': baked assets are not supported by this build yet";
+}
+
+}  // namespace
+
+std::string build_scene(const Scene& scene, SceneWorld* out) {
+    if (scene.cloths.empty()) return "the scene has no cloth";
+    out->dt_s = scene.dt_s;
+    out->cloths.clear();
+    out->cloths.resize(scene.cloths.size());
+    WorldDesc wd;
+    wd.max_cloths = 0;
+    for (size_t i = 0; i < scene.cloths.size(); ++i) {
+        const ClothSpec& spec = scene.cloths[i];
+        SceneCloth& cloth = out->cloths[i];
+        std::string error;
+        if (spec.grid) {
+            error = make_grid_cloth(*spec.grid, spec.cook, &cloth);
+        } else {
+            error = load_baked_cloth(spec.asset_path, &cloth);
+        }
+        if (!error.empty()) return "cloth '" + spec.name + "': " + error;
+        reserve_cloth(wd, *cloth.asset);
+    }
+    wd.max_colliders = uint32_t(scene.colliders.size());
+    wd.wind = scene.wind_m_s.has_value();
+    wd.gravity_m_s2 = scene.gravity_m_s2;
+    wd.air_density_kg_m3 = scene.air_density_kg_m3;
+    wd.simd = scene.simd;
+    wd.profile = scene.profile;
+    const MemoryRequirements need = world_memory_requirements(wd);
+    if (need.bytes == 0) return "bad world description";
+    const size_t bytes = (need.bytes + need.alignment - 1) / need.alignment * need.alignment;
+    out->memory = {static_cast<unsigned char*>(std::aligned_alloc(need.alignment, bytes)), std::free};
+    if (!out->memory) return "out of memory";
+    if (Result r = create_world(wd, out->memory.get(), bytes, &out->world); !r.ok()) return r.message;
+
+    for (size_t i = 0; i < scene.cloths.size(); ++i) {
+        ClothDesc cd = scene.cloths[i].desc;
+        cd.asset = out->cloths[i].asset;
+        if (Result r = add_cloth(out->world, cd, &out->cloths[i].id); !r.ok())
+            return "cloth '" + scene.cloths[i].name + "': " + r.message;
+    }
+    out->colliders.resize(scene.colliders.size());
+    for (size_t i = 0; i < scene.colliders.size(); ++i)
+        if (Result r = add_collider(out->world, scene.colliders[i], &out->colliders[i]); !r.ok())
+            return std::string("collider: ") + r.message;
+    if (scene.wind_m_s)
+        if (Result r = set_wind(out->world, *scene.wind_m_s); !r.ok()) return std::string("wind: ") + r.message;
+    return {};
+}
+
+std::vector<uint32_t> caller_triangles(const ClothAsset& asset) {
+    std::vector<uint32_t> t(asset.triangles, asset.triangles + 3 * size_t(asset.triangle_count));
+    for (uint32_t& v : t) v = asset.particle_of_slot[v];
+    return t;
+}
+
+}  // namespace weft::scenes

@@ -1,0 +1,98 @@
+// A scene: everything a world holds (cloths, colliders, wind, gravity, the time step), as plain
+// data. weft-sim reads it from a scene file (docs/scene-format.md, scene_json.h); weft-bench and
+// the tests make the seed paper's experiments as scenes (seed_scenes.h). `build_scene` creates a
+// world with exactly what the scene uses: no wind entry, no wind pass; no collider, no collision pass.
+#pragma once
+
+#include <memory>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "weft/weft.h"
+
+namespace weft::scenes {
+
+inline constexpr float kSeedTimeStep_s = 0.033f;
+inline constexpr float kCottonDensity_kg_m2 = 0.150f;  // Penava et al. 2014 (shared/data/README.md)
+
+// An n x n grid (n >= 2) of side `size_m`, one diagonal per quad (the paper's spring counts).
+// `vertical` lays it in the x-y plane (a flag, pole along y at x = 0, rows going down from y_m),
+// otherwise in the x-z plane at height y_m, centred on the y axis. Masses are area-weighted (seed
+// eq. 9).
+struct GridMesh {
+    uint32_t n = 0;
+    std::vector<Vec3> positions;
+    std::vector<uint32_t> triangles;
+    std::vector<float> masses;
+    std::vector<int32_t> lattice;  // (row, column) per particle
+    uint32_t index(uint32_t row, uint32_t col) const { return row * n + col; }
+    ClothMeshDesc desc() const;
+};
+GridMesh make_grid(uint32_t n, float width_m, float height_m_or_length, bool vertical, float y_m,
+                   float density_kg_m2 = kCottonDensity_kg_m2);
+
+// A grid cloth made in memory (the seed's experiments).
+struct GridSource {
+    uint32_t n = 100;
+    float width_m = 2.0f;
+    float length_m = 2.0f;
+    bool vertical = false;  // see make_grid
+    float y_m = 2.0f;       // height (horizontal) or top edge (vertical)
+    float areal_density_kg_m2 = kCottonDensity_kg_m2;
+    Vec3 offset_m{};        // added to every particle before cooking
+    // Pinned particles: (row, column) pairs, whole rows and whole columns. Negative indices count
+    // from the end (-1 = the last row or column).
+    std::vector<std::pair<int32_t, int32_t>> pins;
+    std::vector<int32_t> pin_rows, pin_columns;
+};
+
+struct ClothSpec {
+    std::string name;
+    std::optional<GridSource> grid;  // exactly one of grid and asset_path
+    std::string asset_path;          // a baked .weft file (weft-bake)
+    CookOptions cook;                // grid only
+    ClothDesc desc;                  // solver settings; desc.asset is filled by build_scene
+};
+
+struct Scene {
+    std::string name;
+    float dt_s = kSeedTimeStep_s;
+    uint32_t frames = 330;  // 10.9 s at the seed's dt: long enough to come to rest
+    Vec3 gravity_m_s2{0.0f, -9.81f, 0.0f};
+    float air_density_kg_m3 = 1.2f;
+    std::optional<Vec3> wind_m_s;  // present: the world has the wind pass
+    SimdPath simd = SimdPath::automatic;
+    bool profile = false;
+    std::vector<ClothSpec> cloths;
+    std::vector<ColliderDesc> colliders;
+};
+
+// One cloth of a built scene: where its asset came from, and its instance.
+// The assets sit behind pointers: the world keeps a pointer to its asset, so moving a SceneCloth
+// must not move the asset.
+struct SceneCloth {
+    GridMesh mesh;                         // grid sources
+    std::unique_ptr<CookedCloth> cooked;   // grid sources: the cooked asset
+    std::shared_ptr<const void> file;      // baked sources: the file's bytes (the asset points into them)
+    std::unique_ptr<ClothAsset> loaded;    // baked sources: the asset loaded in place
+    const ClothAsset* asset = nullptr;
+    ClothId id{};
+};
+
+struct SceneWorld {
+    std::vector<SceneCloth> cloths;
+    std::unique_ptr<unsigned char[], void (*)(void*)> memory{nullptr, nullptr};
+    World* world = nullptr;
+    std::vector<ColliderId> colliders;
+    float dt_s = kSeedTimeStep_s;
+};
+
+// Cooks or loads every cloth, creates the world with exactly the scene's features and adds
+// everything. Returns the failure message (empty on success).
+std::string build_scene(const Scene& scene, SceneWorld* out);
+
+// The triangles of a built cloth in caller particle order (for OBJ and glTF writers).
+std::vector<uint32_t> caller_triangles(const ClothAsset& asset);
+
+}  // namespace weft::scenes
