@@ -76,6 +76,36 @@ double max_tether_excess(const ClothView& c) {
     return worst;
 }
 
+namespace {
+
+// Depth of point q below the collision surface of c (negative outside).
+double depth_inside(const ColliderDesc& c, double qx, double qy, double qz) {
+    const double rx = qx - c.p0.x, ry = qy - c.p0.y, rz = qz - c.p0.z;
+    if (c.shape == ColliderShape::plane) return c.inflation_m - (rx * c.p1.x + ry * c.p1.y + rz * c.p1.z);
+    double dx = rx, dy = ry, dz = rz;
+    if (c.shape != ColliderShape::sphere) {
+        const double ax = double(c.p1.x) - c.p0.x, ay = double(c.p1.y) - c.p0.y, az = double(c.p1.z) - c.p0.z;
+        const double len2 = ax * ax + ay * ay + az * az;
+        double t = len2 > 0.0 ? (rx * ax + ry * ay + rz * az) / len2 : 0.0;
+        if (c.shape == ColliderShape::cylinder && (t <= 0.0 || t >= 1.0)) return -1.0;  // no caps (seed eq. 6)
+        t = std::clamp(t, 0.0, 1.0);
+        dx -= t * ax, dy -= t * ay, dz -= t * az;
+    }
+    return double(c.radius_m) + c.inflation_m - std::sqrt(dx * dx + dy * dy + dz * dz);
+}
+
+}  // namespace
+
+double max_penetration_m(const ClothView& c, const ColliderDesc* colliders, uint32_t count) {
+    const ClothAsset& a = *c.asset;
+    double worst = 0.0;
+    for (uint32_t s = 0; s < a.slot_count; ++s) {
+        if (a.particle_of_slot[s] == kNoParticle || c.inverse_mass[s] == 0.0f) continue;
+        for (uint32_t k = 0; k < count; ++k) worst = std::max(worst, depth_inside(colliders[k], c.x[s], c.y[s], c.z[s]));
+    }
+    return worst;
+}
+
 Vec3 particle_position(const ClothView& c, uint32_t particle) {
     const uint32_t s = c.asset->slot_of_particle[particle];
     return {c.x[s], c.y[s], c.z[s]};

@@ -23,6 +23,10 @@ Bounds bounds(const ClothView& cloth);
 // Largest distance of a tethered particle beyond its tether length, as a fraction of that length.
 double max_tether_excess(const ClothView& cloth);
 
+// Deepest a particle lies inside any collider's collision surface (the shape grown by its
+// inflation: the surface the solver enforces), metres; 0 when none is inside.
+double max_penetration_m(const ClothView& cloth, const ColliderDesc* colliders, uint32_t count);
+
 // Position of the real particle with this caller index.
 Vec3 particle_position(const ClothView& cloth, uint32_t particle);
 

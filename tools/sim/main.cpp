@@ -1,0 +1,186 @@
+// weft-sim: runs a scene file headless and reports every frame.
+//
+//   weft-sim SCENE.json [--frames N] [--out DIR] [--json] [--simd automatic|scalar|avx2]
+//
+// The world is created with exactly what the scene names (docs/scene-format.md). Every frame is one
+// step(dt); its wall time is measured around that call only. --out writes one OBJ per frame (all
+// cloths, caller particle order); --json prints one JSON object per frame and a last one with
+// "summary": true and the medians. Exit codes: 0 done, 1 bad arguments or scene, 2 the simulation
+// failed (a step refused, or a position stopped being finite).
+#include <algorithm>
+#include <chrono>
+#include <cstdio>
+#include <filesystem>
+#include <fstream>
+#include <string>
+#include <vector>
+
+#include <CLI/CLI.hpp>
+#include <nlohmann/json.hpp>
+
+#include "metrics.h"
+#include "scene_json.h"
+
+namespace {
+
+using namespace weft;
+
+struct FrameReport {
+    uint32_t frame = 0;
+    double us_step = 0.0;
+    double max_strain = 0.0, mean_strain = 0.0;
+    double max_penetration_m = 0.0;
+    double mean_speed_m_s = 0.0;
+    bool finite = true;
+};
+
+double median(std::vector<double> v) {
+    if (v.empty()) return 0.0;
+    std::nth_element(v.begin(), v.begin() + v.size() / 2, v.end());
+    return v[v.size() / 2];
+}
+
+FrameReport measure(const scenes::Scene& scene, const scenes::SceneWorld& sw, uint32_t frame, double us) {
+    FrameReport r;
+    r.frame = frame;
+    r.us_step = us;
+    uint32_t particles = 0;
+    for (const scenes::SceneCloth& c : sw.cloths) {
+        ClothView view;
+        view_cloth(sw.world, c.id, &view);
+        const metrics::Strain s = metrics::stretch_strain(view);
+        r.max_strain = std::max(r.max_strain, s.max);
+        r.mean_strain += s.mean * c.asset->particle_count;
+        particles += c.asset->particle_count;
+        r.max_penetration_m = std::max(r.max_penetration_m, metrics::max_penetration_m(view, scene.colliders.data(),
+                                                                                     uint32_t(scene.colliders.size())));
+        r.mean_speed_m_s += metrics::mean_speed(view) * c.asset->particle_count;
+        r.finite = r.finite && metrics::bounds(view).finite;
+    }
+    r.mean_strain /= particles;
+    r.mean_speed_m_s /= particles;
+    return r;
+}
+
+bool write_obj(const std::filesystem::path& file, const scenes::SceneWorld& sw, const scenes::Scene& scene) {
+    std::ofstream out(file);
+    out << "# weft-sim frame\n";
+    uint32_t base = 1;  // OBJ indices start at 1
+    for (size_t i = 0; i < sw.cloths.size(); ++i) {
+        const scenes::SceneCloth& c = sw.cloths[i];
+        std::vector<Vec3> p(c.asset->particle_count);
+        read_positions(sw.world, c.id, p.data(), uint32_t(p.size()));
+        out << "o " << scene.cloths[i].name << "\n";
+        for (const Vec3& v : p) out << "v " << v.x << ' ' << v.y << ' ' << v.z << "\n";
+        const std::vector<uint32_t> t = scenes::caller_triangles(*c.asset);
+        for (size_t k = 0; k < t.size(); k += 3)
+            out << "f " << t[k] + base << ' ' << t[k + 1] + base << ' ' << t[k + 2] + base << "\n";
+        base += uint32_t(p.size());
+    }
+    return bool(out);
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+    CLI::App app{"weft-sim: runs a Weft scene file headless and reports every frame"};
+    std::string scene_path, out_dir, simd;
+    uint32_t frames = 0;
+    bool json = false;
+    app.add_option("scene", scene_path, "scene file (docs/scene-format.md)")->required();
+    app.add_option("--frames", frames, "frames to run (default: the scene's)")->check(CLI::Range(1u, 10000000u));
+    app.add_option("--out", out_dir, "write one OBJ per frame into this folder");
+    app.add_flag("--json", json, "one JSON object per frame, then a summary object");
+    app.add_option("--simd", simd, "override the scene's SIMD path")
+        ->check(CLI::IsMember({"automatic", "scalar", "avx2"}));
+    CLI11_PARSE(app, argc, argv);
+
+    scenes::Scene scene;
+    if (std::string e = scenes::load_scene_file(scene_path, &scene); !e.empty()) {
+        std::fprintf(stderr, "weft-sim: %s\n", e.c_str());
+        return 1;
+    }
+    if (frames > 0) scene.frames = frames;
+    if (simd == "scalar") scene.simd = SimdPath::scalar;
+    if (simd == "avx2") scene.simd = SimdPath::avx2;
+    if (simd == "automatic") scene.simd = SimdPath::automatic;
+    scenes::SceneWorld sw;
+    if (std::string e = scenes::build_scene(scene, &sw); !e.empty()) {
+        std::fprintf(stderr, "weft-sim: %s: %s\n", scene_path.c_str(), e.c_str());
+        return 1;
+    }
+    if (!out_dir.empty()) {
+        std::error_code ec;
+        std::filesystem::create_directories(out_dir, ec);
+        if (ec) {
+            std::fprintf(stderr, "weft-sim: cannot create '%s': %s\n", out_dir.c_str(), ec.message().c_str());
+            return 1;
+        }
+    }
+
+    uint32_t particles = 0;
+    for (const scenes::SceneCloth& c : sw.cloths) particles += c.asset->particle_count;
+    if (!json)
+        std::printf("weft-sim %s: %zu cloth(s), %u particles, %zu collider(s), %s, dt %.4g s, %u frames\n",
+                    scene_path.c_str(), sw.cloths.size(), particles, scene.colliders.size(),
+                    simd_path_name(world_simd_path(sw.world)), double(scene.dt_s), scene.frames);
+    std::vector<double> us, max_strain;
+    FrameReport last;
+    double worst_penetration = 0.0;
+    for (uint32_t f = 1; f <= scene.frames; ++f) {
+        const auto t0 = std::chrono::steady_clock::now();
+        const Result r = step(sw.world, scene.dt_s);
+        const auto t1 = std::chrono::steady_clock::now();
+        if (!r.ok()) {
+            std::fprintf(stderr, "weft-sim: step %u refused: %s\n", f, r.message);
+            return 2;
+        }
+        last = measure(scene, sw, f, std::chrono::duration<double, std::micro>(t1 - t0).count());
+        us.push_back(last.us_step);
+        max_strain.push_back(last.max_strain);
+        worst_penetration = std::max(worst_penetration, last.max_penetration_m);
+        if (json) {
+            const nlohmann::json j = {{"frame", f},
+                                      {"us_step", last.us_step},
+                                      {"max_strain", last.max_strain},
+                                      {"mean_strain", last.mean_strain},
+                                      {"max_penetration_m", last.max_penetration_m},
+                                      {"mean_speed_m_s", last.mean_speed_m_s},
+                                      {"particles", particles}};
+            std::printf("%s\n", j.dump().c_str());
+        }
+        if (!out_dir.empty()) {
+            char name[32];
+            std::snprintf(name, sizeof name, "frame_%05u.obj", f);
+            if (!write_obj(std::filesystem::path(out_dir) / name, sw, scene)) {
+                std::fprintf(stderr, "weft-sim: cannot write %s/%s\n", out_dir.c_str(), name);
+                return 1;
+            }
+        }
+        if (!last.finite) {
+            std::fprintf(stderr, "weft-sim: frame %u: a position is no longer finite\n", f);
+            return 2;
+        }
+    }
+    const double us_median = median(us), strain_median = median(max_strain);
+    if (json) {
+        const nlohmann::json j = {{"summary", true},
+                                  {"scene", scene.name},
+                                  {"frames", scene.frames},
+                                  {"particles", particles},
+                                  {"simd", simd_path_name(world_simd_path(sw.world))},
+                                  {"us_step", us_median},
+                                  {"max_strain", strain_median},
+                                  {"final_max_strain", last.max_strain},
+                                  {"final_mean_strain", last.mean_strain},
+                                  {"max_penetration_m", worst_penetration},
+                                  {"final_mean_speed_m_s", last.mean_speed_m_s}};
+        std::printf("%s\n", j.dump().c_str());
+    } else {
+        std::printf("median step %.1f us (%.3f ms of a %.1f ms frame); median max strain %.3f%%\n", us_median,
+                    us_median / 1000.0, 1000.0 * scene.dt_s, 100.0 * strain_median);
+        std::printf("last frame: max strain %.3f%%, mean strain %.4f%%, mean speed %.4f m/s; deepest penetration %.2f mm\n",
+                    100.0 * last.max_strain, 100.0 * last.mean_strain, last.mean_speed_m_s, 1000.0 * worst_penetration);
+    }
+    return 0;
+}
