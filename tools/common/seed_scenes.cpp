@@ -5,6 +5,40 @@
 
 namespace weft::scenes {
 
+void GridGarment::apply(ClothMeshDesc& d) const {
+    d.uv = uv.data();
+    d.seam_point_count = uint32_t(seam_first.size() - 1);
+    d.seam_first = seam_first.data();
+    d.seam_source = seam_source.data();
+    d.panel_count = 2;
+    d.panel = panel.data();
+    d.fabric = &fabric;
+}
+
+GridGarment make_grid_garment(const GridMesh& grid) {
+    GridGarment g;
+    const uint32_t n = grid.n;
+    for (uint32_t r = 0; r < n; ++r)
+        for (uint32_t c = 0; c < n; ++c) {
+            g.uv.push_back(float(c) / float(n - 1));
+            g.uv.push_back(float(r) / float(n - 1));
+            g.panel.push_back(uint16_t(2 * c >= n));
+        }
+    g.seam_first.push_back(0);
+    auto seam = [&](std::initializer_list<uint32_t> sources) {
+        g.seam_source.insert(g.seam_source.end(), sources);
+        g.seam_first.push_back(uint32_t(g.seam_source.size()));
+    };
+    seam({grid.index(0, 0), grid.index(0, n - 1), grid.index(n - 1, 0)});  // a corner where three meet
+    for (uint32_t r = 1; r + 1 < n; ++r) seam({grid.index(r, 0), grid.index(r, n - 1)});
+    g.fabric.areal_density_kg_m2 = 0.2f;
+    g.fabric.compliance_m_per_n[2] = 1e-4f;  // soft in bending
+    g.fabric.damping_per_s = 0.5f;
+    g.fabric.thickness_m = 0.0005f;
+    g.fabric.friction = 0.4f;
+    return g;
+}
+
 const char* scene_name(SeedScene scene) {
     switch (scene) {
         case SeedScene::drape: return "drape";

@@ -11,6 +11,19 @@
 
 namespace weft::scenes {
 
+// Made-up garment data on a grid (tests, the fuzz corpus): texture coordinates from the flat
+// grid, two panels (the left and the right half of the columns), seam points that join each
+// row's first and last particle (and three-source points at the corners), and a linen-like fabric.
+struct GridGarment {
+    std::vector<float> uv;
+    std::vector<uint32_t> seam_first, seam_source;
+    std::vector<uint16_t> panel;
+    Fabric fabric;
+    // Points `desc`'s optional garment inputs at this data.
+    void apply(ClothMeshDesc& desc) const;
+};
+GridGarment make_grid_garment(const GridMesh& grid);
+
 enum class SeedScene { drape, flag, sphere };
 const char* scene_name(SeedScene scene);
 

@@ -6,8 +6,8 @@
 //   cloth state  - per instance, inside the world's memory block (positions, previous positions).
 //   step scratch - none: every pass works in place.
 //
-// An asset comes from `cook_cloth` (an in-memory triangle mesh, below) or, later, from a baked file
-// loaded in place. Both give the same plain struct of pointers into memory the caller owns.
+// An asset comes from `cook_cloth` (an in-memory triangle mesh, below) or from a baked file loaded
+// in place (weft/asset_file.h). Both give the same plain struct of pointers into memory the caller owns.
 #pragma once
 
 #include <vector>
@@ -18,6 +18,9 @@ namespace weft {
 
 // Lanes per SIMD batch. Runs are padded to a multiple of this so the AVX2 pass needs no tail loop.
 inline constexpr uint32_t kSimdWidth = 8;
+// The widest padding an asset may be cooked for (CookOptions::simd_width): 16 lanes for a 16-wide
+// target; its runs are also multiples of 8, so the 8-wide runtime steps it unchanged.
+inline constexpr uint32_t kMaxSimdWidth = 16;
 
 // Marks an internal particle slot that holds no caller particle (padding).
 inline constexpr uint32_t kNoParticle = 0xFFFFFFFFu;
@@ -39,7 +42,7 @@ enum class BatchLayout : uint8_t {
 // Batches are solved in array order (Gauss-Seidel across batches, Jacobi inside one).
 struct ConstraintBatch {
     uint32_t first_lane = 0;  // into the asset's lane arrays
-    uint32_t lane_count = 0;  // runs: a multiple of kSimdWidth (padding lanes have lane_weight 0)
+    uint32_t lane_count = 0;  // runs: a multiple of the asset's simd_width (padding lanes: lane_weight 0)
     uint32_t a0 = 0, b0 = 0;  // runs only: first particle slot of each side
     ConstraintKind kind = ConstraintKind::stretch;
     BatchLayout layout = BatchLayout::run;
@@ -53,7 +56,7 @@ struct ConstraintBatch {
 // intersection of the two balls, so the pass leaves no particle beyond either tether.
 struct TetherBatch {
     uint32_t first_lane = 0;
-    uint32_t lane_count = 0;  // a multiple of kSimdWidth; padding lanes have infinite lengths
+    uint32_t lane_count = 0;  // a multiple of the asset's simd_width; padding lanes: infinite lengths
     uint32_t particle0 = 0;
     uint32_t anchor[2] = {0, 0};
 };
@@ -63,9 +66,25 @@ struct TetherBatch {
 // constant offsets, like its springs).
 struct TriangleRun {
     uint32_t first_lane = 0;  // into wind_lane_weight
-    uint32_t lane_count = 0;  // a multiple of kSimdWidth; padding lanes have weight 0
+    uint32_t lane_count = 0;  // a multiple of the asset's simd_width; padding lanes have weight 0
     uint32_t a0 = 0, b0 = 0, c0 = 0;
 };
+
+// The fabric a garment is made of (its cloth instances start from these). All values >= 0 and finite.
+// The defaults are ClothDesc's (world.h): hard springs, damping 1/s, so an asset without a fabric
+// steps as before; density, thickness and friction default to cotton on a frictionless body.
+struct Fabric {
+    float areal_density_kg_m2 = 0.150f;            // mass per rest area (cotton; Penava et al. 2014)
+    float compliance_m_per_n[3] = {0.0f, 0.0f, 0.0f};  // XPBD compliance: stretch, shear, bend
+    float damping_per_s = 1.0f;                    // dv/dt = -damping * v
+    float thickness_m = 0.0f;                      // collision thickness of the fabric
+    float friction = 0.0f;                         // Coulomb coefficient against colliders
+};
+
+// Seam points (seed paper 4.1.2 and 4.2, eq. 10): a seam point replaces its 2 or 3 source boundary
+// particles (up to kMaxSeamSources where more panels meet); its target is the mean of the sources.
+// Sewing moves the sources to the target and merges them.
+inline constexpr uint32_t kMaxSeamSources = 8;
 
 // The asset proper. Every array is indexed by internal particle slot unless said otherwise; slots
 // are the order chosen at cook time so that constraint batches become contiguous runs.
@@ -138,6 +157,21 @@ struct ClothAsset {
     const uint32_t* coarse_col_node[2] = {};  // [lattice_plane_cols] per column parity: coarse column J
     const float* coarse_col_frac[2] = {};     // [lattice_plane_cols] weight of coarse column J + 1
 
+    // The lane width every padded count is a multiple of (CookOptions::simd_width): 8 or 16.
+    uint32_t simd_width = kSimdWidth;
+
+    // Garment data, all optional (null / 0 when absent) and in caller particle order, not slots.
+    // Stored and validated; the step does not read them.
+    const float* uv = nullptr;  // [2 * particle_count] texture coordinates (metres on the flat panel)
+    uint32_t seam_point_count = 0;
+    const uint32_t* seam_first = nullptr;   // [seam_point_count + 1] CSR offsets into seam_source
+    uint32_t seam_source_count = 0;         // = seam_first[seam_point_count]
+    const uint32_t* seam_source = nullptr;  // [seam_source_count] caller particles, 2..8 per point
+    uint32_t panel_count = 0;
+    const uint16_t* panel = nullptr;  // [particle_count] the sewing panel each particle came from
+    bool has_fabric = false;          // false: `fabric` holds the defaults
+    Fabric fabric;
+
     uint32_t total_constraints() const {
         return constraint_count[0] + constraint_count[1] + constraint_count[2];
     }
@@ -164,6 +198,15 @@ struct ClothMeshDesc {
     // Particles on a lattice are ordered in four parity planes so that every spring family of the
     // lattice becomes contiguous runs (docs/architecture.md). Without it the caller order is kept.
     const int32_t* lattice = nullptr;
+
+    // Optional garment data, copied into the asset as given (ClothAsset documents each).
+    const float* uv = nullptr;  // [2 * particle_count]
+    uint32_t seam_point_count = 0;
+    const uint32_t* seam_first = nullptr;   // [seam_point_count + 1], seam_first[0] = 0, 2..8 apart
+    const uint32_t* seam_source = nullptr;  // [seam_first[seam_point_count]] caller particles
+    uint32_t panel_count = 0;
+    const uint16_t* panel = nullptr;  // [particle_count], each < panel_count
+    const Fabric* fabric = nullptr;   // null: the defaults
 };
 
 struct CookOptions {
@@ -177,6 +220,8 @@ struct CookOptions {
     uint32_t min_run_lanes = 2 * kSimdWidth;
     // Spacing of the coarse level's nodes along the mesh, metres; 0 = no coarse level.
     float coarse_spacing_m = 0.13f;
+    // Lanes every run and padded count is a multiple of: kSimdWidth (8), or 16 for a 16-wide target.
+    uint32_t simd_width = kSimdWidth;
 };
 
 // Owns the arrays a cooked ClothAsset points into. Move-only.
@@ -210,6 +255,13 @@ public:
     uint32_t coarse_lattice_cols = 0, lattice_plane_rows = 0, lattice_plane_cols = 0;
     std::vector<uint32_t> coarse_row_node[2], coarse_col_node[2];
     std::vector<float> coarse_row_frac[2], coarse_col_frac[2];
+    uint32_t simd_width = kSimdWidth;
+    std::vector<float> uv;
+    std::vector<uint32_t> seam_first, seam_source;
+    std::vector<uint16_t> panel;
+    uint32_t panel_count = 0;
+    bool has_fabric = false;
+    Fabric fabric;
 
     // Points asset() at the vectors; call after changing them.
     void refresh_asset(uint32_t particle_count, uint32_t colour_count, const uint32_t counts[3],
@@ -232,5 +284,15 @@ Result cook_cloth(const ClothMeshDesc& mesh, const CookOptions& options, CookedC
 // Checks every invariant the solver relies on (indices in range, runs really contiguous and
 // particle-disjoint, finite rest lengths, ...). The world calls it before it uses an asset.
 Result validate_asset(const ClothAsset& asset);
+
+// Padding lanes: lanes that project nothing, there so that every run is a whole number of SIMD
+// batches. Counted over the constraint lanes (weight 0: run gaps and run tails), the tether lanes
+// (both lengths +inf) and the wind lanes (weight 0); padding slots are not lanes and not counted.
+struct LanePadding {
+    uint64_t padding_lanes = 0;
+    uint64_t all_lanes = 0;  // lane_count + tether_lane_count + wind_lane_count
+    double ratio() const { return all_lanes > 0 ? double(padding_lanes) / double(all_lanes) : 0.0; }
+};
+LanePadding lane_padding(const ClothAsset& asset);
 
 }  // namespace weft

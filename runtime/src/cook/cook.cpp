@@ -4,16 +4,19 @@
 //      spring across every interior edge joining the two vertices opposite it
 //   2. particle slots: lattice particles in four parity planes, so every spring family becomes a
 //      contiguous run (docs/architecture.md), the rest after them in caller order
-//   3. runs: springs with the same slot offset b - a and consecutive a, padded to kSimdWidth
+//   3. runs: springs with the same slot offset b - a and consecutive a, padded to the SIMD width
+//      (CookOptions::simd_width)
 //   4. colouring: runs and leftover springs into particle-disjoint colours, greedily
 //   5. tethers to the nearest pinned particles, grouped by anchor into runs
 //   6. the coarse level (cook/coarse.cpp)
+//   7. the garment data (texture coordinates, seam points, panels, fabric), copied as given
 #include <algorithm>
 #include <cmath>
 #include <limits>
 #include <utility>
 
 #include "cook/coarse.h"
+#include "cook/garment.h"
 #include "world_internal.h"
 
 namespace weft {
@@ -73,6 +76,16 @@ void CookedCloth::refresh_asset(uint32_t particle_count, uint32_t colour_count, 
         a.coarse_col_node[parity] = coarse_col_node[parity].data();
         a.coarse_col_frac[parity] = coarse_col_frac[parity].data();
     }
+    a.simd_width = simd_width;
+    a.uv = uv.empty() ? nullptr : uv.data();
+    a.seam_point_count = seam_first.empty() ? 0 : uint32_t(seam_first.size() - 1);
+    a.seam_first = seam_first.empty() ? nullptr : seam_first.data();
+    a.seam_source_count = uint32_t(seam_source.size());
+    a.seam_source = seam_source.empty() ? nullptr : seam_source.data();
+    a.panel_count = panel_count;
+    a.panel = panel.empty() ? nullptr : panel.data();
+    a.has_fabric = has_fabric;
+    a.fabric = fabric;
 }
 
 namespace {
@@ -132,7 +145,35 @@ Result check_mesh(const ClothMeshDesc& mesh) {
         if (v[0] == v[1] || v[1] == v[2] || v[0] == v[2])
             return make_error(ErrorCode::invalid_argument, "triangle %u repeats a vertex", t);
     }
+    if (Result r = check_uv(mesh.uv, mesh.particle_count); !r.ok()) return r;
+    if (Result r = check_seam_offsets(mesh.seam_point_count, mesh.seam_first); !r.ok()) return r;
+    if (Result r = check_seam_sources(mesh.seam_point_count, mesh.seam_first, mesh.seam_source, mesh.particle_count);
+        !r.ok())
+        return r;
+    if (Result r = check_panels(mesh.panel, mesh.panel_count, mesh.particle_count); !r.ok()) return r;
+    if (mesh.fabric != nullptr) return check_fabric(*mesh.fabric);
     return {};
+}
+
+Result check_options(const CookOptions& options) {
+    if (options.simd_width != kSimdWidth && options.simd_width != kMaxSimdWidth)
+        return make_error(ErrorCode::invalid_argument, "simd_width is %u: %u or %u lanes", options.simd_width,
+                          kSimdWidth, kMaxSimdWidth);
+    return {};
+}
+
+// Step 7: the garment data, in caller particle order as given.
+void copy_garment(const ClothMeshDesc& mesh, CookedCloth& out) {
+    const uint32_t n = mesh.particle_count;
+    if (mesh.uv != nullptr) out.uv.assign(mesh.uv, mesh.uv + 2 * size_t(n));
+    if (mesh.seam_point_count > 0) {
+        out.seam_first.assign(mesh.seam_first, mesh.seam_first + mesh.seam_point_count + 1);
+        out.seam_source.assign(mesh.seam_source, mesh.seam_source + mesh.seam_first[mesh.seam_point_count]);
+    }
+    if (mesh.panel != nullptr) out.panel.assign(mesh.panel, mesh.panel + n);
+    out.panel_count = mesh.panel != nullptr ? mesh.panel_count : 0;
+    out.has_fabric = mesh.fabric != nullptr;
+    out.fabric = mesh.fabric != nullptr ? *mesh.fabric : Fabric{};
 }
 
 // Step 1: stretch/shear on every edge, bend across every interior edge (caller indices).
@@ -241,12 +282,12 @@ std::vector<Unit> find_runs(const std::vector<Spring>& s, const CookOptions& opt
         size_t j = i + 1;
         while (j < s.size() && s[j].kind == s[i].kind && s[j].b - s[j].a == offset &&
                s[j].a - s[j - 1].a <= options.max_run_gap + 1 &&
-               round_up(s[j].a - s[i].a + 1, kSimdWidth) <= offset)
+               round_up(s[j].a - s[i].a + 1, options.simd_width) <= offset)
             ++j;
         const uint32_t count = uint32_t(j - i);
         if (count >= options.min_run_lanes && count >= 1) {
             units.push_back({uint32_t(i), count, s[i].a, s[i].b,
-                             round_up(s[j - 1].a - s[i].a + 1, kSimdWidth), s[i].kind, 0});
+                             round_up(s[j - 1].a - s[i].a + 1, options.simd_width), s[i].kind, 0});
         } else {
             for (size_t k = i; k < j; ++k) units.push_back({uint32_t(k), 1, s[k].a, s[k].b, 0, s[k].kind, 0});
         }
@@ -385,7 +426,8 @@ Result build_tethers(const ClothMeshDesc& mesh, const std::vector<uint32_t>& slo
     for (size_t i = 0; i < tethers.size();) {
         size_t j = i + 1;
         while (j < tethers.size() && tethers[j].anchor[0] == tethers[i].anchor[0] &&
-               tethers[j].anchor[1] == tethers[i].anchor[1] && tethers[j].slot - tethers[j - 1].slot <= kSimdWidth)
+               tethers[j].anchor[1] == tethers[i].anchor[1] &&
+               tethers[j].slot - tethers[j - 1].slot <= options.simd_width)
             ++j;
         TetherBatch batch;
         batch.first_lane = uint32_t(out.tether_rest[0].size());
@@ -398,7 +440,7 @@ Result build_tethers(const ClothMeshDesc& mesh, const std::vector<uint32_t>& slo
             emit(tethers[k].rest[0], tethers[k].rest[1]);
             ++next;
         }
-        batch.lane_count = round_up(next, kSimdWidth);
+        batch.lane_count = round_up(next, options.simd_width);
         for (; next < batch.lane_count; ++next) emit(padding, padding);
         out.tether_batches.push_back(batch);
         i = j;
@@ -441,9 +483,9 @@ void order_triangles(const ClothMeshDesc& mesh, const std::vector<uint32_t>& slo
         size_t j = i + 1;
         while (j < tris.size() && offsets(tris[j]) == offsets(tris[i]) &&
                tris[j].a - tris[j - 1].a <= options.max_run_gap + 1 &&
-               fits(tris[i], round_up(tris[j].a - tris[i].a + 1, kSimdWidth)))
+               fits(tris[i], round_up(tris[j].a - tris[i].a + 1, options.simd_width)))
             ++j;
-        const uint32_t lanes = round_up(tris[j - 1].a - tris[i].a + 1, kSimdWidth);
+        const uint32_t lanes = round_up(tris[j - 1].a - tris[i].a + 1, options.simd_width);
         if (j - i >= options.min_run_lanes && fits(tris[i], lanes)) {
             TriangleRun run;
             run.first_lane = uint32_t(out.wind_lane_weight.size());
@@ -479,6 +521,7 @@ void order_triangles(const ClothMeshDesc& mesh, const std::vector<uint32_t>& slo
 
 Result cook_cloth(const ClothMeshDesc& mesh, const CookOptions& options, CookedCloth* out) {
     if (out == nullptr) return make_error(ErrorCode::invalid_argument, "out is null");
+    if (Result r = check_options(options); !r.ok()) return r;
     if (Result r = check_mesh(mesh); !r.ok()) return r;
     const uint32_t n = mesh.particle_count;
     const Vec3* rest = mesh.rest_positions ? mesh.rest_positions : mesh.positions;
@@ -488,6 +531,7 @@ Result cook_cloth(const ClothMeshDesc& mesh, const CookOptions& options, CookedC
         inverse_mass[p] = mesh.masses ? (mesh.masses[p] > 0.0f ? 1.0f / mesh.masses[p] : 0.0f) : mesh.inverse_masses[p];
 
     CookedCloth cooked;
+    cooked.simd_width = options.simd_width;
     uint32_t slot_count = 0;
     const LatticeLayout layout = assign_slots(mesh, cooked.slot_of_particle, slot_count);
 
@@ -520,7 +564,7 @@ Result cook_cloth(const ClothMeshDesc& mesh, const CookOptions& options, CookedC
     for (const ConstraintBatch& b : cooked.batches)
         if (b.layout == BatchLayout::run) touched = std::max({touched, b.a0 + b.lane_count, b.b0 + b.lane_count});
     for (const TetherBatch& b : cooked.tether_batches) touched = std::max(touched, b.particle0 + b.lane_count);
-    slot_count = round_up(touched, kSimdWidth);
+    slot_count = round_up(touched, options.simd_width);
     cooked.particle_of_slot.assign(slot_count, kNoParticle);
     cooked.start_x.assign(slot_count, 0.0f);
     cooked.start_y.assign(slot_count, 0.0f);
@@ -538,11 +582,22 @@ Result cook_cloth(const ClothMeshDesc& mesh, const CookOptions& options, CookedC
     for (uint32_t p = 0; p < n; ++p) mass[p] = inverse_mass[p] > 0.0f ? 1.0f / inverse_mass[p] : 0.0f;
     build_coarse_level(mesh, layout, mass, inverse_mass, options.coarse_spacing_m, cooked);
     order_triangles(mesh, cooked.slot_of_particle, slot_count, options, cooked);
+    copy_garment(mesh, cooked);
 
     cooked.refresh_asset(n, colours, counts, on_runs, tethered);
     if (Result r = validate_asset(cooked.asset()); !r.ok()) return r;  // cooking bug: never hand it out
     *out = std::move(cooked);
     return {};
+}
+
+LanePadding lane_padding(const ClothAsset& a) {
+    LanePadding p;
+    p.all_lanes = uint64_t(a.lane_count) + a.tether_lane_count + a.wind_lane_count;
+    for (uint32_t l = 0; l < a.lane_count; ++l) p.padding_lanes += a.lane_weight[l] == 0.0f;
+    for (uint32_t l = 0; l < a.tether_lane_count; ++l)
+        p.padding_lanes += std::isinf(a.tether_rest[0][l]) && std::isinf(a.tether_rest[1][l]);
+    for (uint32_t l = 0; l < a.wind_lane_count; ++l) p.padding_lanes += a.wind_lane_weight[l] == 0.0f;
+    return p;
 }
 
 }  // namespace weft

@@ -4,6 +4,7 @@
 #include <cmath>
 #include <vector>
 
+#include "cook/garment.h"
 #include "world_internal.h"
 
 namespace weft {
@@ -13,9 +14,12 @@ bool finite_nonnegative(float v) { return std::isfinite(v) && v >= 0.0f; }
 
 Result check_particles(const ClothAsset& a) {
     if (a.particle_count == 0) return make_error(ErrorCode::corrupt_asset, "asset has no particles");
-    if (a.slot_count < a.particle_count || a.slot_count % kSimdWidth != 0 || a.slot_count > (1u << 28))
+    if (a.simd_width != kSimdWidth && a.simd_width != kMaxSimdWidth)
+        return make_error(ErrorCode::corrupt_asset, "asset is padded for %u lanes (%u or %u)", a.simd_width,
+                          kSimdWidth, kMaxSimdWidth);
+    if (a.slot_count < a.particle_count || a.slot_count % a.simd_width != 0 || a.slot_count > (1u << 28))
         return make_error(ErrorCode::corrupt_asset, "slot count %u is not a padded multiple of %u >= %u",
-                          a.slot_count, kSimdWidth, a.particle_count);
+                          a.slot_count, a.simd_width, a.particle_count);
     if (!a.slot_of_particle || !a.particle_of_slot || !a.start_x || !a.start_y || !a.start_z || !a.inverse_mass)
         return make_error(ErrorCode::corrupt_asset, "asset is missing a particle array");
     for (uint32_t p = 0; p < a.particle_count; ++p) {
@@ -66,8 +70,8 @@ Result check_lanes(const ClothAsset& a) {
             return make_error(ErrorCode::corrupt_asset, "batch %u does not tile the lanes", i);
         next_lane += b.lane_count;
         if (b.layout == BatchLayout::run) {
-            if (b.lane_count % kSimdWidth != 0)
-                return make_error(ErrorCode::corrupt_asset, "run %u is not padded to %u lanes", i, kSimdWidth);
+            if (b.lane_count % a.simd_width != 0)
+                return make_error(ErrorCode::corrupt_asset, "run %u is not padded to %u lanes", i, a.simd_width);
             if (b.lane_count > a.slot_count || b.a0 > a.slot_count - b.lane_count ||
                 b.b0 > a.slot_count - b.lane_count)
                 return make_error(ErrorCode::corrupt_asset, "run %u reaches past the slots", i);
@@ -130,7 +134,7 @@ Result check_tethers(const ClothAsset& a) {
     uint32_t next_lane = 0, real = 0;
     for (uint32_t i = 0; i < a.tether_batch_count; ++i) {
         const TetherBatch& t = a.tether_batches[i];
-        if (t.first_lane != next_lane || t.lane_count % kSimdWidth != 0 ||
+        if (t.first_lane != next_lane || t.lane_count % a.simd_width != 0 ||
             t.lane_count > a.tether_lane_count - t.first_lane)
             return make_error(ErrorCode::corrupt_asset, "tether batch %u does not tile the lanes", i);
         next_lane += t.lane_count;
@@ -161,7 +165,8 @@ Result check_triangles(const ClothAsset& a) {
     uint32_t next_lane = 0, real = 0;
     for (uint32_t i = 0; i < a.wind_run_count; ++i) {
         const TriangleRun& r = a.wind_runs[i];
-        if (r.first_lane != next_lane || r.lane_count % kSimdWidth != 0 || r.lane_count > a.wind_lane_count - r.first_lane)
+        if (r.first_lane != next_lane || r.lane_count % a.simd_width != 0 ||
+            r.lane_count > a.wind_lane_count - r.first_lane)
             return make_error(ErrorCode::corrupt_asset, "wind run %u does not tile the lanes", i);
         next_lane += r.lane_count;
         if (r.lane_count > a.slot_count || r.a0 > a.slot_count - r.lane_count || r.b0 > a.slot_count - r.lane_count ||
@@ -186,7 +191,14 @@ Result check_triangles(const ClothAsset& a) {
 
 Result check_coarse(const ClothAsset& a) {
     const uint32_t nodes = a.coarse_node_count;
-    if (nodes == 0) return {};
+    // The plane sizes belong to the coarse lattice form (the world sizes a row buffer by them).
+    if (a.coarse_lattice_cols == 0 && (a.lattice_plane_rows != 0 || a.lattice_plane_cols != 0))
+        return make_error(ErrorCode::corrupt_asset, "lattice plane sizes without a coarse lattice");
+    if (nodes == 0) {
+        if (a.coarse_lattice_cols != 0 || a.coarse_constraint_count != 0)
+            return make_error(ErrorCode::corrupt_asset, "coarse constraints or lattice without coarse nodes");
+        return {};
+    }
     if (!a.coarse_node_slot || !a.coarse_inverse_mass ||
         (a.coarse_constraint_count > 0 && (!a.coarse_a || !a.coarse_b || !a.coarse_rest)))
         return make_error(ErrorCode::corrupt_asset, "asset is missing a coarse-level array");
@@ -232,6 +244,22 @@ Result check_coarse(const ClothAsset& a) {
     return {};
 }
 
+// The garment data (cook/garment.h), every failure reported as a corrupt asset.
+Result check_garment(const ClothAsset& a) {
+    Result r = check_uv(a.uv, a.particle_count);
+    if (r.ok()) r = check_seam_offsets(a.seam_point_count, a.seam_first);
+    if (r.ok() && a.seam_point_count > 0 && a.seam_first[a.seam_point_count] != a.seam_source_count)
+        r = make_error(ErrorCode::corrupt_asset, "seam_first ends at %u, seam_source_count is %u",
+                       a.seam_first[a.seam_point_count], a.seam_source_count);
+    if (r.ok() && a.seam_point_count == 0 && a.seam_source_count != 0)
+        r = make_error(ErrorCode::corrupt_asset, "seam sources without seam points");
+    if (r.ok()) r = check_seam_sources(a.seam_point_count, a.seam_first, a.seam_source, a.particle_count);
+    if (r.ok()) r = check_panels(a.panel, a.panel_count, a.particle_count);
+    if (r.ok()) r = check_fabric(a.fabric);
+    if (!r.ok()) r.code = ErrorCode::corrupt_asset;
+    return r;
+}
+
 }  // namespace
 
 Result validate_asset_with_scratch(const ClothAsset& a, uint32_t* scratch, uint32_t scratch_count) {
@@ -243,6 +271,7 @@ Result validate_asset_with_scratch(const ClothAsset& a, uint32_t* scratch, uint3
     if (Result r = check_colours(a, scratch); !r.ok()) return r;
     if (Result r = check_tethers(a); !r.ok()) return r;
     if (Result r = check_coarse(a); !r.ok()) return r;
+    if (Result r = check_garment(a); !r.ok()) return r;
     return check_triangles(a);
 }
 

@@ -1,0 +1,73 @@
+// The garment data's invariants (cook/garment.h).
+#include "cook/garment.h"
+
+#include <cmath>
+
+#include "world_internal.h"
+
+namespace weft {
+
+Result check_uv(const float* uv, uint32_t particle_count) {
+    if (uv == nullptr) return {};
+    for (uint32_t i = 0; i < 2 * uint64_t(particle_count); ++i)
+        if (!std::isfinite(uv[i]))
+            return make_error(ErrorCode::non_finite, "particle %u has a non-finite texture coordinate", i / 2);
+    return {};
+}
+
+Result check_seam_offsets(uint32_t point_count, const uint32_t* seam_first) {
+    if (point_count == 0) return {};
+    if (seam_first == nullptr) return make_error(ErrorCode::invalid_argument, "seam points without seam_first");
+    if (seam_first[0] != 0) return make_error(ErrorCode::invalid_argument, "seam_first[0] is %u, not 0", seam_first[0]);
+    for (uint32_t s = 0; s < point_count; ++s) {
+        // Compared before subtracting: a decreasing pair must not wrap into a valid count.
+        if (seam_first[s + 1] < uint64_t(seam_first[s]) + 2 || seam_first[s + 1] - seam_first[s] > kMaxSeamSources)
+            return make_error(ErrorCode::invalid_argument, "seam point %u does not have 2 to %u sources", s,
+                              kMaxSeamSources);
+    }
+    return {};
+}
+
+Result check_seam_sources(uint32_t point_count, const uint32_t* seam_first, const uint32_t* seam_source,
+                          uint32_t particle_count) {
+    if (point_count == 0) return {};
+    if (seam_source == nullptr) return make_error(ErrorCode::invalid_argument, "seam points without seam_source");
+    for (uint32_t s = 0; s < point_count; ++s) {
+        const uint32_t first = seam_first[s], end = seam_first[s + 1];
+        for (uint32_t i = first; i < end; ++i) {
+            if (seam_source[i] >= particle_count)
+                return make_error(ErrorCode::out_of_range, "seam point %u names particle %u of %u", s,
+                                  seam_source[i], particle_count);
+            for (uint32_t j = first; j < i; ++j)
+                if (seam_source[j] == seam_source[i])
+                    return make_error(ErrorCode::invalid_argument, "seam point %u names particle %u twice", s,
+                                      seam_source[i]);
+        }
+    }
+    return {};
+}
+
+Result check_panels(const uint16_t* panel, uint32_t panel_count, uint32_t particle_count) {
+    if (panel == nullptr) {
+        if (panel_count != 0) return make_error(ErrorCode::invalid_argument, "panel_count %u without panels", panel_count);
+        return {};
+    }
+    if (panel_count == 0 || panel_count > (1u << 16))
+        return make_error(ErrorCode::out_of_range, "panel_count is %u (1 to 65536)", panel_count);
+    for (uint32_t p = 0; p < particle_count; ++p)
+        if (panel[p] >= panel_count)
+            return make_error(ErrorCode::out_of_range, "particle %u is on panel %u of %u", p, panel[p], panel_count);
+    return {};
+}
+
+Result check_fabric(const Fabric& f) {
+    const float values[] = {f.areal_density_kg_m2, f.compliance_m_per_n[0], f.compliance_m_per_n[1],
+                            f.compliance_m_per_n[2], f.damping_per_s, f.thickness_m, f.friction};
+    for (float v : values) {
+        if (!std::isfinite(v)) return make_error(ErrorCode::non_finite, "a fabric value is not finite");
+        if (v < 0.0f) return make_error(ErrorCode::out_of_range, "a fabric value is negative");
+    }
+    return {};
+}
+
+}  // namespace weft

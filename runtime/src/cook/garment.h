@@ -1,0 +1,27 @@
+// Checks of the optional garment data (texture coordinates, seam points, panels, fabric). One place
+// for both callers: cook_cloth reports a failure with these codes (bad caller input), validate_asset
+// reports it as corrupt_asset.
+#pragma once
+
+#include "weft/cloth_asset.h"
+
+namespace weft {
+
+// Every coordinate finite.
+Result check_uv(const float* uv, uint32_t particle_count);
+
+// seam_first[0] = 0 and 2..kMaxSeamSources sources per point (so the offsets increase). Read
+// seam_first[point_count] (the source count) only after this passed.
+Result check_seam_offsets(uint32_t point_count, const uint32_t* seam_first);
+
+// Every source a particle, distinct within its point. The offsets must have passed the check above.
+Result check_seam_sources(uint32_t point_count, const uint32_t* seam_first, const uint32_t* seam_source,
+                          uint32_t particle_count);
+
+// Every particle's panel below panel_count (at most 2^16 panels: they are stored as uint16).
+Result check_panels(const uint16_t* panel, uint32_t panel_count, uint32_t particle_count);
+
+// Every value finite and >= 0.
+Result check_fabric(const Fabric& fabric);
+
+}  // namespace weft
