@@ -1,0 +1,564 @@
+// mesh_garment: seam-consistent outline sampling, panel meshing with remeshing rounds, lattice
+// packing, seams, pins, masses and the quality report. See garment.h.
+#include "garment.h"
+
+#include <algorithm>
+#include <array>
+#include <cmath>
+#include <map>
+#include <numbers>
+#include <numeric>
+#include <stdexcept>
+
+#include "mesh_panel.h"
+#include "outline.h"
+
+namespace weft::bake {
+
+namespace {
+
+struct BakeError : std::runtime_error {
+    using std::runtime_error::runtime_error;
+};
+
+struct PanelWork {
+    std::vector<Point2> fine;     // the curved outline, finely
+    double area_m2 = 0.0;         // signed: > 0 counter-clockwise
+    std::vector<double> edge_length;
+    std::vector<uint32_t> count;  // segments per edge
+    std::vector<uint8_t> dropped; // grid cells the mesher split a side of
+    PanelOutline outline;
+    PanelGrid grid;
+    PanelMesh mesh;
+    bool dirty = true;
+};
+
+// The seams each panel edge belongs to, for raising a whole seam's count at once.
+using SeamOf = std::vector<std::vector<int32_t>>;
+
+void equalise_seam(const Seam& seam, std::vector<PanelWork>& work) {
+    uint32_t count = 0;
+    for (const SeamSide& s : seam.sides) count = std::max(count, work[s.panel].count[s.edge]);
+    for (const SeamSide& s : seam.sides) {
+        if (work[s.panel].count[s.edge] != count) work[s.panel].dirty = true;
+        work[s.panel].count[s.edge] = count;
+    }
+}
+
+PanelOutline sample_outline(const Panel& panel, const std::vector<uint32_t>& count) {
+    PanelOutline outline;
+    for (size_t e = 0; e < panel.edges.size(); ++e) {
+        outline.edge_first.push_back(uint32_t(outline.points.size()));
+        const std::vector<Point2> points = sample_edge(panel, panel.edges[e], count[e]);
+        outline.points.insert(outline.points.end(), points.begin(), points.end() - 1);  // the end starts the next edge
+    }
+    outline.edge_first.push_back(uint32_t(outline.points.size()));
+    return outline;
+}
+
+// Particles of edge e from its start to its end (the end is the next edge's first point).
+std::vector<uint32_t> edge_points(const PanelOutline& outline, size_t e) {
+    std::vector<uint32_t> points;
+    for (uint32_t k = outline.edge_first[e]; k < outline.edge_first[e + 1]; ++k) points.push_back(k);
+    points.push_back(outline.edge_first[e + 1] % uint32_t(outline.points.size()));
+    return points;
+}
+
+// Interior angle of the outline polygon at each point, degrees (winding-aware).
+std::vector<double> corner_angles(const std::vector<Point2>& polygon, bool counter_clockwise) {
+    const size_t n = polygon.size();
+    std::vector<double> angle(n);
+    for (size_t k = 0; k < n; ++k) {
+        const Point2 a = polygon[(k + n - 1) % n], b = polygon[k], c = polygon[(k + 1) % n];
+        const double turn = std::atan2((b.x - a.x) * (c.y - b.y) - (b.y - a.y) * (c.x - b.x),
+                                       (b.x - a.x) * (c.x - b.x) + (b.y - a.y) * (c.y - b.y));
+        angle[k] = 180.0 - (counter_clockwise ? turn : -turn) * 180.0 / std::numbers::pi;
+    }
+    return angle;
+}
+
+double triangle_area(Point2 a, Point2 b, Point2 c) { return 0.5 * ((b.x - a.x) * (c.y - a.y) - (c.x - a.x) * (b.y - a.y)); }
+
+PanelQuality panel_quality(const std::string& name, const PanelMesh& mesh, const PanelOutline& outline, double h,
+                           bool counter_clockwise, double outline_area) {
+    PanelQuality q;
+    q.name = name;
+    q.particles = uint32_t(mesh.points.size());
+    q.triangles = uint32_t(mesh.triangles.size() / 3);
+    q.grid_particles = mesh.grid_points;
+    q.grid_triangles = mesh.grid_triangles;
+    q.outline_area_m2 = std::fabs(outline_area);
+    const std::vector<double> corner = corner_angles(outline.points, counter_clockwise);
+    const uint32_t n_outline = uint32_t(outline.points.size());
+    q.min_angle_deg = q.min_angle_deg_smooth = 180.0;
+    std::vector<std::pair<uint32_t, uint32_t>> edges;
+    for (size_t t = 0; t < mesh.triangles.size(); t += 3) {
+        const uint32_t v[3] = {mesh.triangles[t], mesh.triangles[t + 1], mesh.triangles[t + 2]};
+        const Point2 p[3] = {mesh.points[v[0]], mesh.points[v[1]], mesh.points[v[2]]};
+        q.mesh_area_m2 += triangle_area(p[0], p[1], p[2]);
+        bool sharp = false;
+        double smallest = 180.0;
+        for (int k = 0; k < 3; ++k) {
+            const Point2 a = p[k], b = p[(k + 1) % 3], c = p[(k + 2) % 3];
+            const double dot = (b.x - a.x) * (c.x - a.x) + (b.y - a.y) * (c.y - a.y);
+            const double cr = std::fabs((b.x - a.x) * (c.y - a.y) - (b.y - a.y) * (c.x - a.x));
+            smallest = std::min(smallest, std::atan2(cr, dot) * 180.0 / std::numbers::pi);
+            if (v[k] < n_outline && corner[v[k]] < kSharpCornerDeg) sharp = true;
+            edges.push_back({std::min(v[k], v[(k + 1) % 3]), std::max(v[k], v[(k + 1) % 3])});
+        }
+        q.min_angle_deg = std::min(q.min_angle_deg, smallest);
+        if (!sharp) q.min_angle_deg_smooth = std::min(q.min_angle_deg_smooth, smallest);
+    }
+    std::sort(edges.begin(), edges.end());
+    edges.erase(std::unique(edges.begin(), edges.end()), edges.end());
+    q.edge_min_h = HUGE_VAL;
+    for (const auto& [a, b] : edges) {
+        const double l = std::hypot(mesh.points[b].x - mesh.points[a].x, mesh.points[b].y - mesh.points[a].y) / h;
+        q.edge_min_h = std::min(q.edge_min_h, l), q.edge_max_h = std::max(q.edge_max_h, l);
+        q.edge_mean_h += l / double(edges.size());
+    }
+    return q;
+}
+
+// Union-find over particles, for seam points: a corner where two seams meet joins both chains.
+struct UnionFind {
+    std::vector<uint32_t> parent;
+    explicit UnionFind(size_t n) : parent(n) { std::iota(parent.begin(), parent.end(), 0u); }
+    uint32_t find(uint32_t x) {
+        while (parent[x] != x) x = parent[x] = parent[parent[x]];
+        return x;
+    }
+    void join(uint32_t a, uint32_t b) {
+        a = find(a), b = find(b);
+        if (a != b) parent[std::max(a, b)] = std::min(a, b);
+    }
+};
+
+// Strip particles onto free lattice nodes: each takes the free node nearest to it (of the 3 x 3
+// around its own position), nearest particles first. The runtime puts lattice particles in its
+// parity planes, so a strip spring that joins two nodes like a grid spring (same (di, dj)) joins
+// the grid's SIMD runs instead of the one-at-a-time path: this lifts the share of
+// springs on runs on the 1 m sheet from 0.92 to 0.97. (cook_cloth calls a strip spring between diagonal
+// nodes "shear"; the rest lengths are the true ones either way.)
+void snap_strip_to_lattice(const PanelGrid& grid, PanelMesh& mesh) {
+    const double h = grid.h;
+    std::map<std::pair<int32_t, int32_t>, uint32_t> taken;
+    struct Candidate {
+        double distance;
+        uint32_t point;
+    };
+    std::vector<Candidate> strip;
+    for (uint32_t k = 0; k < mesh.points.size(); ++k) {
+        if (mesh.lattice[2 * k] >= 0) {
+            taken[{mesh.lattice[2 * k], mesh.lattice[2 * k + 1]}] = k;
+            continue;
+        }
+        const double r = (mesh.points[k].y - grid.origin.y) / h, c = (mesh.points[k].x - grid.origin.x) / h;
+        strip.push_back({std::hypot(r - std::round(r), c - std::round(c)), k});
+    }
+    std::sort(strip.begin(), strip.end(), [](const Candidate& a, const Candidate& b) {
+        return a.distance != b.distance ? a.distance < b.distance : a.point < b.point;
+    });
+    for (const Candidate& s : strip) {
+        const double r = (mesh.points[s.point].y - grid.origin.y) / h, c = (mesh.points[s.point].x - grid.origin.x) / h;
+        const int32_t r0 = int32_t(std::lround(r)), c0 = int32_t(std::lround(c));
+        double best = HUGE_VAL;
+        std::pair<int32_t, int32_t> node{0, 0};
+        for (int32_t dr = -1; dr <= 1; ++dr)
+            for (int32_t dc = -1; dc <= 1; ++dc) {
+                const std::pair<int32_t, int32_t> q{r0 + dr, c0 + dc};
+                const double d = std::hypot(r - q.first, c - q.second);
+                const bool none = q.first == -1 && q.second == -1;  // panel-local (-1, -1) means "off the lattice"
+                if (!none && !taken.count(q) && d < best) best = d, node = q;
+            }
+        if (best == HUGE_VAL) continue;  // stays off the lattice
+        taken[node] = s.point;
+        mesh.lattice[2 * s.point] = node.first, mesh.lattice[2 * s.point + 1] = node.second;
+    }
+}
+
+// A panel's lattice nodes, normalised to >= 0, upright or turned by 180 degrees, with the rows
+// and columns each occupies.
+struct Footprint {
+    int32_t rows = 0, cols = 0;
+    std::vector<std::pair<int32_t, int32_t>> cells;  // normalised to >= 0
+    std::vector<int32_t> lo, hi;                     // per row: first and last column, lo > hi when empty
+};
+Footprint footprint(const std::vector<std::pair<int32_t, int32_t>>& in, bool turned) {
+    auto even_up = [](int32_t v) { return (v + 1) & ~1; };
+    Footprint f;
+    int32_t r0 = INT32_MAX, c0 = INT32_MAX, r1 = INT32_MIN, c1 = INT32_MIN;
+    for (const auto& [r, c] : in) r0 = std::min(r0, r), c0 = std::min(c0, c), r1 = std::max(r1, r), c1 = std::max(c1, c);
+    r0 &= ~1, c0 &= ~1;  // even shifts keep parity
+    const int32_t R = even_up(r1 - r0), C = even_up(c1 - c0);
+    for (const auto& [r, c] : in)
+        f.cells.push_back(turned ? std::pair{R - (r - r0), C - (c - c0)} : std::pair{r - r0, c - c0});
+    for (const auto& [r, c] : f.cells) f.rows = std::max(f.rows, r + 1), f.cols = std::max(f.cols, c + 1);
+    f.lo.assign(f.rows, INT32_MAX);
+    f.hi.assign(f.rows, INT32_MIN);
+    for (const auto& [r, c] : f.cells) f.lo[r] = std::min(f.lo[r], c), f.hi[r] = std::max(f.hi[r], c);
+    return f;
+}
+
+// Packs the panels' lattice nodes into one coordinate space (i: rows, j: columns), largest panel
+// first, each upright or turned by 180 degrees, at the lowest then leftmost free place with `gap`
+// empty rows and columns to every placed panel, row by row (so slanted sides nest: a trapezoid
+// beside its upside-down twin). The runtime's runs follow j along each parity plane's rows, so
+// panels that share rows closely continue each other's runs; several lattice widths are tried and
+// the one that puts the most nodes on long runs wins, within the runtime's density limit.
+// Offsets are even, so parity planes stay as they were. Returns per panel the placed (i, j) of
+// each of its lattice nodes (in the order given).
+std::vector<std::vector<std::pair<int32_t, int32_t>>> pack_lattice(
+    const std::vector<std::vector<std::pair<int32_t, int32_t>>>& nodes, int32_t gap) {
+    auto even_up = [](int32_t v) { return (v + 1) & ~1; };
+    std::vector<size_t> order;
+    int32_t widest = 0, total_cols = 0;
+    std::vector<Footprint> upright(nodes.size()), turned(nodes.size());
+    for (size_t p = 0; p < nodes.size(); ++p) {
+        if (nodes[p].empty()) continue;
+        order.push_back(p);
+        upright[p] = footprint(nodes[p], false);
+        turned[p] = footprint(nodes[p], true);
+        widest = std::max(widest, upright[p].cols);
+        total_cols += upright[p].cols + gap;
+    }
+    std::stable_sort(order.begin(), order.end(), [&](size_t a, size_t b) { return nodes[a].size() > nodes[b].size(); });
+
+    struct Placement {
+        bool turned = false;
+        int32_t i = 0, j = 0;
+    };
+    auto pack = [&](int32_t width, std::vector<Placement>& placed) -> void {
+        std::vector<std::vector<std::pair<int32_t, int32_t>>> taken;  // per lattice row: occupied column intervals
+        int32_t height = 0;
+        placed.assign(nodes.size(), {});
+        for (size_t p : order) {
+            int32_t best_top = INT32_MAX, best_j = INT32_MAX;
+            for (const bool turn : {false, true}) {
+                const Footprint& f = turn ? turned[p] : upright[p];
+                if (f.cols > width) continue;
+                for (int32_t i = 0; i <= height + gap + 2; i += 2) {  // above `height` + gap all is free
+                    if (i + f.rows > best_top) break;
+                    // Columns j where row r of the panel would come within `gap` of a placed panel.
+                    std::vector<std::pair<int32_t, int32_t>> forbidden;
+                    for (int32_t r = 0; r < f.rows; ++r) {
+                        if (f.lo[r] > f.hi[r]) continue;
+                        for (int32_t q = std::max(0, i + r - gap); q <= i + r + gap && q < int32_t(taken.size()); ++q)
+                            for (const auto& [a, b] : taken[q]) forbidden.push_back({a - gap - f.hi[r], b + gap - f.lo[r]});
+                    }
+                    std::sort(forbidden.begin(), forbidden.end());
+                    int32_t j = 0;
+                    for (const auto& [a, b] : forbidden)
+                        if (a <= j && j <= b) j = even_up(b + 1);
+                    if (j + f.cols > width) continue;
+                    const int32_t top = i + f.rows;
+                    if (top < best_top || (top == best_top && j < best_j)) best_top = top, best_j = j, placed[p] = {turn, i, j};
+                    break;  // the lowest free place for this orientation
+                }
+            }
+            const Footprint& f = placed[p].turned ? turned[p] : upright[p];
+            if (int32_t(taken.size()) < placed[p].i + f.rows) taken.resize(size_t(placed[p].i + f.rows));
+            for (int32_t r = 0; r < f.rows; ++r)
+                if (f.lo[r] <= f.hi[r]) taken[size_t(placed[p].i + r)].push_back({placed[p].j + f.lo[r], placed[p].j + f.hi[r]});
+            height = std::max(height, placed[p].i + f.rows);
+        }
+    };
+    // How many nodes a packing puts on long runs: the runtime orders each parity plane row-major
+    // and cuts runs where consecutive occupied slots are more than 5 apart; runs shorter than
+    // 16 lanes go to the one-at-a-time path (CookOptions' defaults).
+    auto nodes_on_runs = [&](const std::vector<Placement>& placed, int32_t width) {
+        int32_t rows = 0;
+        for (size_t p : order) rows = std::max(rows, placed[p].i + (placed[p].turned ? turned[p] : upright[p]).rows);
+        std::vector<uint8_t> occupied(size_t(rows) * width, 0);
+        for (size_t p : order)
+            for (const auto& [r, c] : (placed[p].turned ? turned[p] : upright[p]).cells)
+                occupied[size_t(placed[p].i + r) * width + size_t(placed[p].j + c)] = 1;
+        size_t on_runs = 0;
+        for (int32_t pi = 0; pi < 2; ++pi)
+            for (int32_t pj = 0; pj < 2; ++pj) {
+                int64_t last = INT64_MIN / 2, slot = 0;
+                size_t piece = 0;
+                for (int32_t r = pi; r < rows; r += 2)
+                    for (int32_t c = pj; c < width; c += 2, ++slot) {
+                        if (!occupied[size_t(r) * width + size_t(c)]) continue;
+                        if (slot - last > 5) {
+                            if (piece >= 16) on_runs += piece;
+                            piece = 0;
+                        }
+                        ++piece;
+                        last = slot;
+                    }
+                if (piece >= 16) on_runs += piece;
+            }
+        return std::pair{on_runs, double(rows) * width};
+    };
+    size_t node_count = 0;
+    for (size_t p : order) node_count += nodes[p].size();
+    std::vector<Placement> best, trial;
+    size_t best_on_runs = 0;
+    double best_area = HUGE_VAL;
+    for (int k = 0; k <= 16; ++k) {  // widths from the widest panel to all panels in one row
+        const int32_t width = even_up(widest + (total_cols - widest) * k / 16);
+        pack(width, trial);
+        const auto [on_runs, area] = nodes_on_runs(trial, width);
+        // The runtime refuses boxes past 2 nodes per particle: stay clear of it (1.8 per node).
+        const bool fits = area <= 1.8 * double(node_count) + 64.0;
+        const bool best_fits = best_area <= 1.8 * double(node_count) + 64.0;
+        if (best.empty() || (fits && !best_fits) ||
+            (fits == best_fits && (on_runs > best_on_runs || (on_runs == best_on_runs && area < best_area))))
+            best = trial, best_on_runs = on_runs, best_area = area;
+    }
+    std::vector<std::vector<std::pair<int32_t, int32_t>>> result(nodes.size());
+    for (size_t p : order) {
+        const Footprint& f = best[p].turned ? turned[p] : upright[p];
+        for (const auto& [r, c] : f.cells) result[p].push_back({best[p].i + r, best[p].j + c});
+    }
+    return result;
+}
+
+void rotate(const Placement& placement, double x, double y, Vec3* out) {
+    const double rx = placement.rotation_deg[0] * std::numbers::pi / 180.0, ry = placement.rotation_deg[1] * std::numbers::pi / 180.0,
+                 rz = placement.rotation_deg[2] * std::numbers::pi / 180.0;
+    // R = Rz * Ry * Rx applied to (x, y, 0).
+    double px = x, py = y * std::cos(rx), pz = y * std::sin(rx);                       // Rx
+    const double qx = px * std::cos(ry) + pz * std::sin(ry), qz = -px * std::sin(ry) + pz * std::cos(ry);  // Ry
+    px = qx, pz = qz;
+    const double sx = px * std::cos(rz) - py * std::sin(rz), sy = px * std::sin(rz) + py * std::cos(rz);  // Rz
+    out->x = float(sx + placement.translation_m[0]);
+    out->y = float(sy + placement.translation_m[1]);
+    out->z = float(pz + placement.translation_m[2]);
+}
+
+MeshedGarment assemble(const Pattern& pattern, const MeshOptions& options, double h, std::vector<PanelWork>& work) {
+    MeshedGarment g;
+    g.fabric = pattern.fabric;
+    const size_t panels = pattern.panels.size();
+    // Strip particles onto the lattice, then all panels' lattices into one coordinate space.
+    std::vector<std::vector<std::pair<int32_t, int32_t>>> nodes(panels);
+    for (size_t p = 0; p < panels; ++p) {
+        snap_strip_to_lattice(work[p].grid, work[p].mesh);
+        const std::vector<int32_t>& l = work[p].mesh.lattice;
+        for (size_t k = 0; k < l.size(); k += 2)
+            if (l[k] != -1 || l[k + 1] != -1) nodes[p].push_back({l[k], l[k + 1]});
+    }
+    const auto packed = pack_lattice(nodes, int32_t(std::max(3u, options.lattice_gap)));
+
+    double table_x = 0.0;  // the cutting table: panels side by side along x, 5 cm apart
+    std::vector<uint32_t> base(panels + 1, 0);
+    for (size_t p = 0; p < panels; ++p) {
+        const Panel& panel = pattern.panels[p];
+        const PanelMesh& mesh = work[p].mesh;
+        base[p] = uint32_t(g.positions.size());
+        const double density = panel.areal_density_kg_m2 > 0.0 ? panel.areal_density_kg_m2 : pattern.fabric.areal_density_kg_m2;
+        double min_x = HUGE_VAL, max_x = -HUGE_VAL;
+        for (const Point2& q : mesh.points) min_x = std::min(min_x, q.x), max_x = std::max(max_x, q.x);
+        std::vector<double> mass(mesh.points.size(), 0.0);
+        size_t next_node = 0;
+        for (size_t t = 0; t < mesh.triangles.size(); t += 3) {
+            const uint32_t a = mesh.triangles[t], b = mesh.triangles[t + 1], c = mesh.triangles[t + 2];
+            const double area = std::fabs(triangle_area(mesh.points[a], mesh.points[b], mesh.points[c]));
+            for (uint32_t v : {a, b, c}) mass[v] += density * area / 3.0;  // seed eq. (9)
+            g.area_m2 += area;
+            g.total_mass_kg += density * area;
+            // Wound like the outline: its winding is the panel's front side.
+            if (work[p].area_m2 > 0.0) g.triangles.insert(g.triangles.end(), {base[p] + a, base[p] + b, base[p] + c});
+            else g.triangles.insert(g.triangles.end(), {base[p] + a, base[p] + c, base[p] + b});
+        }
+        for (size_t k = 0; k < mesh.points.size(); ++k) {
+            const Point2 q = mesh.points[k];
+            Vec3 placed;
+            rotate(panel.placement, q.x, q.y, &placed);
+            g.positions.push_back(placed);
+            g.rest_positions.push_back({float(table_x + q.x - min_x), float(q.y), 0.0f});
+            g.masses.push_back(float(mass[k]));
+            g.uv.insert(g.uv.end(), {float(q.x), float(q.y)});
+            g.panel.push_back(uint32_t(p));
+            if (mesh.lattice[2 * k] == -1 && mesh.lattice[2 * k + 1] == -1) {
+                g.lattice.insert(g.lattice.end(), {-1, -1});
+            } else {
+                const auto [i, j] = packed[p][next_node++];
+                g.lattice.insert(g.lattice.end(), {i, j});
+            }
+        }
+        table_x += (max_x - min_x) + 0.05;
+        g.edge_particles.emplace_back();
+        for (size_t e = 0; e < panel.edges.size(); ++e) {
+            std::vector<uint32_t> points = edge_points(work[p].outline, e);
+            for (uint32_t& v : points) v += base[p];
+            g.edge_particles.back().push_back(std::move(points));
+        }
+        g.panel_names.push_back(panel.name);
+        g.quality.panels.push_back(panel_quality(panel.name, mesh, work[p].outline, h, work[p].area_m2 > 0.0, work[p].area_m2));
+    }
+    base[panels] = uint32_t(g.positions.size());
+
+    // Seams: the k-th points of a seam's sides are one seam point; chains through corners merge.
+    UnionFind sets(g.positions.size());
+    std::vector<uint8_t> sewn(g.positions.size(), 0);
+    for (const Seam& seam : pattern.seams) {
+        std::vector<std::vector<uint32_t>> sides;
+        for (const SeamSide& s : seam.sides) {
+            std::vector<uint32_t> points = g.edge_particles[s.panel][s.edge];
+            if (s.reverse) std::reverse(points.begin(), points.end());
+            sides.push_back(std::move(points));
+        }
+        for (size_t k = 0; k < sides[0].size(); ++k)
+            for (size_t s = 0; s < sides.size(); ++s) {
+                if (sides[s].size() != sides[0].size()) throw BakeError("a seam's sides got different counts (bug)");
+                sewn[sides[s][k]] = 1;
+                sets.join(sides[0][k], sides[s][k]);
+            }
+    }
+    std::map<uint32_t, std::vector<uint32_t>> members;  // root -> particles, ordered by root
+    for (uint32_t v = 0; v < g.positions.size(); ++v)
+        if (sewn[v]) members[sets.find(v)].push_back(v);
+    g.seam_first.push_back(0);
+    for (const auto& [root, particles] : members) {
+        if (particles.size() < 2) continue;  // a dart's tip is sewn to itself
+        g.seam_source.insert(g.seam_source.end(), particles.begin(), particles.end());
+        g.seam_first.push_back(uint32_t(g.seam_source.size()));
+    }
+
+    auto select = [&](const PanelSelector& s) {
+        if (s.edge >= 0) return g.edge_particles[s.panel][size_t(s.edge)];
+        uint32_t best = base[s.panel];
+        double best_d = HUGE_VAL;
+        for (uint32_t v = base[s.panel]; v < base[s.panel + 1]; ++v) {
+            const double d = std::hypot(g.uv[2 * v] - s.point.x, g.uv[2 * v + 1] - s.point.y);
+            if (d < best_d) best_d = d, best = v;
+        }
+        return std::vector<uint32_t>{best};
+    };
+    for (const PanelSelector& pin : pattern.pins)
+        for (uint32_t v : select(pin)) g.pinned.push_back(v);
+    std::sort(g.pinned.begin(), g.pinned.end());
+    g.pinned.erase(std::unique(g.pinned.begin(), g.pinned.end()), g.pinned.end());
+    for (const BodyAttachment& a : pattern.attachments) g.attachments.push_back({a.label, select(a.where)});
+
+    // The garment's quality: the panels' figures combined.
+    PanelQuality& all = g.quality.overall;
+    all.name = "garment";
+    all.min_angle_deg = all.min_angle_deg_smooth = 180.0;
+    all.edge_min_h = HUGE_VAL;
+    uint32_t triangles = 0;
+    for (const PanelQuality& q : g.quality.panels) {
+        all.particles += q.particles, all.triangles += q.triangles;
+        all.grid_particles += q.grid_particles, all.grid_triangles += q.grid_triangles;
+        all.min_angle_deg = std::min(all.min_angle_deg, q.min_angle_deg);
+        all.min_angle_deg_smooth = std::min(all.min_angle_deg_smooth, q.min_angle_deg_smooth);
+        all.edge_min_h = std::min(all.edge_min_h, q.edge_min_h), all.edge_max_h = std::max(all.edge_max_h, q.edge_max_h);
+        all.edge_mean_h += q.edge_mean_h * q.triangles;
+        triangles += q.triangles;
+        all.mesh_area_m2 += q.mesh_area_m2 < 0 ? -q.mesh_area_m2 : q.mesh_area_m2;
+        all.outline_area_m2 += q.outline_area_m2;
+    }
+    if (triangles > 0) all.edge_mean_h /= triangles;  // weighted by triangles: close to the edge mean
+    g.quality.target_edge_m = h;
+    return g;
+}
+
+}  // namespace
+
+ClothMeshDesc cloth_mesh_desc(const MeshedGarment& garment) {
+    ClothMeshDesc desc;
+    desc.particle_count = uint32_t(garment.positions.size());
+    desc.positions = garment.positions.data();
+    desc.rest_positions = garment.rest_positions.data();
+    desc.triangle_count = uint32_t(garment.triangles.size() / 3);
+    desc.triangles = garment.triangles.data();
+    desc.masses = garment.masses.data();
+    desc.lattice = garment.lattice.data();
+    return desc;
+}
+
+Status mesh_garment(const Pattern& pattern, const MeshOptions& options, MeshedGarment* out) {
+    try {
+        if (out == nullptr) return {"out is null"};
+        if (Status s = validate_pattern(pattern); !s.ok()) return s;
+        const double h = options.target_edge_m != 0.0 ? options.target_edge_m
+                         : pattern.target_edge_m > 0.0 ? pattern.target_edge_m
+                                                        : kDefaultTargetEdge_m;
+        if (!(h > 0.0 && h <= 10.0)) return {"target edge length must lie in (0, 10] m, got " + std::to_string(h)};
+        if (!(options.grid_clearance >= 0.5 && options.grid_clearance <= 4.0)) return {"grid_clearance must lie in [0.5, 4]"};
+        if (!(options.min_angle_deg >= 0.0 && options.min_angle_deg <= 20.7))
+            return {"min_angle_deg must lie in [0, 20.7] (Delaunay refinement may not terminate above)"};
+
+        const size_t panels = pattern.panels.size();
+        std::vector<PanelWork> work(panels);
+        // About one particle per h^2 of area and one per h of outline (a triangle mesh of spacing h
+        // has 2 / sqrt(3) particles per h^2; the strip adds a few): refuse what would exceed the cap.
+        double estimate = 0.0;
+        for (size_t p = 0; p < panels; ++p) {
+            PanelWork& w = work[p];
+            w.fine = fine_outline(pattern.panels[p]);
+            w.area_m2 = signed_area(w.fine);
+            for (const PatternEdge& edge : pattern.panels[p].edges) {
+                w.edge_length.push_back(edge_length(pattern.panels[p], edge));
+                estimate += 2.0 * w.edge_length.back() / h;
+            }
+            estimate += 1.2 * std::fabs(w.area_m2) / (h * h);
+        }
+        if (!(estimate <= options.max_particles))
+            return {"target edge " + std::to_string(h) + " m would give about " + std::to_string(estimate) +
+                    " particles, more than the cap of " + std::to_string(options.max_particles)};
+
+        // Segments per edge: ceil(length / h), the same on every side of a seam (the longest side's).
+        for (size_t p = 0; p < panels; ++p)
+            for (double length : work[p].edge_length) work[p].count.push_back(uint32_t(std::max(1.0, std::ceil(length / h - 1e-9))));
+        SeamOf seam_of(panels);
+        for (size_t p = 0; p < panels; ++p) seam_of[p].assign(pattern.panels[p].edges.size(), -1);
+        for (size_t s = 0; s < pattern.seams.size(); ++s) {
+            for (const SeamSide& side : pattern.seams[s].sides) seam_of[side.panel][side.edge] = int32_t(s);
+            equalise_seam(pattern.seams[s], work);
+        }
+
+        StripCriteria criteria;
+        criteria.min_angle_deg = options.min_angle_deg;
+        // Longer than the grid's own diagonal (sqrt(2) h): a strip of squares like the grid's must not be
+        // refined (the midpoint of a diagonal would encroach the outline and a grid side).
+        criteria.max_edge_m = 1.5 * h;
+        uint32_t round = 0;
+        for (;; ++round) {
+            if (round == options.max_rounds)
+                return {"the strip mesher still split outline or grid edges after " + std::to_string(round) + " rounds"};
+            bool again = false;
+            for (size_t p = 0; p < panels; ++p) {
+                PanelWork& w = work[p];
+                if (!w.dirty) continue;
+                w.dirty = false;
+                w.outline = sample_outline(pattern.panels[p], w.count);
+                PanelGrid& grid = w.grid;
+                grid = grid_frame(w.fine, h);
+                if (w.dropped.empty()) w.dropped.assign(grid.keep.size(), 0);
+                choose_cells(w.outline.points, options.grid_clearance, w.dropped, grid);
+                mesh_panel(w.outline, grid, criteria, &w.mesh);
+                // Split outline segments: that edge gets one more segment per split (and its seam
+                // the same count); split grid sides: their cells go to the strip.
+                for (uint32_t k : w.mesh.split_outline) {
+                    const size_t e = size_t(std::upper_bound(w.outline.edge_first.begin(), w.outline.edge_first.end(), k) -
+                                            w.outline.edge_first.begin()) - 1;
+                    w.count[e] += 1;
+                    if (seam_of[p][e] >= 0) equalise_seam(pattern.seams[size_t(seam_of[p][e])], work);
+                }
+                for (uint32_t cell : w.mesh.split_cells) w.dropped[cell] = 1;
+                if (!w.mesh.split_outline.empty() || !w.mesh.split_cells.empty()) w.dirty = again = true;
+            }
+            if (!again) break;
+            double particles = 0.0;
+            for (const PanelWork& w : work)
+                for (uint32_t c : w.count) particles += c;
+            if (particles > options.max_particles) return {"outline sampling exceeded the particle cap while remeshing"};
+        }
+        MeshedGarment garment = assemble(pattern, options, h, work);
+        garment.quality.rounds = round + 1;
+        if (garment.positions.size() > options.max_particles)
+            return {"the garment has " + std::to_string(garment.positions.size()) + " particles, more than the cap of " +
+                    std::to_string(options.max_particles)};
+        *out = std::move(garment);
+        return {};
+    } catch (const std::exception& e) {
+        return {std::string("meshing failed: ") + e.what()};
+    }
+}
+
+}  // namespace weft::bake

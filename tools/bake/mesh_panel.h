@@ -1,0 +1,63 @@
+// Meshing one flat panel (seed section 4.1.1, with a regular interior):
+//   - the outline, sampled by the caller (equal arc length per edge, equal counts along seams)
+//   - a regular grid of spacing h inside it: cells whose corners keep a clearance from the
+//     outline, two triangles each with one diagonal direction, left intact so that the runtime can
+//     put every grid spring family on contiguous SIMD runs (docs/architecture.md)
+//   - the strip between the grid and the outline: CGAL constrained Delaunay triangulation, refined
+//     by CGAL's Delaunay mesher to a minimum angle, with the grid as a hole
+// mesh_panel.cpp is the only translation unit that includes CGAL (it is slow to compile).
+#pragma once
+
+#include <cstdint>
+#include <vector>
+
+#include "pattern.h"
+
+namespace weft::bake {
+
+// A panel's sampled outline: a closed polygon (first point not repeated), in loop order.
+struct PanelOutline {
+    std::vector<Point2> points;
+    std::vector<uint32_t> edge_first;  // edge e's points start at edge_first[e]; size = edges + 1, last = points.size()
+};
+
+// The grid of one panel: nodes at origin + (col * h, row * h); cell (row, col) has its lower-left
+// corner at node (row, col).
+struct PanelGrid {
+    Point2 origin;
+    double h = 0.0;
+    uint32_t rows = 0, cols = 0;  // cells
+    std::vector<uint8_t> keep;    // [rows * cols] 1 = the cell is meshed as two grid triangles
+    uint32_t kept_cells() const;
+};
+
+// The grid over a panel's bounding box (fine outline) at spacing h, centred so that the margins
+// left and right (and top and bottom) are equal. No cell is kept yet.
+PanelGrid grid_frame(const std::vector<Point2>& fine_outline, double h);
+
+// Keeps the cells whose four corners lie inside the outline at least `clearance * h` from it and
+// whose side midpoints lie more than 0.55 h from it (the outline then never encroaches a grid side,
+// which the mesher would split), except cells in `dropped` (same size as keep, may be empty).
+void choose_cells(const std::vector<Point2>& outline, double clearance, const std::vector<uint8_t>& dropped,
+                  PanelGrid& grid);
+
+struct PanelMesh {
+    std::vector<Point2> points;       // the outline's points first (same indices), then the rest
+    std::vector<int32_t> lattice;     // 2 per point: (row, col) of a grid node, (-1, -1) otherwise
+    std::vector<uint32_t> triangles;  // 3 per triangle, counter-clockwise in the panel frame
+    uint32_t grid_points = 0, grid_triangles = 0;
+    // Constraints the mesher split; when either is non-empty the mesh is not usable: the caller
+    // samples that outline edge finer or drops those cells and meshes again.
+    std::vector<uint32_t> split_outline;  // outline segments k (points k -> k + 1)
+    std::vector<uint32_t> split_cells;    // row * cols + col
+};
+
+struct StripCriteria {
+    double min_angle_deg = 20.0;
+    double max_edge_m = 0.0;  // longest edge the mesher leaves in the strip
+};
+
+// Meshes the strip and joins it to the grid. Throws std::runtime_error if CGAL fails.
+void mesh_panel(const PanelOutline& outline, const PanelGrid& grid, const StripCriteria& criteria, PanelMesh* out);
+
+}  // namespace weft::bake
