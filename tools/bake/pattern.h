@@ -90,7 +90,7 @@ struct Fabric {
     double stretch_compliance = 0.0;
     double shear_compliance = 0.0;
     double bend_compliance = 0.0;
-    double damping_per_s = 0.0;
+    double damping_per_s = 1.0;  // 1/s, the runtime's ClothDesc default
     double thickness_m = 0.00032;  // cotton, same source
     double friction = 0.3;
 };

@@ -1,6 +1,9 @@
 #include "scene.h"
 
 #include <cstdlib>
+#include <filesystem>
+#include <fstream>
+#include <iterator>
 
 namespace weft::scenes {
 
@@ -80,14 +83,30 @@ std::string make_grid_cloth(const GridSource& g, const CookOptions& cook, SceneC
     return {};
 }
 
-// Placeholder until the binary asset loader lands (same session): refuses with a message.
-std::string load_baked_cloth(const std::string& path, SceneCloth*) {
-    return "cannot load '" + path + "': baked assets are not supported by this build yet";
+std::string find_asset(const std::string& path, const std::string& base_dir, const std::vector<std::string>& dirs) {
+    namespace fs = std::filesystem;
+    if (fs::path(path).is_absolute()) return path;
+    std::error_code ec;
+    if (fs::exists(fs::path(base_dir) / path, ec)) return (fs::path(base_dir) / path).string();
+    for (const std::string& d : dirs)
+        if (fs::exists(fs::path(d) / path, ec)) return (fs::path(d) / path).string();
+    return (fs::path(base_dir) / path).string();  // the error names where it was expected
+}
+
+std::string load_baked_cloth(const std::string& path, SceneCloth* out) {
+    std::ifstream file(path, std::ios::binary);
+    if (!file) return "cannot open asset '" + path + "'";
+    const std::string bytes((std::istreambuf_iterator<char>(file)), std::istreambuf_iterator<char>());
+    out->loaded = std::make_unique<assets::LoadedAsset>();
+    if (Result r = assets::load_asset_copy(bytes.data(), bytes.size(), out->loaded.get()); !r.ok())
+        return path + ": " + r.message;
+    out->asset = &out->loaded->asset;
+    return {};
 }
 
 }  // namespace
 
-std::string build_scene(const Scene& scene, SceneWorld* out) {
+std::string build_scene(const Scene& scene, SceneWorld* out, const std::vector<std::string>& asset_dirs) {
     if (scene.cloths.empty()) return "the scene has no cloth";
     out->dt_s = scene.dt_s;
     out->cloths.clear();
@@ -101,7 +120,7 @@ std::string build_scene(const Scene& scene, SceneWorld* out) {
         if (spec.grid) {
             error = make_grid_cloth(*spec.grid, spec.cook, &cloth);
         } else {
-            error = load_baked_cloth(spec.asset_path, &cloth);
+            error = load_baked_cloth(find_asset(spec.asset_path, scene.base_dir, asset_dirs), &cloth);
         }
         if (!error.empty()) return "cloth '" + spec.name + "': " + error;
         reserve_cloth(wd, *cloth.asset);
@@ -120,8 +139,15 @@ std::string build_scene(const Scene& scene, SceneWorld* out) {
     if (Result r = create_world(wd, out->memory.get(), bytes, &out->world); !r.ok()) return r.message;
 
     for (size_t i = 0; i < scene.cloths.size(); ++i) {
-        ClothDesc cd = scene.cloths[i].desc;
+        const ClothSpec& spec = scene.cloths[i];
+        ClothDesc cd = spec.desc;
         cd.asset = out->cloths[i].asset;
+        if (cd.asset->has_fabric) {  // the fabric the pattern named, unless the scene overrides it
+            const Fabric& f = cd.asset->fabric;
+            if (!spec.compliance_given)
+                for (uint32_t k = 0; k < kConstraintKindCount; ++k) cd.compliance_m_per_n[k] = f.compliance_m_per_n[k];
+            if (!spec.damping_given) cd.damping_per_s = f.damping_per_s;
+        }
         if (Result r = add_cloth(out->world, cd, &out->cloths[i].id); !r.ok())
             return "cloth '" + scene.cloths[i].name + "': " + r.message;
     }

@@ -9,6 +9,7 @@
 #include <string>
 #include <vector>
 
+#include "asset_writer.h"
 #include "weft/weft.h"
 
 namespace weft::scenes {
@@ -50,13 +51,16 @@ struct GridSource {
 struct ClothSpec {
     std::string name;
     std::optional<GridSource> grid;  // exactly one of grid and asset_path
-    std::string asset_path;          // a baked .weft file (weft-bake)
+    std::string asset_path;          // a baked .weft file (weft-bake), as the scene names it
+    // Baked assets carry their fabric; it gives the compliance and damping unless the scene names them.
+    bool compliance_given = false, damping_given = false;
     CookOptions cook;                // grid only
     ClothDesc desc;                  // solver settings; desc.asset is filled by build_scene
 };
 
 struct Scene {
     std::string name;
+    std::string base_dir = ".";  // relative asset paths are looked up here first
     float dt_s = kSeedTimeStep_s;
     uint32_t frames = 330;  // 10.9 s at the seed's dt: long enough to come to rest
     Vec3 gravity_m_s2{0.0f, -9.81f, 0.0f};
@@ -74,8 +78,7 @@ struct Scene {
 struct SceneCloth {
     GridMesh mesh;                         // grid sources
     std::unique_ptr<CookedCloth> cooked;   // grid sources: the cooked asset
-    std::shared_ptr<const void> file;      // baked sources: the file's bytes (the asset points into them)
-    std::unique_ptr<ClothAsset> loaded;    // baked sources: the asset loaded in place
+    std::unique_ptr<assets::LoadedAsset> loaded;  // baked sources: the file's bytes and the asset in them
     const ClothAsset* asset = nullptr;
     ClothId id{};
 };
@@ -89,8 +92,9 @@ struct SceneWorld {
 };
 
 // Cooks or loads every cloth, creates the world with exactly the scene's features and adds
-// everything. Returns the failure message (empty on success).
-std::string build_scene(const Scene& scene, SceneWorld* out);
+// everything. A relative asset path is looked up in scene.base_dir, then in each of `asset_dirs`
+// (where a build put its baked assets). Returns the failure message (empty on success).
+std::string build_scene(const Scene& scene, SceneWorld* out, const std::vector<std::string>& asset_dirs = {});
 
 // The triangles of a built cloth in caller particle order (for OBJ and glTF writers).
 std::vector<uint32_t> caller_triangles(const ClothAsset& asset);

@@ -132,7 +132,7 @@ void parse_solver(const json& j, const std::string& where, ClothDesc* d) {
     }
 }
 
-ClothSpec parse_cloth(const json& j, const std::string& where, const std::string& base_dir) {
+ClothSpec parse_cloth(const json& j, const std::string& where) {
     object(j, where, {"name", "grid", "asset", "translation_m", "solver", "compliance_m_per_n", "damping_per_s",
                       "drag_coefficient", "lift_coefficient", "tethers_per_particle", "coarse_spacing_m"});
     ClothSpec c;
@@ -141,11 +141,12 @@ ClothSpec parse_cloth(const json& j, const std::string& where, const std::string
     if (j.contains("grid")) {
         c.grid = parse_grid(j["grid"], where + ".grid");
     } else {
-        const std::filesystem::path path = text(j["asset"], where + ".asset");
-        c.asset_path = (path.is_absolute() ? path : std::filesystem::path(base_dir) / path).string();
+        c.asset_path = text(j["asset"], where + ".asset");
     }
     if (j.contains("translation_m")) c.desc.translation_m = vec3(j["translation_m"], where + ".translation_m");
     if (j.contains("solver")) parse_solver(j["solver"], where + ".solver", &c.desc);
+    c.compliance_given = j.contains("compliance_m_per_n");
+    c.damping_given = j.contains("damping_per_s");
     if (j.contains("compliance_m_per_n")) {
         const std::string w = where + ".compliance_m_per_n";
         const json& k = object(j["compliance_m_per_n"], w, {"stretch", "shear", "bend"});
@@ -200,6 +201,7 @@ Scene parse(const json& root, const std::string& base_dir) {
     if (!root.contains("version") || !root["version"].is_number_integer() || root["version"] != 1)
         fail("scene.version", "must be 1 (the only version this build reads)");
     Scene s;
+    s.base_dir = base_dir;
     if (root.contains("name")) s.name = text(root["name"], "scene.name");
     if (root.contains("description")) text(root["description"], "scene.description");
     read(root, "dt_s", "scene", 1e-5, 1.0, &s.dt_s);
@@ -218,7 +220,7 @@ Scene parse(const json& root, const std::string& base_dir) {
         fail("scene.cloths", "must be a non-empty array");
     if (root["cloths"].size() > 1024) fail("scene.cloths", "more than 1024 cloths");
     for (size_t i = 0; i < root["cloths"].size(); ++i)
-        s.cloths.push_back(parse_cloth(root["cloths"][i], "scene.cloths[" + std::to_string(i) + "]", base_dir));
+        s.cloths.push_back(parse_cloth(root["cloths"][i], "scene.cloths[" + std::to_string(i) + "]"));
     if (root.contains("colliders")) {
         const json& c = root["colliders"];
         if (!c.is_array()) fail("scene.colliders", "must be an array");

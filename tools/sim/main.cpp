@@ -1,6 +1,6 @@
 // weft-sim: runs a scene file headless and reports every frame.
 //
-//   weft-sim SCENE.json [--frames N] [--out DIR] [--json] [--simd automatic|scalar|avx2]
+//   weft-sim SCENE.json [--frames N] [--out DIR] [--json] [--simd automatic|scalar|avx2] [--assets DIR]
 //
 // The world is created with exactly what the scene names (docs/scene-format.md). Every frame is one
 // step(dt); its wall time is measured around that call only. --out writes one OBJ per frame (all
@@ -90,6 +90,8 @@ int main(int argc, char** argv) {
     app.add_option("scene", scene_path, "scene file (docs/scene-format.md)")->required();
     app.add_option("--frames", frames, "frames to run (default: the scene's)")->check(CLI::Range(1u, 10000000u));
     app.add_option("--out", out_dir, "write one OBJ per frame into this folder");
+    std::vector<std::string> asset_dirs;
+    app.add_option("--assets", asset_dirs, "folders to look for the scene's relative asset paths in (after the scene's own)");
     app.add_flag("--json", json, "one JSON object per frame, then a summary object");
     app.add_option("--simd", simd, "override the scene's SIMD path")
         ->check(CLI::IsMember({"automatic", "scalar", "avx2"}));
@@ -105,7 +107,7 @@ int main(int argc, char** argv) {
     if (simd == "avx2") scene.simd = SimdPath::avx2;
     if (simd == "automatic") scene.simd = SimdPath::automatic;
     scenes::SceneWorld sw;
-    if (std::string e = scenes::build_scene(scene, &sw); !e.empty()) {
+    if (std::string e = scenes::build_scene(scene, &sw, asset_dirs); !e.empty()) {
         std::fprintf(stderr, "weft-sim: %s: %s\n", scene_path.c_str(), e.c_str());
         return 1;
     }

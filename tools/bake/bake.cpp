@@ -1,0 +1,57 @@
+#include "bake.h"
+
+#include "asset_writer.h"
+
+namespace weft::bake {
+namespace {
+
+// The garment as cook_cloth's input, with everything a baked garment carries: pins, UVs, panels,
+// seam points and the fabric.
+struct GarmentInput {
+    std::vector<float> masses;
+    std::vector<uint16_t> panel;
+    weft::Fabric fabric;
+    ClothMeshDesc desc;
+};
+
+GarmentInput garment_input(const MeshedGarment& g, const Fabric& f) {
+    GarmentInput in;
+    in.masses = g.masses;
+    for (uint32_t p : g.pinned) in.masses[p] = 0.0f;  // the pattern's pins hold
+    in.panel.assign(g.panel.begin(), g.panel.end());
+    in.fabric.areal_density_kg_m2 = float(f.areal_density_kg_m2);
+    in.fabric.compliance_m_per_n[0] = float(f.stretch_compliance);
+    in.fabric.compliance_m_per_n[1] = float(f.shear_compliance);
+    in.fabric.compliance_m_per_n[2] = float(f.bend_compliance);
+    in.fabric.damping_per_s = float(f.damping_per_s);
+    in.fabric.thickness_m = float(f.thickness_m);
+    in.fabric.friction = float(f.friction);
+    in.desc = cloth_mesh_desc(g);
+    in.desc.masses = in.masses.data();
+    in.desc.uv = g.uv.data();
+    if (!g.seam_first.empty()) {
+        in.desc.seam_point_count = uint32_t(g.seam_first.size() - 1);
+        in.desc.seam_first = g.seam_first.data();
+        in.desc.seam_source = g.seam_source.data();
+    }
+    in.desc.panel_count = uint32_t(g.panel_names.size());
+    in.desc.panel = in.panel.data();
+    in.desc.fabric = &in.fabric;
+    return in;
+}
+
+}  // namespace
+
+Status bake_pattern(std::string_view text, const BakeOptions& options, Baked* out) {
+    if (Status s = parse_pattern(text, options.parse, &out->pattern); !s.ok()) return s;
+    if (Status s = mesh_garment(out->pattern, options.mesh, &out->garment); !s.ok()) return s;
+    const GarmentInput input = garment_input(out->garment, out->pattern.fabric);
+    if (Result r = cook_cloth(input.desc, options.cook, &out->cooked); !r.ok()) return {r.message};
+    if (Result r = assets::write_asset(out->cooked.asset(), &out->bytes); !r.ok()) return {r.message};
+    assets::LoadedAsset check;
+    if (Result r = assets::load_asset_copy(out->bytes.data(), out->bytes.size(), &check); !r.ok())
+        return {std::string("the written asset does not load: ") + r.message};
+    return {};
+}
+
+}  // namespace weft::bake

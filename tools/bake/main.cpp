@@ -1,0 +1,165 @@
+// weft-bake: sewing patterns -> binary cloth assets the runtime loads in place.
+//
+//   weft-bake PATTERN.json -o OUT.weft [--target-edge METRES] [--simd-width 8|16] [--json]
+//             [--depfile FILE] [--offset X,Y,Z]
+//   weft-bake --info FILE.weft [--json]
+//
+// The pipeline is bake_pattern (bake.h); this file is the command line around it.
+// Exit status 0 on success; 1 with the reason on stderr for anything else.
+#include <cstdio>
+#include <fstream>
+#include <sstream>
+#include <string>
+#include <vector>
+
+#include <CLI/CLI.hpp>
+#include <nlohmann/json.hpp>
+
+#include "asset_writer.h"
+#include "bake.h"
+
+namespace {
+
+using namespace weft;
+using nlohmann::json;
+
+int fail(const std::string& message) {
+    std::fprintf(stderr, "weft-bake: %s\n", message.c_str());
+    return 1;
+}
+
+bool read_file(const std::string& path, std::string* out) {
+    std::ifstream file(path, std::ios::binary);
+    if (!file) return false;
+    std::ostringstream s;
+    s << file.rdbuf();
+    *out = s.str();
+    return bool(file) || file.eof();
+}
+
+// Make/Ninja depfile: the asset depends on the pattern (a pattern names no other file).
+std::string depfile_path(const std::string& path) {
+    std::string out;
+    for (char c : path) {
+        if (c == ' ' || c == '#') out += '\\';
+        if (c == '$') out += '$';
+        out += c;
+    }
+    return out;
+}
+
+json describe(const ClothAsset& a, uint64_t bytes) {
+    const LanePadding padding = lane_padding(a);
+    const uint32_t total = a.total_constraints();
+    return {{"particles", a.particle_count},
+            {"slots", a.slot_count},
+            {"triangles", a.triangle_count},
+            {"stretch_springs", a.constraint_count[0]},
+            {"shear_springs", a.constraint_count[1]},
+            {"bend_springs", a.constraint_count[2]},
+            {"seams", a.seam_point_count},
+            {"panels", a.panel_count},
+            {"batches", a.batch_count},
+            {"colours", a.colour_count},
+            {"simd_width", a.simd_width},
+            {"padding_ratio", padding.ratio()},
+            {"contiguous_fraction", total > 0 ? double(a.constraints_on_runs) / total : 0.0},
+            {"tethered_particles", a.tethered_particles},
+            {"coarse_nodes", a.coarse_node_count},
+            {"bytes", bytes}};
+}
+
+void print_human(const json& j) {
+    for (const auto& [key, value] : j.items()) std::printf("  %-22s %s\n", key.c_str(), value.dump().c_str());
+}
+
+int info(const std::string& path, bool as_json) {
+    std::string file;
+    if (!read_file(path, &file)) return fail("cannot read '" + path + "'");
+    assets::LoadedAsset loaded;
+    if (Result r = assets::load_asset_copy(file.data(), file.size(), &loaded); !r.ok())
+        return fail(path + ": " + r.message);
+    AssetFileInfo header;
+    read_asset_header(loaded.bytes.data(), loaded.bytes.size(), &header);
+    json j = describe(loaded.asset, file.size());
+    j["file"] = path;
+    j["format_version"] = std::to_string(header.version_major) + "." + std::to_string(header.version_minor);
+    char checksum[24];
+    std::snprintf(checksum, sizeof checksum, "%016llx", static_cast<unsigned long long>(header.checksum));
+    j["checksum_xxh64"] = checksum;
+    j["sections"] = header.section_count;
+    if (as_json) {
+        std::printf("%s\n", j.dump().c_str());
+    } else {
+        std::printf("%s: Weft asset, format %s\n", path.c_str(), j["format_version"].get<std::string>().c_str());
+        print_human(j);
+    }
+    return 0;
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+    CLI::App app{"weft-bake: sewing patterns (Weft or GarmentCode JSON) to Weft cloth assets"};
+    std::string pattern_path, out_path, depfile, info_path;
+    double target_edge = 0.0;
+    uint32_t simd_width = kSimdWidth;
+    std::vector<double> offset;
+    bool as_json = false;
+    app.add_option("pattern", pattern_path, "sewing pattern (docs/pattern-format.md)");
+    app.add_option("-o,--output", out_path, "the asset file to write (docs/asset-format.md)");
+    app.add_option("--target-edge", target_edge, "mesh edge length, metres (default: the pattern's, else 0.02)")
+        ->check(CLI::Range(1e-4, 10.0));
+    app.add_option("--simd-width", simd_width, "pad constraint batches for this SIMD width")
+        ->check(CLI::IsMember({8u, 16u}));
+    app.add_option("--offset", offset, "added to every panel's placement, metres (GarmentCode v1 patterns)")
+        ->expected(3)->delimiter(',');
+    app.add_option("--depfile", depfile, "write a Make/Ninja depfile for the output");
+    app.add_option("--info", info_path, "describe an asset file (loaded through the runtime's validating loader)");
+    app.add_flag("--json", as_json, "one JSON object instead of the human summary");
+    CLI11_PARSE(app, argc, argv);
+
+    if (!info_path.empty()) return info(info_path, as_json);
+    if (pattern_path.empty() || out_path.empty()) return fail("need PATTERN and -o OUT.weft (or --info FILE)");
+
+    std::string text;
+    if (!read_file(pattern_path, &text)) return fail("cannot read '" + pattern_path + "'");
+    bake::BakeOptions options;
+    for (size_t k = 0; k < offset.size(); ++k) options.parse.placement_offset_m[k] = offset[k];
+    options.mesh.target_edge_m = target_edge;
+    options.cook.simd_width = simd_width;
+    bake::Baked baked;
+    if (bake::Status s = bake::bake_pattern(text, options, &baked); !s.ok()) return fail(pattern_path + ": " + s.error);
+    const std::vector<std::byte>& bytes = baked.bytes;
+    const bake::MeshedGarment& garment = baked.garment;
+
+    std::ofstream out(out_path, std::ios::binary);
+    out.write(reinterpret_cast<const char*>(bytes.data()), std::streamsize(bytes.size()));
+    out.close();
+    if (!out) return fail("cannot write '" + out_path + "'");
+    if (!depfile.empty()) {
+        std::ofstream d(depfile);
+        d << depfile_path(out_path) << ": " << depfile_path(pattern_path) << "\n";
+        if (!d) return fail("cannot write '" + depfile + "'");
+    }
+
+    const bake::PanelQuality& q = garment.quality.overall;
+    json j = describe(baked.cooked.asset(), bytes.size());
+    j["pattern"] = pattern_path;
+    j["output"] = out_path;
+    j["format"] = baked.pattern.format;
+    j["target_edge_m"] = garment.quality.target_edge_m;
+    j["min_angle_deg"] = q.min_angle_deg;
+    j["min_angle_deg_away_from_sharp_corners"] = q.min_angle_deg_smooth;
+    j["total_mass_kg"] = garment.total_mass_kg;
+    j["area_m2"] = garment.area_m2;
+    j["pinned"] = garment.pinned.size();
+    if (as_json) {
+        std::printf("%s\n", j.dump().c_str());
+    } else {
+        std::printf("weft-bake %s -> %s (%zu panels, %s)\n", pattern_path.c_str(), out_path.c_str(),
+                    garment.panel_names.size(), baked.pattern.format.c_str());
+        print_human(j);
+    }
+    return 0;
+}
