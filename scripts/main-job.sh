@@ -1,7 +1,9 @@
 #!/usr/bin/env bash
-# The main job: builds Release and runs Weft's experiments. Until the garment pipeline exists these
-# are the seed paper's (Liu, Sun, Xu 2008, section 3): the drape timing table beside the paper's,
-# then the flag (wind) and sphere (collision) scenes. Timings: lowest median of 3 runs (see README).
+# The main job: builds Release, bakes the sample patterns (weft-bake, through the build's
+# weft_bake() rules), runs the baked drape in weft-sim, then the seed paper's experiments (Liu, Sun,
+# Xu 2008, section 3): the drape timing table beside the paper's, the flag (wind) and the sphere
+# (collision). Timings: lowest median of 3 runs (see README). Dressing the garment on the mannequin
+# and the pictures join when those issues land.
 #   bash scripts/main-job.sh
 # Environment: WEFT_BUILD_DIR (default build), WEFT_OUT_DIR (default out; JSON lines land there),
 # WEFT_BENCH_CPU (CPU to pin the single-threaded bench to; default 1 when there are two or more).
@@ -16,7 +18,7 @@ mkdir -p "$build_dir" "$out_dir"
 echo "== build (Release, $build_dir)"
 cmake -S "$root" -B "$build_dir" -G Ninja -DCMAKE_BUILD_TYPE=Release -DWEFT_SANITIZE=OFF >"$build_dir/configure.log" 2>&1 ||
   { cat "$build_dir/configure.log"; exit 1; }
-ninja -C "$build_dir" weft-bench >"$build_dir/build.log" 2>&1 || { grep -E -A5 'error|FAILED' "$build_dir/build.log" | head -n 80; exit 1; }
+ninja -C "$build_dir" weft-bench weft-sim weft-bake sample_assets >"$build_dir/build.log" 2>&1 || { grep -E -A5 'error|FAILED' "$build_dir/build.log" | head -n 80; exit 1; }
 
 bench=("$build_dir/tools/bench/weft-bench")
 cpus=$(nproc 2>/dev/null || echo 1)
@@ -29,6 +31,16 @@ json="$out_dir/seed-bench.jsonl"
 
 echo "== machine: $(grep -m1 'model name' /proc/cpuinfo | cut -d: -f2- | sed 's/^ *//'), $cpus CPUs, load $(cut -d' ' -f1-3 /proc/loadavg)"
 echo "== bench: ${bench[*]}"
+echo
+echo "== bake: samples/patterns -> $build_dir/samples/assets"
+for asset in "$build_dir"/samples/assets/*.weft; do
+  "$build_dir/tools/bake/weft-bake" --info "$asset" --json
+done
+echo
+echo "== weft-sim: the seed drape from the baked sheet, then from the in-memory grid"
+sim=("${bench[@]:0:${#bench[@]}-1}" "$build_dir/tools/sim/weft-sim")
+"${sim[@]}" samples/scenes/drape-baked.json --assets "$build_dir/samples/assets"
+"${sim[@]}" samples/scenes/drape.json
 echo
 "${bench[@]}" drape --sizes 25,50,75,100 --repeat 3 --json-out "$json"
 echo
