@@ -65,8 +65,11 @@ inline void resolve_contact(const Particles& p, uint32_t i, const Vec3W<F>& x, c
 enum class SegmentShape { sphere, capsule, cylinder };
 
 template <class F, SegmentShape kShape>
-void collide_segment(const Particles& p, const ColliderKernelArgs& c) {
+void collide_segment(const Particles& particles, const ColliderKernelArgs& collider) {
     using namespace simd;
+    // Local copies: the pass's stores cannot alias them, so pointers and constants stay in registers.
+    const Particles p = particles;
+    const ColliderKernelArgs c = collider;
     const Vec3 axis{c.p1.x - c.p0.x, c.p1.y - c.p0.y, c.p1.z - c.p0.z};
     const float axis_len2 = axis.x * axis.x + axis.y * axis.y + axis.z * axis.z;
     const F inv_axis_len2 = splat(axis_len2 > 0.0f ? 1.0f / axis_len2 : 0.0f, F{});
@@ -103,8 +106,10 @@ void collide_segment(const Particles& p, const ColliderKernelArgs& c) {
 
 // Half-space below a plane through p0 with unit normal, offset by the inflation.
 template <class F>
-void collide_plane(const Particles& p, const ColliderKernelArgs& c) {
+void collide_plane(const Particles& particles, const ColliderKernelArgs& collider) {
     using namespace simd;
+    const Particles p = particles;  // local copies, as in collide_segment
+    const ColliderKernelArgs c = collider;
     const Vec3W<F> n{splat(c.normal.x, F{}), splat(c.normal.y, F{}), splat(c.normal.z, F{})};
     const Vec3W<F> p0{splat(c.p0.x, F{}), splat(c.p0.y, F{}), splat(c.p0.z, F{})};
     const F offset = splat(c.radius, F{});
