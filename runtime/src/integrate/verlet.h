@@ -11,17 +11,11 @@
 #include <utility>
 
 #include "constraints/coarse.h"
+#include "integrate/predict.h"
 #include "kernels.h"
 #include "simd/float_w.h"
 
 namespace weft {
-
-// The Verlet prediction of one lane group; shared with the coarse level's node prediction so
-// both give the same bits.
-template <class F>
-inline F verlet_predict(F x, F previous, F acceleration, F velocity_scale, F h2) {
-    return simd::mul_add(acceleration, h2, simd::mul_add(x - previous, velocity_scale, x));
-}
 
 // One lane group at slot i. Lanes below `done_lanes` already hold this pass's result (the group
 // overlaps the previous one at a row's end) and are kept: a row's tail costs one more full group
