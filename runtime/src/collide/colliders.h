@@ -24,10 +24,13 @@ inline F dot(const Vec3W<F>& a, const Vec3W<F>& b) {
     return simd::mul_add(a.x, b.x, simd::mul_add(a.y, b.y, a.z * b.z));
 }
 
-// Moves the contact target against the tangential motion it would otherwise keep.
-template <class F>
+// Moves the contact target against the tangential motion it would otherwise keep. A sticking lane
+// (|tangent| <= friction * penetration, compared squared) cancels its whole tangent; only a group
+// with a sliding contact pays the square root and division of the shortening (most contacts stick
+// once the cloth rests, and the divider is this pass's bottleneck).
+template <class F, class Mask>
 inline void apply_friction(Vec3W<F>& target, const Vec3W<F>& previous, const Vec3W<F>& normal,
-                           F penetration, const ColliderKernelArgs& c) {
+                           F penetration, Mask contact, const ColliderKernelArgs& c) {
     using namespace simd;
     const Vec3W<F> disp{target.x - previous.x - splat(c.motion.x, F{}),
                         target.y - previous.y - splat(c.motion.y, F{}),
@@ -36,10 +39,11 @@ inline void apply_friction(Vec3W<F>& target, const Vec3W<F>& previous, const Vec
     const Vec3W<F> tangent{neg_mul_add(normal_part, normal.x, disp.x),
                            neg_mul_add(normal_part, normal.y, disp.y),
                            neg_mul_add(normal_part, normal.z, disp.z)};
-    const F tangent_len = sqrt(dot(tangent, tangent));
+    const F tangent_len2 = dot(tangent, tangent);
     const F limit = splat(c.friction, F{}) * penetration;
-    const F one = splat(1.0f, F{});
-    const F cancel = keep_if(tangent_len > splat(1e-12f, F{}), min(limit / tangent_len, one));
+    const auto slides = tangent_len2 > limit * limit;  // so tangent_len2 > 0 where it is divided by
+    F cancel = splat(1.0f, F{});
+    if (any(slides & contact)) cancel = select(slides, limit / sqrt(tangent_len2), cancel);
     target.x = neg_mul_add(cancel, tangent.x, target.x);
     target.y = neg_mul_add(cancel, tangent.y, target.y);
     target.z = neg_mul_add(cancel, tangent.z, target.z);
@@ -54,7 +58,7 @@ inline void resolve_contact(const Particles& p, uint32_t i, const Vec3W<F>& x, c
     Vec3W<F> target{mul_add(n.x, penetration, x.x), mul_add(n.y, penetration, x.y), mul_add(n.z, penetration, x.z)};
     if (c.friction > 0.0f) {
         const Vec3W<F> previous{load(p.previous_x + i, F{}), load(p.previous_y + i, F{}), load(p.previous_z + i, F{})};
-        apply_friction(target, previous, n, penetration, c);
+        apply_friction(target, previous, n, penetration, contact, c);
     }
     store(p.x + i, select(contact, target.x, x.x));
     store(p.y + i, select(contact, target.y, x.y));
