@@ -93,26 +93,30 @@ void solve_coarse_level(const Particles& particles, const IntegrateArgs& integra
 // every plane column once (a 32-entry register lookup, no gathers), and each plane row then blends
 // the two coarse rows around it with contiguous loads. Plane rows visit coarse rows in order, so two
 // interpolated rows are kept and the next one is made only when the plane row crosses into it.
-template <class F>
-inline void interpolate_columns(const ClothAsset& a, const float* node_row, uint32_t parity, uint32_t column,
-                                float* out) {
+template <class F, class Table>
+inline void interpolate_columns(const ClothAsset& a, const Table& left_nodes, const Table& right_nodes,
+                                uint32_t parity, uint32_t column, float* out) {
     using namespace simd;
     const uint32_t* node = a.coarse_col_node[parity] + column;
-    const F left = lookup32(node_row, node, F{}), right = lookup32(node_row + 1, node, F{});
+    const F left = lookup32(left_nodes, node, F{}), right = lookup32(right_nodes, node, F{});
     store(out + column, mul_add(load(a.coarse_col_frac[parity] + column, F{}), right - left, left));
 }
 
 template <class F>
 void interpolate_coarse_row(const ClothAsset& a, const CoarseState& st, uint32_t coarse_row, uint32_t parity,
                             float* const out[3]) {
+    using simd::Float1;
     const float* const node_row[3] = {st.dx + coarse_row * a.coarse_lattice_cols,
                                       st.dy + coarse_row * a.coarse_lattice_cols,
                                       st.dz + coarse_row * a.coarse_lattice_cols};
     const uint32_t cols = a.lattice_plane_cols;
     for (int axis = 0; axis < 3; ++axis) {
+        // The row's nodes (left) and the row shifted by one (right) stay in registers for the loop.
+        const auto left = load_table32(node_row[axis], F{}), right = load_table32(node_row[axis] + 1, F{});
         uint32_t c = 0;
-        for (; c + F::width <= cols; c += F::width) interpolate_columns<F>(a, node_row[axis], parity, c, out[axis]);
-        for (; c < cols; ++c) interpolate_columns<simd::Float1>(a, node_row[axis], parity, c, out[axis]);
+        for (; c + F::width <= cols; c += F::width) interpolate_columns<F>(a, left, right, parity, c, out[axis]);
+        const auto left1 = load_table32(node_row[axis], Float1{}), right1 = load_table32(node_row[axis] + 1, Float1{});
+        for (; c < cols; ++c) interpolate_columns<Float1>(a, left1, right1, parity, c, out[axis]);
     }
 }
 
