@@ -21,8 +21,10 @@ struct AssetCopy {
     std::vector<float> tether_rest[2];
     std::vector<TetherBatch> tether_batches;
     std::vector<uint32_t> triangles;
-    std::vector<uint32_t> coarse_node_slot, coarse_a, coarse_b;
-    std::vector<float> coarse_inverse_mass, coarse_rest;
+    std::vector<uint32_t> coarse_node_slot, coarse_slot_of_node, coarse_node_of_slot;
+    std::vector<float> coarse_inverse_mass, coarse_rest_length, coarse_lane_weight;
+    std::vector<uint32_t> coarse_index_a, coarse_index_b;
+    std::vector<ConstraintBatch> coarse_batches;
     std::vector<uint32_t> coarse_weight_node[kCoarseWeights];
     std::vector<float> coarse_weight[kCoarseWeights];
     std::vector<uint32_t> coarse_row_node[2], coarse_col_node[2];
@@ -59,10 +61,14 @@ struct AssetCopy {
         copy(wind_runs, a.wind_runs, a.wind_run_count);
         copy(wind_lane_weight, a.wind_lane_weight, a.wind_lane_count);
         copy(coarse_node_slot, a.coarse_node_slot, a.coarse_node_count);
-        copy(coarse_inverse_mass, a.coarse_inverse_mass, a.coarse_node_count);
-        copy(coarse_a, a.coarse_a, a.coarse_constraint_count);
-        copy(coarse_b, a.coarse_b, a.coarse_constraint_count);
-        copy(coarse_rest, a.coarse_rest, a.coarse_constraint_count);
+        copy(coarse_slot_of_node, a.coarse_slot_of_node, a.coarse_node_count);
+        copy(coarse_node_of_slot, a.coarse_node_of_slot, a.coarse_slot_count);
+        copy(coarse_inverse_mass, a.coarse_inverse_mass, a.coarse_slot_count);
+        copy(coarse_rest_length, a.coarse_rest_length, a.coarse_lane_count);
+        copy(coarse_lane_weight, a.coarse_lane_weight, a.coarse_lane_count);
+        copy(coarse_index_a, a.coarse_index_a, a.coarse_lane_count);
+        copy(coarse_index_b, a.coarse_index_b, a.coarse_lane_count);
+        copy(coarse_batches, a.coarse_batches, a.coarse_batch_count);
         for (uint32_t k = 0; k < kCoarseWeights; ++k) {
             copy(coarse_weight_node[k], a.coarse_weight_node[k], a.slot_count);
             copy(coarse_weight[k], a.coarse_weight[k], a.slot_count);
@@ -101,10 +107,14 @@ struct AssetCopy {
         repoint(asset.wind_runs, wind_runs);
         repoint(asset.wind_lane_weight, wind_lane_weight);
         repoint(asset.coarse_node_slot, coarse_node_slot);
+        repoint(asset.coarse_slot_of_node, coarse_slot_of_node);
+        repoint(asset.coarse_node_of_slot, coarse_node_of_slot);
         repoint(asset.coarse_inverse_mass, coarse_inverse_mass);
-        repoint(asset.coarse_a, coarse_a);
-        repoint(asset.coarse_b, coarse_b);
-        repoint(asset.coarse_rest, coarse_rest);
+        repoint(asset.coarse_rest_length, coarse_rest_length);
+        repoint(asset.coarse_lane_weight, coarse_lane_weight);
+        repoint(asset.coarse_index_a, coarse_index_a);
+        repoint(asset.coarse_index_b, coarse_index_b);
+        repoint(asset.coarse_batches, coarse_batches);
         for (uint32_t k = 0; k < kCoarseWeights; ++k) {
             repoint(asset.coarse_weight_node[k], coarse_weight_node[k]);
             repoint(asset.coarse_weight[k], coarse_weight[k]);
@@ -476,17 +486,42 @@ TEST_CASE("corrupt asset: coarse node slot past the slots") {
     });
 }
 
-TEST_CASE("corrupt asset: coarse constraint joins a node past the nodes") {
+TEST_CASE("corrupt asset: coarse constraint joins a node slot past the node slots") {
     expect_corrupt([](AssetCopy& c) {
-        REQUIRE(!c.coarse_b.empty());
-        c.coarse_b[0] = c.asset.coarse_node_count;
+        REQUIRE(!c.coarse_index_b.empty());
+        c.coarse_index_b.back() = c.asset.coarse_slot_count;
     });
 }
 
 TEST_CASE("corrupt asset: coarse constraint with NaN rest length") {
     expect_corrupt([](AssetCopy& c) {
-        REQUIRE(!c.coarse_rest.empty());
-        c.coarse_rest[c.coarse_rest.size() / 2] = std::numeric_limits<float>::quiet_NaN();
+        REQUIRE(!c.coarse_rest_length.empty());
+        c.coarse_rest_length[c.coarse_rest_length.size() / 2] = std::numeric_limits<float>::quiet_NaN();
+    });
+}
+
+TEST_CASE("corrupt asset: coarse run that is not contiguous") {
+    expect_corrupt([](AssetCopy& c) {
+        for (const ConstraintBatch& b : c.coarse_batches)
+            if (b.layout == BatchLayout::run) {
+                c.coarse_index_a[b.first_lane + 3] += 1;
+                return;
+            }
+        FAIL("the fixture's coarse level has no run");
+    });
+}
+
+TEST_CASE("corrupt asset: two coarse batches of one colour share a node slot") {
+    expect_corrupt([](AssetCopy& c) {
+        REQUIRE(c.coarse_batches.size() >= 2);
+        for (ConstraintBatch& b : c.coarse_batches) b.colour = 0;  // neighbouring families share nodes
+    });
+}
+
+TEST_CASE("corrupt asset: coarse node and node slot that do not map both ways") {
+    expect_corrupt([](AssetCopy& c) {
+        REQUIRE(c.coarse_slot_of_node.size() >= 2);
+        std::swap(c.coarse_slot_of_node[0], c.coarse_slot_of_node[1]);
     });
 }
 

@@ -25,12 +25,36 @@ struct Particles {
     float* wind_z = nullptr;
 };
 
-// The coarse level's state for one cloth: node positions and their displacement this substep.
-struct CoarseState {
-    float* x = nullptr;  // [coarse_node_count]
+// What the distance kernels move: positions and inverse masses by slot. A cloth's particles, or
+// its coarse level's nodes (by node slot), so both levels share one projection kernel.
+struct PointSet {
+    float* x = nullptr;
     float* y = nullptr;
     float* z = nullptr;
-    float* dx = nullptr;
+    const float* inverse_mass = nullptr;
+};
+inline PointSet points_of(const Particles& p) { return {p.x, p.y, p.z, p.inverse_mass}; }
+
+// One set of distance constraints in lanes (ClothAsset: the springs, or the coarse level's).
+struct ConstraintLanes {
+    const float* rest_length = nullptr;
+    const float* lane_weight = nullptr;  // 1 real, 0 padding
+    const uint32_t* index_a = nullptr;   // slots of the PointSet
+    const uint32_t* index_b = nullptr;
+};
+inline ConstraintLanes spring_lanes(const ClothAsset& a) {
+    return {a.rest_length, a.lane_weight, a.index_a, a.index_b};
+}
+inline ConstraintLanes coarse_lanes(const ClothAsset& a) {
+    return {a.coarse_rest_length, a.coarse_lane_weight, a.coarse_index_a, a.coarse_index_b};
+}
+
+// The coarse level's state for one cloth: node positions and their displacement this substep.
+struct CoarseState {
+    float* x = nullptr;  // [coarse_slot_count] by node slot (the solve's layout)
+    float* y = nullptr;
+    float* z = nullptr;
+    float* dx = nullptr;  // [coarse_node_count + kCoarseNodePadding] by node (row-major on a lattice)
     float* dy = nullptr;
     float* dz = nullptr;
     // Lattice form: two coarse rows interpolated to every plane column ([lattice_plane_cols + pad]
@@ -71,9 +95,13 @@ struct Kernels {
     SimdPath path;
     // Verlet, plus the coarse level's displacement when `coarse` is not null.
     void (*integrate)(const Particles&, const IntegrateArgs&, const ClothAsset&, const CoarseState* coarse);
+    // The coarse level's sweep on its nodes' Verlet prediction; leaves the node displacements in
+    // CoarseState::dx/dy/dz for `integrate`.
+    void (*solve_coarse_level)(const Particles&, const IntegrateArgs&, const ClothAsset&, const CoarseState&,
+                               float relaxation);
     // [0]: exact, [1]: sqrt_free (SpringProjection)
-    void (*project_run[2])(const Particles&, const ClothAsset&, const ConstraintBatch&, const DistanceArgs&);
-    void (*project_indexed[2])(const Particles&, const ClothAsset&, const ConstraintBatch&, const DistanceArgs&);
+    void (*project_run[2])(const PointSet&, const ConstraintLanes&, const ConstraintBatch&, const DistanceArgs&);
+    void (*project_indexed[2])(const PointSet&, const ConstraintLanes&, const ConstraintBatch&, const DistanceArgs&);
     void (*project_tethers)(const Particles&, const ClothAsset&, const TetherBatch&, float slack);
     void (*collide)(const Particles&, const ColliderKernelArgs&);
     void (*apply_wind)(const Particles&, const ClothAsset&, const WindArgs&);

@@ -1,6 +1,7 @@
 // The AVX2 + FMA path: the same kernel templates at eight lanes.
 #include "aerodynamics/wind.h"
 #include "collide/colliders.h"
+#include "constraints/coarse.h"
 #include "constraints/distance.h"
 #include "constraints/tethers.h"
 #include "integrate/verlet.h"
@@ -16,7 +17,7 @@ namespace weft {
 const Kernels* avx2_kernels() {
     if (!__builtin_cpu_supports("avx2") || !__builtin_cpu_supports("fma")) return nullptr;
     using F = simd::Float8;
-    static constexpr Kernels kernels{SimdPath::avx2, integrate_verlet<F>,
+    static constexpr Kernels kernels{SimdPath::avx2, integrate_verlet<F>, solve_coarse_level<F>,
                                      {project_run<F, true>, project_run<F, false>},
                                      {project_indexed<true>, project_indexed<false>},
                                      project_tethers<F>, collide<F>, apply_wind<F>};

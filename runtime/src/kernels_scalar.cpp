@@ -2,6 +2,7 @@
 // path is tested against.
 #include "aerodynamics/wind.h"
 #include "collide/colliders.h"
+#include "constraints/coarse.h"
 #include "constraints/distance.h"
 #include "constraints/tethers.h"
 #include "integrate/verlet.h"
@@ -11,7 +12,7 @@ namespace weft {
 
 const Kernels& scalar_kernels() {
     using F = simd::Float1;
-    static constexpr Kernels kernels{SimdPath::scalar, integrate_verlet<F>,
+    static constexpr Kernels kernels{SimdPath::scalar, integrate_verlet<F>, solve_coarse_level<F>,
                                      {project_run<F, true>, project_run<F, false>},
                                      {project_indexed<true>, project_indexed<false>},
                                      project_tethers<F>, collide<F>, apply_wind<F>};

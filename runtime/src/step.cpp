@@ -17,7 +17,6 @@
 #include <utility>
 
 #include "aerodynamics/wind.h"
-#include "integrate/verlet.h"
 #include "world_internal.h"
 
 namespace weft {
@@ -69,20 +68,8 @@ bool has_coarse_level(const ClothInstance& cloth) {
 void correct_coarse_level(World& world, ClothInstance& cloth, float h) {
     if (!has_coarse_level(cloth)) return;
     PassTimer timer(world, Pass::coarse);
-    const IntegrateArgs args = integrate_args(world, cloth, h);
-    const Particles& p = cloth.particles;
-    using simd::Float1;
-    const Float1 h2{args.h2_s2}, scale{args.velocity_scale};
-    auto predict = [&](uint32_t s) -> Vec3 {
-        if (!(p.inverse_mass[s] > 0.0f)) return {p.x[s], p.y[s], p.z[s]};
-        const Float1 ax{args.gravity.x + (args.wind ? p.wind_x[s] : 0.0f)};
-        const Float1 ay{args.gravity.y + (args.wind ? p.wind_y[s] : 0.0f)};
-        const Float1 az{args.gravity.z + (args.wind ? p.wind_z[s] : 0.0f)};
-        return {verlet_predict(Float1{p.x[s]}, Float1{p.previous_x[s]}, ax, scale, h2).v,
-                verlet_predict(Float1{p.y[s]}, Float1{p.previous_y[s]}, ay, scale, h2).v,
-                verlet_predict(Float1{p.z[s]}, Float1{p.previous_z[s]}, az, scale, h2).v};
-    };
-    solve_coarse_level(*cloth.asset, cloth.coarse, cloth.split.relaxation, predict);
+    world.kernels->solve_coarse_level(cloth.particles, integrate_args(world, cloth, h), *cloth.asset, cloth.coarse,
+                                      cloth.split.relaxation);
 }
 
 void integrate(World& world, ClothInstance& cloth, float h) {
@@ -105,13 +92,15 @@ void correct_springs(World& world, ClothInstance& cloth, float h) {
     const uint32_t mode = static_cast<uint32_t>(cloth.settings.projection);
     const auto project_run = world.kernels->project_run[mode];
     const auto project_indexed = world.kernels->project_indexed[mode];
+    const PointSet points = points_of(cloth.particles);
+    const ConstraintLanes springs = spring_lanes(asset);
     for (uint32_t b = 0; b < asset.batch_count; ++b) {
         const ConstraintBatch& batch = asset.batches[b];
         const DistanceArgs& a = args[static_cast<uint32_t>(batch.kind)];
         if (batch.layout == BatchLayout::run) {
-            project_run(cloth.particles, asset, batch, a);
+            project_run(points, springs, batch, a);
         } else {
-            project_indexed(cloth.particles, asset, batch, a);
+            project_indexed(points, springs, batch, a);
         }
     }
 }

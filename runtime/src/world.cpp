@@ -57,12 +57,17 @@ uint32_t arrays_per_cloth(const WorldDesc& desc) { return desc.wind ? 10u : 7u; 
 
 bool finite(Vec3 v) { return std::isfinite(v.x) && std::isfinite(v.y) && std::isfinite(v.z); }
 
+// Asset validation stamps every particle slot and every coarse node slot.
+uint32_t validation_scratch_count(const WorldDesc& desc) {
+    return desc.max_particles > desc.max_coarse_nodes ? desc.max_particles : desc.max_coarse_nodes;
+}
+
 ArenaSizer size_world(const WorldDesc& desc) {
     ArenaSizer sizer;
     sizer.add(sizeof(World));
     sizer.add(sizeof(ClothInstance) * desc.max_cloths);
     sizer.add(sizeof(ColliderState) * desc.max_colliders);
-    sizer.add(sizeof(uint32_t) * desc.max_particles);
+    sizer.add(sizeof(uint32_t) * validation_scratch_count(desc));
     // Each cloth's arrays start on a cache line; every cloth may waste up to one line per array.
     const size_t arrays = arrays_per_cloth(desc);
     sizer.add(arrays * (sizeof(float) * size_t(desc.max_particles) + kCacheLine * desc.max_cloths));
@@ -208,7 +213,7 @@ void reserve_cloth(WorldDesc& desc, const ClothAsset& asset) {
     desc.max_cloths += 1;
     desc.max_particles += asset.slot_count;
     desc.max_constraints += asset.lane_count;
-    desc.max_coarse_nodes += asset.coarse_node_count;
+    desc.max_coarse_nodes += asset.coarse_slot_count;
 }
 
 MemoryRequirements world_memory_requirements(const WorldDesc& desc) {
@@ -235,7 +240,7 @@ Result create_world(const WorldDesc& desc, void* memory, size_t bytes, World** o
     for (uint32_t i = 0; i < desc.max_cloths; ++i) new (&world->cloths[i]) ClothInstance();
     world->colliders = arena.allocate_array<ColliderState>(desc.max_colliders);
     for (uint32_t i = 0; i < desc.max_colliders; ++i) new (&world->colliders[i]) ColliderState();
-    world->validation_scratch = arena.allocate_array<uint32_t>(desc.max_particles);
+    world->validation_scratch = arena.allocate_array<uint32_t>(validation_scratch_count(desc));
     world->arena = arena;
     world->gravity_m_s2 = desc.gravity_m_s2;
 
@@ -262,10 +267,10 @@ Result add_cloth(World* world, const ClothDesc& desc, ClothId* out_cloth) {
     if (asset.lane_count > world->desc.max_constraints - world->constraints_used)
         return make_error(ErrorCode::capacity_exceeded, "cloth needs %u constraint lanes, %u left",
                           asset.lane_count, world->desc.max_constraints - world->constraints_used);
-    if (asset.coarse_node_count > world->desc.max_coarse_nodes - world->coarse_nodes_used)
-        return make_error(ErrorCode::capacity_exceeded, "cloth needs %u coarse nodes, %u left",
-                          asset.coarse_node_count, world->desc.max_coarse_nodes - world->coarse_nodes_used);
-    if (Result r = validate_asset_with_scratch(asset, world->validation_scratch, world->desc.max_particles);
+    if (asset.coarse_slot_count > world->desc.max_coarse_nodes - world->coarse_nodes_used)
+        return make_error(ErrorCode::capacity_exceeded, "cloth needs %u coarse node slots, %u left",
+                          asset.coarse_slot_count, world->desc.max_coarse_nodes - world->coarse_nodes_used);
+    if (Result r = validate_asset_with_scratch(asset, world->validation_scratch, validation_scratch_count(world->desc));
         !r.ok())
         return r;
 
@@ -275,7 +280,7 @@ Result add_cloth(World* world, const ClothDesc& desc, ClothId* out_cloth) {
     const uint32_t count = arrays_per_cloth(world->desc);
     for (uint32_t i = 0; i < count + 12; ++i) {
         const uint32_t length = i < count       ? asset.slot_count
-                                : i < count + 6 ? asset.coarse_node_count + kCoarseNodePadding
+                                : i < count + 6 ? asset.coarse_slot_count + kCoarseNodePadding
                                                 : asset.lattice_plane_cols + kSimdWidth;
         arrays[i] = world->arena.allocate_array<float>(length);
         if (arrays[i] == nullptr) {
@@ -311,11 +316,11 @@ Result add_cloth(World* world, const ClothDesc& desc, ClothId* out_cloth) {
     c.dz = arrays[count + 5];
     for (uint32_t i = 0; i < 6; ++i) c.column_rows[i] = arrays[count + 6 + i];
     for (float* node_array : {c.x, c.y, c.z, c.dx, c.dy, c.dz})  // the padding is read, never used
-        for (uint32_t i = 0; i < asset.coarse_node_count + kCoarseNodePadding; ++i) node_array[i] = 0.0f;
+        for (uint32_t i = 0; i < asset.coarse_slot_count + kCoarseNodePadding; ++i) node_array[i] = 0.0f;
     place_at_start(cloth);
     world->particles_used += asset.slot_count;
     world->constraints_used += asset.lane_count;
-    world->coarse_nodes_used += asset.coarse_node_count;
+    world->coarse_nodes_used += asset.coarse_slot_count;
     out_cloth->index = world->cloth_count++;
     return {};
 }

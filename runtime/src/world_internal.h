@@ -30,7 +30,7 @@ struct World {
     uint32_t cloth_count = 0;
     ColliderState* colliders = nullptr;  // [desc.max_colliders]
     uint32_t collider_count = 0;
-    uint32_t* validation_scratch = nullptr;  // [desc.max_particles], for validate_asset
+    uint32_t* validation_scratch = nullptr;  // [max(max_particles, max_coarse_nodes)], for validate_asset
     uint32_t particles_used = 0;
     uint32_t constraints_used = 0;
     uint32_t coarse_nodes_used = 0;

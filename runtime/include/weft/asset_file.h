@@ -74,6 +74,11 @@ struct AssetFileHeader {
     uint32_t has_uv;      // 0 or 1
     uint32_t has_fabric;  // 0 or 1
     Fabric fabric;        // 7 floats
+    // The coarse level's node slots and constraint lanes (ClothAsset).
+    uint32_t coarse_slot_count;
+    uint32_t coarse_lane_count;
+    uint32_t coarse_batch_count;
+    uint32_t coarse_colour_count;
 };
 
 // One entry of the section table (header_size + i * 32).
@@ -107,9 +112,9 @@ enum class AssetSectionKind : uint32_t {
     wind_lane_weight,
     coarse_node_slot,
     coarse_inverse_mass,
-    coarse_a,
-    coarse_b,  // 21
-    coarse_rest,
+    retired_20,  // kinds 20-22 held the coarse constraints before they became lanes: never written
+    retired_21,
+    retired_22,
     coarse_weight_node_0,
     coarse_weight_node_1,
     coarse_weight_node_2,
@@ -130,8 +135,15 @@ enum class AssetSectionKind : uint32_t {
     seam_first,
     seam_source,  // 41
     panel,
+    coarse_slot_of_node,  // 43
+    coarse_node_of_slot,
+    coarse_rest_length,
+    coarse_lane_weight,
+    coarse_index_a,
+    coarse_index_b,
+    coarse_batches,  // 49
 };
-inline constexpr uint32_t kAssetSectionKindCount = 42;  // known kinds: 1..kAssetSectionKindCount
+inline constexpr uint32_t kAssetSectionKindCount = 49;  // known kinds: 1..kAssetSectionKindCount
 
 // Name of a section kind ("unknown" for kinds this runtime does not know).
 const char* asset_section_name(uint32_t kind);
@@ -164,10 +176,14 @@ void visit_asset_sections(const AssetFileHeader& h, Asset& a, Visit&& visit) {
     visit(K::wind_runs, a.wind_runs, uint64_t(h.wind_run_count));
     visit(K::wind_lane_weight, a.wind_lane_weight, uint64_t(h.wind_lane_count));
     visit(K::coarse_node_slot, a.coarse_node_slot, uint64_t(h.coarse_node_count));
-    visit(K::coarse_inverse_mass, a.coarse_inverse_mass, uint64_t(h.coarse_node_count));
-    visit(K::coarse_a, a.coarse_a, uint64_t(h.coarse_constraint_count));
-    visit(K::coarse_b, a.coarse_b, uint64_t(h.coarse_constraint_count));
-    visit(K::coarse_rest, a.coarse_rest, uint64_t(h.coarse_constraint_count));
+    visit(K::coarse_inverse_mass, a.coarse_inverse_mass, uint64_t(h.coarse_slot_count));
+    visit(K::coarse_slot_of_node, a.coarse_slot_of_node, uint64_t(h.coarse_node_count));
+    visit(K::coarse_node_of_slot, a.coarse_node_of_slot, uint64_t(h.coarse_slot_count));
+    visit(K::coarse_rest_length, a.coarse_rest_length, uint64_t(h.coarse_lane_count));
+    visit(K::coarse_lane_weight, a.coarse_lane_weight, uint64_t(h.coarse_lane_count));
+    visit(K::coarse_index_a, a.coarse_index_a, uint64_t(h.coarse_lane_count));
+    visit(K::coarse_index_b, a.coarse_index_b, uint64_t(h.coarse_lane_count));
+    visit(K::coarse_batches, a.coarse_batches, uint64_t(h.coarse_batch_count));
     for (uint32_t k = 0; k < kCoarseWeights; ++k)
         visit(K(uint32_t(K::coarse_weight_node_0) + k), a.coarse_weight_node[k], coarse_slots);
     for (uint32_t k = 0; k < kCoarseWeights; ++k)
@@ -211,6 +227,10 @@ void pair_asset_scalars(Header& h, Asset& a, Copy&& copy) {
     copy(h.panel_count, a.panel_count);
     copy(h.has_fabric, a.has_fabric);
     copy(h.fabric, a.fabric);
+    copy(h.coarse_slot_count, a.coarse_slot_count);
+    copy(h.coarse_lane_count, a.coarse_lane_count);
+    copy(h.coarse_batch_count, a.coarse_batch_count);
+    copy(h.coarse_colour_count, a.coarse_colour_count);
 }
 
 // ---------------------------------------------------------------------------------------------
@@ -234,7 +254,7 @@ struct AssetFileInfo {
     // The asset's scalar fields: counts, simd_width, lattice sizes, fabric. Its pointers are null.
     ClothAsset counts;
     bool has_uv = false;
-    // uint32 values load_asset_in_place needs as scratch (the slot count).
+    // uint32 values load_asset_in_place needs as scratch (the larger of the slot counts).
     uint32_t load_scratch_count = 0;
     uint32_t section_count = 0;
     AssetSectionInfo sections[kMaxAssetSections];

@@ -136,12 +136,24 @@ struct ClothAsset {
     // to kCoarseWeights nearby nodes. It carries a correction across the cloth in one sweep that the
     // fine springs would need tens of sweeps to propagate. Absent when coarse_node_count is 0.
     uint32_t coarse_node_count = 0;
-    const uint32_t* coarse_node_slot = nullptr;    // [coarse_node_count]
-    const float* coarse_inverse_mass = nullptr;    // [coarse_node_count] 1/kg, 0 = pinned node
-    uint32_t coarse_constraint_count = 0;
-    const uint32_t* coarse_a = nullptr;            // [coarse_constraint_count] node indices
-    const uint32_t* coarse_b = nullptr;
-    const float* coarse_rest = nullptr;            // metres
+    const uint32_t* coarse_node_slot = nullptr;    // [coarse_node_count] the node's particle slot
+    // The coarse solve keeps its nodes in node slots, as the fine level keeps particles in slots: on
+    // a lattice, the node lattice's four parity planes, so that every family of coarse constraints
+    // becomes contiguous runs for the same kernels as the fine springs; otherwise node j in slot j.
+    uint32_t coarse_slot_count = 0;                // >= coarse_node_count, a multiple of kSimdWidth
+    const uint32_t* coarse_slot_of_node = nullptr; // [coarse_node_count]
+    const uint32_t* coarse_node_of_slot = nullptr; // [coarse_slot_count] (padding: node 0, never moved)
+    const float* coarse_inverse_mass = nullptr;    // [coarse_slot_count] 1/kg, 0 = pinned node or padding
+    // The coarse constraints in lanes and batches over node slots, laid out like the fine springs.
+    uint32_t coarse_constraint_count = 0;          // real constraints (padding lanes excluded)
+    uint32_t coarse_lane_count = 0;
+    const float* coarse_rest_length = nullptr;     // [coarse_lane_count] metres
+    const float* coarse_lane_weight = nullptr;     // [coarse_lane_count] 1 real, 0 padding
+    const uint32_t* coarse_index_a = nullptr;      // [coarse_lane_count] node slots
+    const uint32_t* coarse_index_b = nullptr;
+    uint32_t coarse_batch_count = 0;
+    const ConstraintBatch* coarse_batches = nullptr;
+    uint32_t coarse_colour_count = 0;
     const uint32_t* coarse_weight_node[kCoarseWeights] = {};  // [slot_count] node (0 where weight is 0)
     const float* coarse_weight[kCoarseWeights] = {};          // [slot_count] partition of unity, 0 on pinned
 
@@ -248,8 +260,12 @@ public:
     std::vector<TriangleRun> wind_runs;
     std::vector<float> wind_lane_weight;
     uint32_t wind_run_triangles = 0;
-    std::vector<uint32_t> coarse_node_slot, coarse_a, coarse_b;
-    std::vector<float> coarse_inverse_mass, coarse_rest;
+    std::vector<uint32_t> coarse_node_slot, coarse_slot_of_node, coarse_node_of_slot;
+    std::vector<float> coarse_inverse_mass;
+    std::vector<float> coarse_rest_length, coarse_lane_weight;
+    std::vector<uint32_t> coarse_index_a, coarse_index_b;
+    std::vector<ConstraintBatch> coarse_batches;
+    uint32_t coarse_colour_count = 0, coarse_constraint_count = 0;
     std::vector<uint32_t> coarse_weight_node[kCoarseWeights];
     std::vector<float> coarse_weight[kCoarseWeights];
     uint32_t coarse_lattice_cols = 0, lattice_plane_rows = 0, lattice_plane_cols = 0;

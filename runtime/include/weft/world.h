@@ -36,7 +36,7 @@ struct WorldDesc {
     uint32_t max_particles = 0;    // summed over cloth instances (their asset's particle slots)
     uint32_t max_constraints = 0;  // summed constraint lanes the step may project per sweep
     uint32_t max_colliders = 0;
-    uint32_t max_coarse_nodes = 0;  // summed ClothAsset::coarse_node_count of the cloths
+    uint32_t max_coarse_nodes = 0;  // summed ClothAsset::coarse_slot_count (node slots) of the cloths
 
     // Features: a pass that is not enabled is not in the step at all (and costs nothing).
     bool wind = false;

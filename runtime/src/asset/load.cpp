@@ -41,7 +41,7 @@ static_assert(offsetof(AssetFileHeader, checksum) == 8 && offsetof(AssetFileHead
               offsetof(AssetFileHeader, header_size) == 32 && offsetof(AssetFileHeader, simd_width) == 40 &&
               offsetof(AssetFileHeader, constraint_count) == 64 && offsetof(AssetFileHeader, seam_point_count) == 128 &&
               offsetof(AssetFileHeader, has_uv) == 140 && offsetof(AssetFileHeader, fabric) == 148 &&
-              sizeof(AssetFileHeader) == 176);
+              offsetof(AssetFileHeader, coarse_slot_count) == 176 && sizeof(AssetFileHeader) == 192);
 static_assert(sizeof(AssetSectionEntry) == 32 && offsetof(AssetSectionEntry, offset) == 8 &&
               offsetof(AssetSectionEntry, size) == 16 && offsetof(AssetSectionEntry, element_count) == 24);
 static_assert(kAssetChecksumStart == offsetof(AssetFileHeader, checksum) + sizeof(uint64_t));
@@ -51,11 +51,13 @@ const char* asset_section_name(uint32_t kind) {
         "unknown", "slot_of_particle", "particle_of_slot", "start_x", "start_y", "start_z", "inverse_mass",
         "rest_length", "lane_weight", "index_a", "index_b", "batches", "tether_rest_0", "tether_rest_1",
         "tether_batches", "triangles", "wind_runs", "wind_lane_weight", "coarse_node_slot",
-        "coarse_inverse_mass", "coarse_a", "coarse_b", "coarse_rest", "coarse_weight_node_0",
+        "coarse_inverse_mass", "retired_20", "retired_21", "retired_22", "coarse_weight_node_0",
         "coarse_weight_node_1", "coarse_weight_node_2", "coarse_weight_node_3", "coarse_weight_0",
         "coarse_weight_1", "coarse_weight_2", "coarse_weight_3", "coarse_row_node_0", "coarse_row_node_1",
         "coarse_row_frac_0", "coarse_row_frac_1", "coarse_col_node_0", "coarse_col_node_1",
-        "coarse_col_frac_0", "coarse_col_frac_1", "uv", "seam_first", "seam_source", "panel"};
+        "coarse_col_frac_0", "coarse_col_frac_1", "uv", "seam_first", "seam_source", "panel",
+        "coarse_slot_of_node", "coarse_node_of_slot", "coarse_rest_length", "coarse_lane_weight", "coarse_index_a",
+        "coarse_index_b", "coarse_batches"};
     return kind <= kAssetSectionKindCount ? names[kind] : names[0];
 }
 
@@ -178,7 +180,7 @@ Result check_file(const void* bytes, size_t size, AssetFileInfo& info, AssetFile
     info.counts = ClothAsset();
     pair_asset_scalars(header, info.counts, [](const auto& from, auto& to) { to = from; });
     info.has_uv = header.has_uv != 0;
-    info.load_scratch_count = header.slot_count;
+    info.load_scratch_count = std::max(header.slot_count, header.coarse_slot_count);  // validation colours both
     info.section_count = header.section_count;
     for (uint32_t i = 0; i < header.section_count; ++i) {
         const AssetSectionEntry& s = entries[i];

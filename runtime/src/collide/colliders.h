@@ -24,10 +24,13 @@ inline F dot(const Vec3W<F>& a, const Vec3W<F>& b) {
     return simd::mul_add(a.x, b.x, simd::mul_add(a.y, b.y, a.z * b.z));
 }
 
-// Moves the contact target against the tangential motion it would otherwise keep.
-template <class F>
+// Moves the contact target against the tangential motion it would otherwise keep. A sticking lane
+// (|tangent| <= friction * penetration, compared squared) cancels its whole tangent; only a group
+// with a sliding contact pays the square root and division of the shortening (most contacts stick
+// once the cloth rests, and the divider is this pass's bottleneck).
+template <class F, class Mask>
 inline void apply_friction(Vec3W<F>& target, const Vec3W<F>& previous, const Vec3W<F>& normal,
-                           F penetration, const ColliderKernelArgs& c) {
+                           F penetration, Mask contact, const ColliderKernelArgs& c) {
     using namespace simd;
     const Vec3W<F> disp{target.x - previous.x - splat(c.motion.x, F{}),
                         target.y - previous.y - splat(c.motion.y, F{}),
@@ -36,10 +39,11 @@ inline void apply_friction(Vec3W<F>& target, const Vec3W<F>& previous, const Vec
     const Vec3W<F> tangent{neg_mul_add(normal_part, normal.x, disp.x),
                            neg_mul_add(normal_part, normal.y, disp.y),
                            neg_mul_add(normal_part, normal.z, disp.z)};
-    const F tangent_len = sqrt(dot(tangent, tangent));
+    const F tangent_len2 = dot(tangent, tangent);
     const F limit = splat(c.friction, F{}) * penetration;
-    const F one = splat(1.0f, F{});
-    const F cancel = keep_if(tangent_len > splat(1e-12f, F{}), min(limit / tangent_len, one));
+    const auto slides = tangent_len2 > limit * limit;  // so tangent_len2 > 0 where it is divided by
+    F cancel = splat(1.0f, F{});
+    if (any(slides & contact)) cancel = select(slides, limit / sqrt(tangent_len2), cancel);
     target.x = neg_mul_add(cancel, tangent.x, target.x);
     target.y = neg_mul_add(cancel, tangent.y, target.y);
     target.z = neg_mul_add(cancel, tangent.z, target.z);
@@ -54,7 +58,7 @@ inline void resolve_contact(const Particles& p, uint32_t i, const Vec3W<F>& x, c
     Vec3W<F> target{mul_add(n.x, penetration, x.x), mul_add(n.y, penetration, x.y), mul_add(n.z, penetration, x.z)};
     if (c.friction > 0.0f) {
         const Vec3W<F> previous{load(p.previous_x + i, F{}), load(p.previous_y + i, F{}), load(p.previous_z + i, F{})};
-        apply_friction(target, previous, n, penetration, c);
+        apply_friction(target, previous, n, penetration, contact, c);
     }
     store(p.x + i, select(contact, target.x, x.x));
     store(p.y + i, select(contact, target.y, x.y));
@@ -65,8 +69,11 @@ inline void resolve_contact(const Particles& p, uint32_t i, const Vec3W<F>& x, c
 enum class SegmentShape { sphere, capsule, cylinder };
 
 template <class F, SegmentShape kShape>
-void collide_segment(const Particles& p, const ColliderKernelArgs& c) {
+void collide_segment(const Particles& particles, const ColliderKernelArgs& collider) {
     using namespace simd;
+    // Local copies: the pass's stores cannot alias them, so pointers and constants stay in registers.
+    const Particles p = particles;
+    const ColliderKernelArgs c = collider;
     const Vec3 axis{c.p1.x - c.p0.x, c.p1.y - c.p0.y, c.p1.z - c.p0.z};
     const float axis_len2 = axis.x * axis.x + axis.y * axis.y + axis.z * axis.z;
     const F inv_axis_len2 = splat(axis_len2 > 0.0f ? 1.0f / axis_len2 : 0.0f, F{});
@@ -103,8 +110,10 @@ void collide_segment(const Particles& p, const ColliderKernelArgs& c) {
 
 // Half-space below a plane through p0 with unit normal, offset by the inflation.
 template <class F>
-void collide_plane(const Particles& p, const ColliderKernelArgs& c) {
+void collide_plane(const Particles& particles, const ColliderKernelArgs& collider) {
     using namespace simd;
+    const Particles p = particles;  // local copies, as in collide_segment
+    const ColliderKernelArgs c = collider;
     const Vec3W<F> n{splat(c.normal.x, F{}), splat(c.normal.y, F{}), splat(c.normal.z, F{})};
     const Vec3W<F> p0{splat(c.p0.x, F{}), splat(c.p0.y, F{}), splat(c.p0.z, F{})};
     const F offset = splat(c.radius, F{});

@@ -1,80 +1,122 @@
 // The coarse-level correction (hierarchical position-based dynamics, Mueller 2008), once per
 // substep before the fine sweeps:
-//   1. read the nodes' predicted positions;
-//   2. one Gauss-Seidel sweep over the coarse distance constraints (the same projection as the
-//      fine springs, on the nodes' lumped masses);
+//   1. predict the nodes' positions (the integration's own Verlet formula);
+//   2. one Gauss-Seidel sweep over the coarse distance constraints (the same projection kernels as
+//      the fine springs, on the nodes' lumped masses, batch by batch over node slots: on a lattice
+//      the coarse constraints are contiguous runs on the node lattice's parity planes);
 //   3. move every particle by the weighted displacement of its nodes (a partition of unity), so the
 //      whole cloth follows the coarse correction smoothly instead of only the node particles; this
 //      is done inside the integration pass (integrate/verlet.h), so step 1 predicts the nodes.
 // The coarse projection uses the square-root-free form (distance.h): same rest state, measured
-// the same on the sphere (stays at n = 50, 100, 200), 20% cheaper. The coarse cloth has no bend constraints (measured: they flare a draped skirt into an umbrella)
-// and is bilateral (unilateral coarse constraints gave 100%+ local strain spikes).
+// the same on the sphere (stays at n = 50, 100, 200), 20% cheaper. The coarse cloth has no bend
+// constraints (measured: they flare a draped skirt into an umbrella) and is bilateral (unilateral
+// coarse constraints gave 100%+ local strain spikes).
 #pragma once
 
 #include <utility>
 
 #include "constraints/distance.h"
+#include "integrate/predict.h"
 #include "kernels.h"
 #include "simd/float_w.h"
 
 namespace weft {
 
+// Step 1 for the nodes j..j+width: their Verlet prediction, by node, into the displacement arrays
+// (which hold it until step 2 is done).
+template <class F>
+inline void predict_coarse_nodes(const Particles& p, const IntegrateArgs& args, const ClothAsset& a,
+                                 const CoarseState& st, uint32_t j) {
+    using namespace simd;
+    const uint32_t* slot = a.coarse_node_slot + j;
+    const F h2 = splat(args.h2_s2, F{}), velocity_scale = splat(args.velocity_scale, F{});
+    F ax = splat(args.gravity.x, F{}), ay = splat(args.gravity.y, F{}), az = splat(args.gravity.z, F{});
+    if (args.wind) {
+        ax = ax + gather(p.wind_x, slot, F{});
+        ay = ay + gather(p.wind_y, slot, F{});
+        az = az + gather(p.wind_z, slot, F{});
+    }
+    const auto is_free = gather(p.inverse_mass, slot, F{}) > splat(0.0f, F{});
+    const F x = gather(p.x, slot, F{}), y = gather(p.y, slot, F{}), z = gather(p.z, slot, F{});
+    store(st.dx + j, select(is_free, verlet_predict(x, gather(p.previous_x, slot, F{}), ax, velocity_scale, h2), x));
+    store(st.dy + j, select(is_free, verlet_predict(y, gather(p.previous_y, slot, F{}), ay, velocity_scale, h2), y));
+    store(st.dz + j, select(is_free, verlet_predict(z, gather(p.previous_z, slot, F{}), az, velocity_scale, h2), z));
+}
+
+// Step 3's input for the nodes j..j+width: solved minus predicted position.
+template <class F>
+inline void coarse_displacement(const ClothAsset& a, const CoarseState& st, uint32_t j) {
+    using namespace simd;
+    const uint32_t* slot = a.coarse_slot_of_node + j;
+    store(st.dx + j, gather(st.x, slot, F{}) - load(st.dx + j, F{}));
+    store(st.dy + j, gather(st.y, slot, F{}) - load(st.dy + j, F{}));
+    store(st.dz + j, gather(st.z, slot, F{}) - load(st.dz + j, F{}));
+}
+
 // Steps 1 and 2; leaves each node's displacement in state.dx/dy/dz (added to every particle by the
-// integration pass, integrate/verlet.h). The nodes' positions are their Verlet prediction for this
-// substep (`predict` is the integration's own formula, so a node lands exactly on its solved
-// position). Scalar: a few hundred nodes.
-template <class Predict>
-inline void solve_coarse_level(const ClothAsset& a, const CoarseState& st, float relaxation, Predict predict) {
-    using simd::Float1;
+// integration pass, integrate/verlet.h).
+template <class F>
+void solve_coarse_level(const Particles& particles, const IntegrateArgs& integrate_args, const ClothAsset& a,
+                        const CoarseState& state, float relaxation) {
+    using namespace simd;
+    const Particles p = particles;  // local copies: stores cannot alias them
+    const IntegrateArgs args = integrate_args;
+    const CoarseState st = state;
     const uint32_t nodes = a.coarse_node_count;
-    for (uint32_t j = 0; j < nodes; ++j) {
-        const uint32_t s = a.coarse_node_slot[j];
-        const Vec3 x = predict(s);
-        st.x[j] = st.dx[j] = x.x;  // dx, dy, dz hold the prediction until the sweep is done
-        st.y[j] = st.dy[j] = x.y;
-        st.z[j] = st.dz[j] = x.z;
+    uint32_t j = 0;
+    for (; j + F::width <= nodes; j += F::width) predict_coarse_nodes<F>(p, args, a, st, j);
+    for (; j < nodes; ++j) predict_coarse_nodes<Float1>(p, args, a, st, j);
+    for (uint32_t k = 0; k < a.coarse_slot_count; k += F::width) {  // by node into node slots
+        const uint32_t* node = a.coarse_node_of_slot + k;
+        store(st.x + k, gather(st.dx, node, F{}));
+        store(st.y + k, gather(st.dy, node, F{}));
+        store(st.z + k, gather(st.dz, node, F{}));
     }
-    const Float1 weight{relaxation}, alpha{0.0f};
-    for (uint32_t c = 0; c < a.coarse_constraint_count; ++c) {
-        const uint32_t i = a.coarse_a[c], j = a.coarse_b[c];
-        Float1 xa{st.x[i]}, ya{st.y[i]}, za{st.z[i]}, xb{st.x[j]}, yb{st.y[j]}, zb{st.z[j]};
-        project_distance<Float1, false>(xa, ya, za, Float1{a.coarse_inverse_mass[i]}, xb, yb, zb,
-                                       Float1{a.coarse_inverse_mass[j]}, Float1{a.coarse_rest[c]}, weight,
-                                       alpha);
-        st.x[i] = xa.v, st.y[i] = ya.v, st.z[i] = za.v;
-        st.x[j] = xb.v, st.y[j] = yb.v, st.z[j] = zb.v;
+
+    const PointSet points{st.x, st.y, st.z, a.coarse_inverse_mass};
+    const ConstraintLanes constraints = coarse_lanes(a);
+    const DistanceArgs distance{0.0f, relaxation};
+    for (uint32_t b = 0; b < a.coarse_batch_count; ++b) {
+        const ConstraintBatch& batch = a.coarse_batches[b];
+        if (batch.layout == BatchLayout::run) {
+            project_run<F, false>(points, constraints, batch, distance);
+        } else {
+            project_indexed<false>(points, constraints, batch, distance);
+        }
     }
-    for (uint32_t j = 0; j < nodes; ++j) {
-        st.dx[j] = st.x[j] - st.dx[j];
-        st.dy[j] = st.y[j] - st.dy[j];
-        st.dz[j] = st.z[j] - st.dz[j];
-    }
+
+    for (j = 0; j + F::width <= nodes; j += F::width) coarse_displacement<F>(a, st, j);
+    for (; j < nodes; ++j) coarse_displacement<Float1>(a, st, j);
 }
 
 // Step 3 for the lattice form, separably: a coarse row's node displacements are interpolated to
 // every plane column once (a 32-entry register lookup, no gathers), and each plane row then blends
 // the two coarse rows around it with contiguous loads. Plane rows visit coarse rows in order, so two
 // interpolated rows are kept and the next one is made only when the plane row crosses into it.
-template <class F>
-inline void interpolate_columns(const ClothAsset& a, const float* node_row, uint32_t parity, uint32_t column,
-                                float* out) {
+template <class F, class Table>
+inline void interpolate_columns(const ClothAsset& a, const Table& left_nodes, const Table& right_nodes,
+                                uint32_t parity, uint32_t column, float* out) {
     using namespace simd;
     const uint32_t* node = a.coarse_col_node[parity] + column;
-    const F left = lookup32(node_row, node, F{}), right = lookup32(node_row + 1, node, F{});
+    const F left = lookup32(left_nodes, node, F{}), right = lookup32(right_nodes, node, F{});
     store(out + column, mul_add(load(a.coarse_col_frac[parity] + column, F{}), right - left, left));
 }
 
 template <class F>
 void interpolate_coarse_row(const ClothAsset& a, const CoarseState& st, uint32_t coarse_row, uint32_t parity,
                             float* const out[3]) {
+    using simd::Float1;
     const float* const node_row[3] = {st.dx + coarse_row * a.coarse_lattice_cols,
                                       st.dy + coarse_row * a.coarse_lattice_cols,
                                       st.dz + coarse_row * a.coarse_lattice_cols};
     const uint32_t cols = a.lattice_plane_cols;
     for (int axis = 0; axis < 3; ++axis) {
+        // The row's nodes (left) and the row shifted by one (right) stay in registers for the loop.
+        const auto left = load_table32(node_row[axis], F{}), right = load_table32(node_row[axis] + 1, F{});
         uint32_t c = 0;
-        for (; c + F::width <= cols; c += F::width) interpolate_columns<F>(a, node_row[axis], parity, c, out[axis]);
-        for (; c < cols; ++c) interpolate_columns<simd::Float1>(a, node_row[axis], parity, c, out[axis]);
+        for (; c + F::width <= cols; c += F::width) interpolate_columns<F>(a, left, right, parity, c, out[axis]);
+        const auto left1 = load_table32(node_row[axis], Float1{}), right1 = load_table32(node_row[axis] + 1, Float1{});
+        for (; c < cols; ++c) interpolate_columns<Float1>(a, left1, right1, parity, c, out[axis]);
     }
 }
 

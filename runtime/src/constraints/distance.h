@@ -58,7 +58,7 @@ inline void project_distance(F& xa, F& ya, F& za, F wa, F& xb, F& yb, F& zb, F w
 
 // A run: lane k joins slots a0 + k and b0 + k, so every operand is a plain vector load.
 template <class F, bool kExact>
-void project_run(const Particles& p, const ClothAsset& asset, const ConstraintBatch& batch,
+void project_run(const PointSet& p, const ConstraintLanes& constraints, const ConstraintBatch& batch,
                  const DistanceArgs& args) {
     using namespace simd;
     const F alpha = splat(args.compliance_over_h2, F{});
@@ -73,8 +73,8 @@ void project_run(const Particles& p, const ClothAsset& asset, const ConstraintBa
     float* const zb_base = p.z + batch.b0;
     const float* const wa_base = p.inverse_mass + batch.a0;
     const float* const wb_base = p.inverse_mass + batch.b0;
-    const float* const rest = asset.rest_length + batch.first_lane;
-    const float* const lane_weight = asset.lane_weight + batch.first_lane;
+    const float* const rest = constraints.rest_length + batch.first_lane;
+    const float* const lane_weight = constraints.lane_weight + batch.first_lane;
     const size_t lanes = batch.lane_count;  // size_t: no zero-extension per iteration
     for (size_t k = 0; k < lanes; k += F::width) {
         F xa = load(xa_base + k, F{}), ya = load(ya_base + k, F{}), za = load(za_base + k, F{});
@@ -93,17 +93,17 @@ void project_run(const Particles& p, const ClothAsset& asset, const ConstraintBa
 // The general path: per-lane indices, one lane at a time on every SIMD path (gathers measured
 // no faster than scalar on this layout; see docs/architecture.md).
 template <bool kExact>
-void project_indexed(const Particles& p, const ClothAsset& asset, const ConstraintBatch& batch,
-                            const DistanceArgs& args) {
+void project_indexed(const PointSet& p, const ConstraintLanes& constraints, const ConstraintBatch& batch,
+                     const DistanceArgs& args) {
     using simd::Float1;
     const Float1 alpha{args.compliance_over_h2};
     const uint32_t end = batch.first_lane + batch.lane_count;
     for (uint32_t lane = batch.first_lane; lane < end; ++lane) {
-        const uint32_t a = asset.index_a[lane], b = asset.index_b[lane];
+        const uint32_t a = constraints.index_a[lane], b = constraints.index_b[lane];
         Float1 xa{p.x[a]}, ya{p.y[a]}, za{p.z[a]}, xb{p.x[b]}, yb{p.y[b]}, zb{p.z[b]};
         project_distance<Float1, kExact>(xa, ya, za, Float1{p.inverse_mass[a]}, xb, yb, zb,
-                         Float1{p.inverse_mass[b]}, Float1{asset.rest_length[lane]},
-                         Float1{asset.lane_weight[lane] * args.relaxation}, alpha);
+                         Float1{p.inverse_mass[b]}, Float1{constraints.rest_length[lane]},
+                         Float1{constraints.lane_weight[lane] * args.relaxation}, alpha);
         p.x[a] = xa.v;
         p.y[a] = ya.v;
         p.z[a] = za.v;

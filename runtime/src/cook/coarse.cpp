@@ -10,8 +10,10 @@
 //   3. constraints: between the two nearest nodes of every particle, rest length the straight rest
 //      distance where the mesh between them is flat enough (graph distance <= 1.5 x straight),
 //      otherwise the graph distance;
-//   4. node masses: the weighted sum of the particles' masses.
+//   4. node masses: the weighted sum of the particles' masses;
+//   5. the constraints as lanes and batches over node slots, cooked like the fine springs.
 #include "cook/coarse.h"
+#include "cook/lanes.h"
 
 #include <algorithm>
 #include <cmath>
@@ -86,35 +88,51 @@ void bounded_dijkstra(const Adjacency& adj, uint32_t source, float radius, std::
     for (uint32_t p : touched) dist[p] = std::numeric_limits<float>::infinity();
 }
 
-// Orders node pairs by first-fit colour, so consecutive projections share no node.
-void append_coloured(const std::vector<std::pair<uint32_t, uint32_t>>& pairs, uint32_t node_count,
-                     std::vector<std::pair<uint32_t, uint32_t>>& ordered) {
-    std::vector<uint64_t> used(node_count, 0);
-    std::vector<std::pair<uint32_t, size_t>> coloured;  // (colour, pair)
-    for (size_t k = 0; k < pairs.size(); ++k) {
-        const uint64_t taken = used[pairs[k].first] | used[pairs[k].second];
-        uint32_t c = 0;
-        while (c < 63 && (taken & (uint64_t(1) << c))) ++c;
-        used[pairs[k].first] |= uint64_t(1) << c;
-        used[pairs[k].second] |= uint64_t(1) << c;
-        coloured.push_back({c, k});
-    }
-    std::stable_sort(coloured.begin(), coloured.end());
-    for (const auto& ck : coloured) ordered.push_back(pairs[ck.second]);
-}
-
-void assign_node_masses(const std::vector<uint32_t>& nodes, const std::vector<float>& mass,
-                        const std::vector<float>& inverse_mass, uint32_t n, CookedCloth& out) {
+// Node masses: each particle's mass spread over its nodes by weight. Fills coarse_node_slot and
+// returns the nodes' inverse masses (0 for pinned nodes).
+std::vector<float> assign_node_masses(const std::vector<uint32_t>& nodes, const std::vector<float>& mass,
+                                      const std::vector<float>& inverse_mass, uint32_t n, CookedCloth& out) {
     std::vector<double> node_mass(nodes.size(), 0.0);
     for (uint32_t p = 0; p < n; ++p) {
         const uint32_t slot = out.slot_of_particle[p];
         for (uint32_t k = 0; k < kCoarseWeights; ++k)
             node_mass[out.coarse_weight_node[k][slot]] += double(out.coarse_weight[k][slot]) * mass[p];
     }
+    std::vector<float> node_inverse_mass(nodes.size());
     for (uint32_t j = 0; j < nodes.size(); ++j) {
         out.coarse_node_slot.push_back(out.slot_of_particle[nodes[j]]);
         const bool pinned = inverse_mass[nodes[j]] == 0.0f || !(node_mass[j] > 0.0);
-        out.coarse_inverse_mass.push_back(pinned ? 0.0f : float(1.0 / node_mass[j]));
+        node_inverse_mass[j] = pinned ? 0.0f : float(1.0 / node_mass[j]);
+    }
+    return node_inverse_mass;
+}
+
+// The coarse constraints (node pairs a < b with rest lengths, in `constraints`) as lanes and batches
+// over node slots, cooked exactly like the fine springs (cook_lanes): runs where the node slots make
+// them, first-fit colours, so the step solves them with the fine springs' kernels.
+void emit_coarse_constraints(const std::vector<Spring>& constraints, const std::vector<uint32_t>& slot_of_node,
+                             uint32_t slot_count, const std::vector<float>& node_inverse_mass,
+                             const CookOptions& options, CookedCloth& out) {
+    std::vector<Spring> springs;
+    for (const Spring& c : constraints) {
+        if (node_inverse_mass[c.a] == 0.0f && node_inverse_mass[c.b] == 0.0f) continue;  // moves nothing
+        const uint32_t sa = slot_of_node[c.a], sb = slot_of_node[c.b];
+        springs.push_back({std::min(sa, sb), std::max(sa, sb), ConstraintKind::stretch, c.rest});
+    }
+    out.coarse_constraint_count = uint32_t(springs.size());
+    uint32_t on_runs = 0;
+    out.coarse_colour_count = cook_lanes(std::move(springs), slot_count, options,
+                                         {out.coarse_rest_length, out.coarse_lane_weight, out.coarse_index_a,
+                                          out.coarse_index_b, out.coarse_batches},
+                                         &on_runs);
+    const uint32_t width = options.simd_width;
+    slot_count = (slots_touched(out.coarse_batches, slot_count) + width - 1) / width * width;
+    out.coarse_slot_of_node = slot_of_node;
+    out.coarse_node_of_slot.assign(slot_count, 0);
+    out.coarse_inverse_mass.assign(slot_count, 0.0f);
+    for (uint32_t j = 0; j < slot_of_node.size(); ++j) {
+        out.coarse_node_of_slot[slot_of_node[j]] = j;
+        out.coarse_inverse_mass[slot_of_node[j]] = node_inverse_mass[j];
     }
 }
 
@@ -139,7 +157,8 @@ AxisCell locate(const std::vector<uint32_t>& u, uint32_t v) {
 
 // The lattice form: nodes every `step` lattice points, bilinear weights (see ClothAsset).
 void build_lattice_level(const LatticeLayout& layout, const Vec3* rest, const std::vector<float>& mass,
-                         const std::vector<float>& inverse_mass, uint32_t n, float spacing_m, CookedCloth& out) {
+                         const std::vector<float>& inverse_mass, uint32_t n, float spacing_m,
+                         const CookOptions& options, CookedCloth& out) {
     auto particle = [&](uint32_t i, uint32_t j) { return out.particle_of_slot[layout.slot(i, j)]; };
     // Fine spacing: the mean rest length of the lattice's axis edges.
     double sum = 0.0;
@@ -199,28 +218,35 @@ void build_lattice_level(const LatticeLayout& layout, const Vec3* rest, const st
         }
     }
     // Constraints: the cells' edges and both diagonals (as the measured prototype).
-    std::vector<std::pair<uint32_t, uint32_t>> pairs, ordered;
+    std::vector<Spring> constraints;
+    auto join = [&](uint32_t a, uint32_t b) {
+        constraints.push_back({a, b, ConstraintKind::stretch, rest_distance(rest[nodes[a]], rest[nodes[b]])});
+    };
     for (uint32_t I = 0; I < rows; ++I)
         for (uint32_t J = 0; J < cols; ++J) {
             const uint32_t a = I * cols + J;
-            if (J + 1 < cols) pairs.push_back({a, a + 1});
-            if (I + 1 < rows) pairs.push_back({a, a + cols});
-            if (I + 1 < rows && J + 1 < cols) pairs.push_back({a, a + cols + 1}), pairs.push_back({a + 1, a + cols});
+            if (J + 1 < cols) join(a, a + 1);
+            if (I + 1 < rows) join(a, a + cols);
+            if (I + 1 < rows && J + 1 < cols) join(a, a + cols + 1), join(a + 1, a + cols);
         }
-    append_coloured(pairs, uint32_t(nodes.size()), ordered);
-    for (const auto& [a, b] : ordered) {
-        if (inverse_mass[nodes[a]] == 0.0f && inverse_mass[nodes[b]] == 0.0f) continue;
-        out.coarse_a.push_back(a);
-        out.coarse_b.push_back(b);
-        out.coarse_rest.push_back(rest_distance(rest[nodes[a]], rest[nodes[b]]));
-    }
-    assign_node_masses(nodes, mass, inverse_mass, n, out);
+    // Node slots: node (I, J) in parity plane (I & 1, J & 1), as the fine particles, so every family
+    // joins two planes at one constant offset and becomes runs. The planes are spaced a little
+    // wider than they are long (one plane row more), so that no family's run reaches its own b side.
+    const uint32_t plane_rows = (rows + 1) / 2, plane_cols = (cols + 1) / 2;
+    const uint32_t plane_stride = (plane_rows * plane_cols + plane_cols + kSimdWidth - 1) / kSimdWidth * kSimdWidth;
+    std::vector<uint32_t> slot_of_node(nodes.size());
+    for (uint32_t I = 0; I < rows; ++I)
+        for (uint32_t J = 0; J < cols; ++J)
+            slot_of_node[I * cols + J] = ((I & 1) * 2 + (J & 1)) * plane_stride + (I >> 1) * plane_cols + (J >> 1);
+    const std::vector<float> node_inverse_mass = assign_node_masses(nodes, mass, inverse_mass, n, out);
+    emit_coarse_constraints(constraints, slot_of_node, 4 * plane_stride, node_inverse_mass, options, out);
 }
 
 }  // namespace
 
 void build_coarse_level(const ClothMeshDesc& mesh, const LatticeLayout& layout, const std::vector<float>& mass,
-                        const std::vector<float>& inverse_mass, float spacing_m, CookedCloth& out) {
+                        const std::vector<float>& inverse_mass, const CookOptions& options, CookedCloth& out) {
+    const float spacing_m = options.coarse_spacing_m;
     const uint32_t n = mesh.particle_count;
     const uint32_t slots = uint32_t(out.particle_of_slot.size());
     for (uint32_t k = 0; k < kCoarseWeights; ++k) {
@@ -230,7 +256,7 @@ void build_coarse_level(const ClothMeshDesc& mesh, const LatticeLayout& layout, 
     if (!(spacing_m > 0.0f) || mesh.triangle_count == 0) return;
     const Vec3* rest = mesh.rest_positions ? mesh.rest_positions : mesh.positions;
     if (layout.full && layout.fine_rows >= 2 && layout.fine_cols >= 2) {
-        build_lattice_level(layout, rest, mass, inverse_mass, n, spacing_m, out);
+        build_lattice_level(layout, rest, mass, inverse_mass, n, spacing_m, options, out);
         return;
     }
     const Adjacency adj = build_adjacency(mesh, rest);
@@ -288,8 +314,7 @@ void build_coarse_level(const ClothMeshDesc& mesh, const LatticeLayout& layout, 
     }
 
     // 3. Constraints between nodes whose regions touch: the two nearest nodes of some particle
-    //    (a Delaunay-like neighbourhood: edges and diagonals of the node pattern). Ordered by
-    //    colour so that consecutive projections share no node and do not wait on each other.
+    //    (a Delaunay-like neighbourhood: edges and diagonals of the node pattern).
     std::vector<std::pair<uint32_t, uint32_t>> pairs;
     for (uint32_t p = 0; p < n; ++p) {
         if (best[p][1].distance == inf) continue;
@@ -298,23 +323,23 @@ void build_coarse_level(const ClothMeshDesc& mesh, const LatticeLayout& layout, 
     }
     std::sort(pairs.begin(), pairs.end());
     pairs.erase(std::unique(pairs.begin(), pairs.end()), pairs.end());
-    std::vector<std::pair<uint32_t, uint32_t>> ordered;
-    append_coloured(pairs, uint32_t(nodes.size()), ordered);
-    for (const auto& [a, b] : ordered) {
+    std::vector<Spring> constraints;
+    for (const auto& [a, b] : pairs) {
         if (inverse_mass[nodes[a]] == 0.0f && inverse_mass[nodes[b]] == 0.0f) continue;
         float graph = inf;
         bounded_dijkstra(adj, nodes[a], 3.0f * radius, dist, touched, [&](uint32_t q, float d) {
             if (q == nodes[b]) graph = std::min(graph, d);
         });
         const float straight = rest_distance(rest[nodes[a]], rest[nodes[b]]);
-        const float length = (graph != inf && graph > 1.5f * straight) ? graph : straight;
-        out.coarse_a.push_back(a);
-        out.coarse_b.push_back(b);
-        out.coarse_rest.push_back(length);
+        constraints.push_back({a, b, ConstraintKind::stretch, (graph != inf && graph > 1.5f * straight) ? graph : straight});
     }
 
-    // 4. Node masses: each particle's mass spread over its nodes by weight.
-    assign_node_masses(nodes, mass, inverse_mass, n, out);
+    // 4. and 5. Node masses; node j in node slot j (no lattice to make runs from: the constraints go
+    //    mostly to coloured indexed batches).
+    const std::vector<float> node_inverse_mass = assign_node_masses(nodes, mass, inverse_mass, n, out);
+    std::vector<uint32_t> slot_of_node(nodes.size());
+    for (uint32_t j = 0; j < nodes.size(); ++j) slot_of_node[j] = j;
+    emit_coarse_constraints(constraints, slot_of_node, uint32_t(nodes.size()), node_inverse_mass, options, out);
 }
 
 }  // namespace weft

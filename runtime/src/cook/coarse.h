@@ -20,9 +20,10 @@ struct LatticeLayout {
     }
 };
 
-// Fills out.coarse_* (the per-slot weight arrays always, sized to out.particle_of_slot). `mass` and
-// `inverse_mass` are per caller particle; slots must already be assigned.
+// Fills out.coarse_* for nodes options.coarse_spacing_m apart (the per-slot weight arrays always,
+// sized to out.particle_of_slot). `mass` and `inverse_mass` are per caller particle; slots must
+// already be assigned.
 void build_coarse_level(const ClothMeshDesc& mesh, const LatticeLayout& layout, const std::vector<float>& mass,
-                        const std::vector<float>& inverse_mass, float spacing_m, CookedCloth& out);
+                        const std::vector<float>& inverse_mass, const CookOptions& options, CookedCloth& out);
 
 }  // namespace weft

@@ -17,6 +17,7 @@
 
 #include "cook/coarse.h"
 #include "cook/garment.h"
+#include "cook/lanes.h"
 #include "world_internal.h"
 
 namespace weft {
@@ -58,11 +59,19 @@ void CookedCloth::refresh_asset(uint32_t particle_count, uint32_t colour_count, 
     a.wind_run_triangles = wind_run_triangles;
     a.coarse_node_count = uint32_t(coarse_node_slot.size());
     a.coarse_node_slot = coarse_node_slot.data();
+    a.coarse_slot_count = uint32_t(coarse_node_of_slot.size());
+    a.coarse_slot_of_node = coarse_slot_of_node.data();
+    a.coarse_node_of_slot = coarse_node_of_slot.data();
     a.coarse_inverse_mass = coarse_inverse_mass.data();
-    a.coarse_constraint_count = uint32_t(coarse_rest.size());
-    a.coarse_a = coarse_a.data();
-    a.coarse_b = coarse_b.data();
-    a.coarse_rest = coarse_rest.data();
+    a.coarse_constraint_count = coarse_constraint_count;
+    a.coarse_lane_count = uint32_t(coarse_rest_length.size());
+    a.coarse_rest_length = coarse_rest_length.data();
+    a.coarse_lane_weight = coarse_lane_weight.data();
+    a.coarse_index_a = coarse_index_a.data();
+    a.coarse_index_b = coarse_index_b.data();
+    a.coarse_batch_count = uint32_t(coarse_batches.size());
+    a.coarse_batches = coarse_batches.data();
+    a.coarse_colour_count = coarse_colour_count;
     for (uint32_t k = 0; k < kCoarseWeights; ++k) {
         a.coarse_weight_node[k] = coarse_weight_node[k].data();
         a.coarse_weight[k] = coarse_weight[k].data();
@@ -92,12 +101,6 @@ namespace {
 
 constexpr uint16_t kOverflowColour = 0xFFFF;  // shares particles; solved last, one lane at a time
 constexpr uint32_t kMaxColours = 64;          // one bit each in a per-slot mask
-
-struct Spring {
-    uint32_t a, b;  // slots, a < b once ordered
-    ConstraintKind kind;
-    float rest;
-};
 
 // A unit of colouring: a run (first..first+count of the sorted springs, lanes a0 + k) or one spring.
 struct Unit {
@@ -300,7 +303,9 @@ std::vector<Unit> find_runs(const std::vector<Spring>& s, const CookOptions& opt
 // ones. A unit that fits none of kMaxColours goes to the overflow colour.
 uint32_t colour_units(std::vector<Unit>& units, const std::vector<Spring>& s, uint32_t slot_count) {
     std::stable_sort(units.begin(), units.end(), [](const Unit& l, const Unit& r) {
-        return l.kind != r.kind ? l.kind < r.kind : l.count > r.count;
+        if (l.kind != r.kind) return l.kind < r.kind;
+        if (l.count != r.count) return l.count > r.count;
+        return l.count == 1 && (l.a0 != r.a0 ? l.a0 < r.a0 : l.b0 < r.b0);
     });
     std::vector<uint64_t> used(slot_count, 0);
     uint32_t colours = 0;
@@ -323,8 +328,8 @@ uint32_t colour_units(std::vector<Unit>& units, const std::vector<Spring>& s, ui
     return colours;
 }
 
-void emit_batches(const std::vector<Unit>& units, const std::vector<Spring>& s, uint32_t colours,
-                  CookedCloth& out, uint32_t& on_runs) {
+void emit_batches(const std::vector<Unit>& units, const std::vector<Spring>& s, uint32_t colours, LaneArrays out,
+                  uint32_t& on_runs) {
     on_runs = 0;
     auto emit_lane = [&](uint32_t a, uint32_t b, float rest, float weight) {
         out.index_a.push_back(a);
@@ -371,6 +376,30 @@ void emit_batches(const std::vector<Unit>& units, const std::vector<Spring>& s, 
         }
     }
 }
+
+}  // namespace
+
+uint32_t cook_lanes(std::vector<Spring> springs, uint32_t slot_count, const CookOptions& options, LaneArrays out,
+                    uint32_t* on_runs) {
+    std::sort(springs.begin(), springs.end(), [](const Spring& l, const Spring& r) {
+        if (l.kind != r.kind) return l.kind < r.kind;
+        if (l.b - l.a != r.b - r.a) return l.b - l.a < r.b - r.a;
+        return l.a < r.a;
+    });
+    std::vector<Unit> units = find_runs(springs, options);
+    const uint32_t colours = colour_units(units, springs, slot_count);
+    emit_batches(units, springs, colours, out, *on_runs);
+    return colours;
+}
+
+uint32_t slots_touched(const std::vector<ConstraintBatch>& batches, uint32_t slot_count) {
+    uint32_t touched = slot_count;
+    for (const ConstraintBatch& b : batches)
+        if (b.layout == BatchLayout::run) touched = std::max({touched, b.a0 + b.lane_count, b.b0 + b.lane_count});
+    return touched;
+}
+
+namespace {
 
 // Step 5: tethers from every free particle to its nearest pinned particle and (with two per
 // particle) its farthest, straight line on the rest mesh, grouped by anchor pair into runs of
@@ -545,24 +574,16 @@ Result cook_cloth(const ClothMeshDesc& mesh, const CookOptions& options, CookedC
         springs.push_back({std::min(sa, sb), std::max(sa, sb), kind, distance(rest[s.a], rest[s.b])});
         counts[uint32_t(kind)] += 1;
     }
-    std::sort(springs.begin(), springs.end(), [](const Spring& l, const Spring& r) {
-        if (l.kind != r.kind) return l.kind < r.kind;
-        if (l.b - l.a != r.b - r.a) return l.b - l.a < r.b - r.a;
-        return l.a < r.a;
-    });
-
-    std::vector<Unit> units = find_runs(springs, options);
-    const uint32_t colours = colour_units(units, springs, slot_count);
     uint32_t on_runs = 0;
-    emit_batches(units, springs, colours, cooked, on_runs);
+    const uint32_t colours =
+        cook_lanes(std::move(springs), slot_count, options,
+                   {cooked.rest_length, cooked.lane_weight, cooked.index_a, cooked.index_b, cooked.batches}, &on_runs);
     uint32_t tethered = 0;
     if (Result r = build_tethers(mesh, cooked.slot_of_particle, inverse_mass, options, cooked, &tethered); !r.ok())
         return r;
 
     // Slots: every index a padded lane may touch exists; padding slots are pinned and at the origin.
-    uint32_t touched = slot_count;
-    for (const ConstraintBatch& b : cooked.batches)
-        if (b.layout == BatchLayout::run) touched = std::max({touched, b.a0 + b.lane_count, b.b0 + b.lane_count});
+    uint32_t touched = slots_touched(cooked.batches, slot_count);
     for (const TetherBatch& b : cooked.tether_batches) touched = std::max(touched, b.particle0 + b.lane_count);
     slot_count = round_up(touched, options.simd_width);
     cooked.particle_of_slot.assign(slot_count, kNoParticle);
@@ -580,7 +601,7 @@ Result cook_cloth(const ClothMeshDesc& mesh, const CookOptions& options, CookedC
     }
     std::vector<float> mass(n);
     for (uint32_t p = 0; p < n; ++p) mass[p] = inverse_mass[p] > 0.0f ? 1.0f / inverse_mass[p] : 0.0f;
-    build_coarse_level(mesh, layout, mass, inverse_mass, options.coarse_spacing_m, cooked);
+    build_coarse_level(mesh, layout, mass, inverse_mass, options, cooked);
     order_triangles(mesh, cooked.slot_of_particle, slot_count, options, cooked);
     copy_garment(mesh, cooked);
 

@@ -48,84 +48,120 @@ Result check_particles(const ClothAsset& a) {
     return {};
 }
 
-Result check_lanes(const ClothAsset& a) {
+// One set of distance constraints in lanes and batches over `slot_count` slots: the springs, or
+// the coarse level's constraints over node slots. Both are checked by the same rules.
+struct LaneSet {
+    const char* name;  // for messages
+    uint32_t simd_width;  // runs are padded to a multiple of it
+    uint32_t slot_count, lane_count, batch_count, colour_count;
+    const float* rest_length;
+    const float* lane_weight;
+    const uint32_t* index_a;
+    const uint32_t* index_b;
+    const ConstraintBatch* batches;
+};
+
+LaneSet spring_set(const ClothAsset& a) {
+    return {"spring", a.simd_width, a.slot_count, a.lane_count, a.batch_count, a.colour_count, a.rest_length, a.lane_weight,
+            a.index_a, a.index_b, a.batches};
+}
+
+LaneSet coarse_set(const ClothAsset& a) {
+    return {"coarse", a.simd_width, a.coarse_slot_count, a.coarse_lane_count, a.coarse_batch_count, a.coarse_colour_count,
+            a.coarse_rest_length, a.coarse_lane_weight, a.coarse_index_a, a.coarse_index_b, a.coarse_batches};
+}
+
+// Checks the lanes and batches; counts the real constraints per kind and those on runs.
+Result check_lanes(const LaneSet& a, uint32_t counted[kConstraintKindCount], uint32_t* on_runs) {
     if (a.lane_count > 0 && (!a.rest_length || !a.lane_weight || !a.index_a || !a.index_b))
-        return make_error(ErrorCode::corrupt_asset, "asset is missing a constraint array");
+        return make_error(ErrorCode::corrupt_asset, "asset is missing a %s constraint array", a.name);
     if (a.batch_count > 0 && a.batches == nullptr)
-        return make_error(ErrorCode::corrupt_asset, "asset is missing its batches");
+        return make_error(ErrorCode::corrupt_asset, "asset is missing its %s batches", a.name);
     for (uint32_t l = 0; l < a.lane_count; ++l) {
         if (!finite_nonnegative(a.rest_length[l]) || a.rest_length[l] > 1e6f)
-            return make_error(ErrorCode::corrupt_asset, "lane %u has a bad rest length", l);
+            return make_error(ErrorCode::corrupt_asset, "%s lane %u has a bad rest length", a.name, l);
         if (a.lane_weight[l] != 0.0f && a.lane_weight[l] != 1.0f)
-            return make_error(ErrorCode::corrupt_asset, "lane %u has weight other than 0 or 1", l);
+            return make_error(ErrorCode::corrupt_asset, "%s lane %u has weight other than 0 or 1", a.name, l);
         if (a.index_a[l] >= a.slot_count || a.index_b[l] >= a.slot_count)
-            return make_error(ErrorCode::corrupt_asset, "lane %u indexes a slot past %u", l, a.slot_count);
+            return make_error(ErrorCode::corrupt_asset, "%s lane %u indexes a slot past %u", a.name, l, a.slot_count);
     }
-    uint32_t counted[kConstraintKindCount] = {}, on_runs = 0, next_lane = 0;
+    uint32_t next_lane = 0;
+    *on_runs = 0;
     for (uint32_t i = 0; i < a.batch_count; ++i) {
         const ConstraintBatch& b = a.batches[i];
         if (uint32_t(b.kind) >= kConstraintKindCount)
-            return make_error(ErrorCode::corrupt_asset, "batch %u has an unknown kind", i);
+            return make_error(ErrorCode::corrupt_asset, "%s batch %u has an unknown kind", a.name, i);
         if (b.first_lane != next_lane || b.lane_count > a.lane_count - b.first_lane)
-            return make_error(ErrorCode::corrupt_asset, "batch %u does not tile the lanes", i);
+            return make_error(ErrorCode::corrupt_asset, "%s batch %u does not tile the lanes", a.name, i);
         next_lane += b.lane_count;
         if (b.layout == BatchLayout::run) {
             if (b.lane_count % a.simd_width != 0)
-                return make_error(ErrorCode::corrupt_asset, "run %u is not padded to %u lanes", i, a.simd_width);
+                return make_error(ErrorCode::corrupt_asset, "%s run %u is not padded to %u lanes", a.name, i, a.simd_width);
             if (b.lane_count > a.slot_count || b.a0 > a.slot_count - b.lane_count ||
                 b.b0 > a.slot_count - b.lane_count)
-                return make_error(ErrorCode::corrupt_asset, "run %u reaches past the slots", i);
+                return make_error(ErrorCode::corrupt_asset, "%s run %u reaches past the slots", a.name, i);
             const uint32_t gap = b.a0 < b.b0 ? b.b0 - b.a0 : b.a0 - b.b0;
             if (gap < b.lane_count)  // both sides stored from one vector each: they must not overlap
-                return make_error(ErrorCode::corrupt_asset, "run %u overlaps its own particles", i);
+                return make_error(ErrorCode::corrupt_asset, "%s run %u overlaps its own particles", a.name, i);
             for (uint32_t k = 0; k < b.lane_count; ++k)
                 if (a.index_a[b.first_lane + k] != b.a0 + k || a.index_b[b.first_lane + k] != b.b0 + k)
-                    return make_error(ErrorCode::corrupt_asset, "run %u is not contiguous at lane %u", i, k);
+                    return make_error(ErrorCode::corrupt_asset, "%s run %u is not contiguous at lane %u", a.name, i, k);
         } else if (b.layout != BatchLayout::indexed) {
-            return make_error(ErrorCode::corrupt_asset, "batch %u has an unknown layout", i);
+            return make_error(ErrorCode::corrupt_asset, "%s batch %u has an unknown layout", a.name, i);
         }
         for (uint32_t k = 0; k < b.lane_count; ++k) {
             const uint32_t l = b.first_lane + k;
             if (a.lane_weight[l] == 0.0f) continue;
             if (a.index_a[l] == a.index_b[l])
-                return make_error(ErrorCode::corrupt_asset, "lane %u joins a particle to itself", l);
+                return make_error(ErrorCode::corrupt_asset, "%s lane %u joins a particle to itself", a.name, l);
             counted[uint32_t(b.kind)] += 1;
-            if (b.layout == BatchLayout::run) ++on_runs;
+            if (b.layout == BatchLayout::run) ++*on_runs;
         }
     }
-    if (next_lane != a.lane_count) return make_error(ErrorCode::corrupt_asset, "batches do not cover every lane");
-    for (uint32_t k = 0; k < kConstraintKindCount; ++k)
-        if (counted[k] != a.constraint_count[k])
-            return make_error(ErrorCode::corrupt_asset, "constraint counts disagree with the batches");
-    if (on_runs != a.constraints_on_runs)
-        return make_error(ErrorCode::corrupt_asset, "run count disagrees with the batches");
+    if (next_lane != a.lane_count)
+        return make_error(ErrorCode::corrupt_asset, "%s batches do not cover every lane", a.name);
     return {};
 }
 
 // Batches of one colour must touch disjoint particles (that is what makes a colour parallel);
 // scratch[slot] holds the last colour (+1) that touched the slot.
-Result check_colours(const ClothAsset& a, uint32_t* scratch) {
+Result check_colours(const LaneSet& a, uint32_t* scratch) {
     for (uint32_t s = 0; s < a.slot_count; ++s) scratch[s] = 0;
     uint32_t previous = 0;
     for (uint32_t i = 0; i < a.batch_count; ++i) {
         const ConstraintBatch& b = a.batches[i];
-        if (b.colour < previous) return make_error(ErrorCode::corrupt_asset, "batches are not in colour order");
+        if (b.colour < previous)
+            return make_error(ErrorCode::corrupt_asset, "%s batches are not in colour order", a.name);
         previous = b.colour;
         if (b.colour == 0xFFFF) continue;  // the overflow colour is solved serially
         if (b.colour >= a.colour_count)
-            return make_error(ErrorCode::corrupt_asset, "batch %u has colour %u of %u", i, b.colour, a.colour_count);
+            return make_error(ErrorCode::corrupt_asset, "%s batch %u has colour %u of %u", a.name, i, b.colour,
+                              a.colour_count);
         const uint32_t stamp = uint32_t(b.colour) + 1;
         for (uint32_t k = 0; k < b.lane_count; ++k) {
             const uint32_t l = b.first_lane + k;
             if (a.lane_weight[l] == 0.0f) continue;
             for (uint32_t s : {a.index_a[l], a.index_b[l]}) {
                 if (scratch[s] == stamp)
-                    return make_error(ErrorCode::corrupt_asset, "colour %u touches slot %u twice", b.colour, s);
+                    return make_error(ErrorCode::corrupt_asset, "%s colour %u touches slot %u twice", a.name,
+                                      b.colour, s);
                 scratch[s] = stamp;
             }
         }
     }
     return {};
+}
+
+Result check_springs(const ClothAsset& a, uint32_t* scratch) {
+    const LaneSet set = spring_set(a);
+    uint32_t counted[kConstraintKindCount] = {}, on_runs = 0;
+    if (Result r = check_lanes(set, counted, &on_runs); !r.ok()) return r;
+    for (uint32_t k = 0; k < kConstraintKindCount; ++k)
+        if (counted[k] != a.constraint_count[k])
+            return make_error(ErrorCode::corrupt_asset, "constraint counts disagree with the batches");
+    if (on_runs != a.constraints_on_runs)
+        return make_error(ErrorCode::corrupt_asset, "run count disagrees with the batches");
+    return check_colours(set, scratch);
 }
 
 Result check_tethers(const ClothAsset& a) {
@@ -189,27 +225,38 @@ Result check_triangles(const ClothAsset& a) {
     return {};
 }
 
-Result check_coarse(const ClothAsset& a) {
+Result check_coarse(const ClothAsset& a, uint32_t* scratch) {
     const uint32_t nodes = a.coarse_node_count;
     // The plane sizes belong to the coarse lattice form (the world sizes a row buffer by them).
     if (a.coarse_lattice_cols == 0 && (a.lattice_plane_rows != 0 || a.lattice_plane_cols != 0))
         return make_error(ErrorCode::corrupt_asset, "lattice plane sizes without a coarse lattice");
     if (nodes == 0) {
-        if (a.coarse_lattice_cols != 0 || a.coarse_constraint_count != 0)
-            return make_error(ErrorCode::corrupt_asset, "coarse constraints or lattice without coarse nodes");
+        if (a.coarse_lattice_cols != 0 || a.coarse_constraint_count != 0 || a.coarse_slot_count != 0 ||
+            a.coarse_lane_count != 0 || a.coarse_batch_count != 0)
+            return make_error(ErrorCode::corrupt_asset, "coarse constraints, slots or lattice without coarse nodes");
         return {};
     }
-    if (!a.coarse_node_slot || !a.coarse_inverse_mass ||
-        (a.coarse_constraint_count > 0 && (!a.coarse_a || !a.coarse_b || !a.coarse_rest)))
+    if (!a.coarse_node_slot || !a.coarse_slot_of_node || !a.coarse_node_of_slot || !a.coarse_inverse_mass)
         return make_error(ErrorCode::corrupt_asset, "asset is missing a coarse-level array");
     if (nodes > a.slot_count) return make_error(ErrorCode::corrupt_asset, "more coarse nodes than slots");
-    for (uint32_t j = 0; j < nodes; ++j)
-        if (a.coarse_node_slot[j] >= a.slot_count || !finite_nonnegative(a.coarse_inverse_mass[j]))
+    if (a.coarse_slot_count < nodes || a.coarse_slot_count % a.simd_width != 0 || a.coarse_slot_count > (1u << 28))
+        return make_error(ErrorCode::corrupt_asset, "coarse slot count %u is not a padded multiple of %u >= %u",
+                          a.coarse_slot_count, a.simd_width, nodes);
+    for (uint32_t j = 0; j < nodes; ++j) {
+        const uint32_t s = a.coarse_slot_of_node[j];
+        if (a.coarse_node_slot[j] >= a.slot_count || s >= a.coarse_slot_count || a.coarse_node_of_slot[s] != j)
             return make_error(ErrorCode::corrupt_asset, "coarse node %u is bad", j);
-    for (uint32_t c = 0; c < a.coarse_constraint_count; ++c)
-        if (a.coarse_a[c] >= nodes || a.coarse_b[c] >= nodes || a.coarse_a[c] == a.coarse_b[c] ||
-            !finite_nonnegative(a.coarse_rest[c]) || a.coarse_rest[c] > 1e6f)
-            return make_error(ErrorCode::corrupt_asset, "coarse constraint %u is bad", c);
+    }
+    for (uint32_t s = 0; s < a.coarse_slot_count; ++s)
+        if (a.coarse_node_of_slot[s] >= nodes || !finite_nonnegative(a.coarse_inverse_mass[s]) ||
+            (a.coarse_slot_of_node[a.coarse_node_of_slot[s]] != s && a.coarse_inverse_mass[s] != 0.0f))
+            return make_error(ErrorCode::corrupt_asset, "coarse node slot %u is bad", s);
+    const LaneSet set = coarse_set(a);
+    uint32_t counted[kConstraintKindCount] = {}, on_runs = 0;
+    if (Result r = check_lanes(set, counted, &on_runs); !r.ok()) return r;
+    if (counted[0] + counted[1] + counted[2] != a.coarse_constraint_count)
+        return make_error(ErrorCode::corrupt_asset, "coarse constraint count disagrees with the batches");
+    if (Result r = check_colours(set, scratch); !r.ok()) return r;
     for (uint32_t k = 0; k < kCoarseWeights; ++k) {
         if (!a.coarse_weight_node[k] || !a.coarse_weight[k])
             return make_error(ErrorCode::corrupt_asset, "asset is missing coarse weights");
@@ -267,10 +314,12 @@ Result validate_asset_with_scratch(const ClothAsset& a, uint32_t* scratch, uint3
     if (a.slot_count > scratch_count)
         return make_error(ErrorCode::capacity_exceeded, "asset has %u slots, world holds %u", a.slot_count,
                           scratch_count);
-    if (Result r = check_lanes(a); !r.ok()) return r;
-    if (Result r = check_colours(a, scratch); !r.ok()) return r;
+    if (a.coarse_slot_count > scratch_count)
+        return make_error(ErrorCode::capacity_exceeded, "asset has %u coarse node slots, world holds %u",
+                          a.coarse_slot_count, scratch_count);
+    if (Result r = check_springs(a, scratch); !r.ok()) return r;
     if (Result r = check_tethers(a); !r.ok()) return r;
-    if (Result r = check_coarse(a); !r.ok()) return r;
+    if (Result r = check_coarse(a, scratch); !r.ok()) return r;
     if (Result r = check_garment(a); !r.ok()) return r;
     return check_triangles(a);
 }
@@ -278,8 +327,11 @@ Result validate_asset_with_scratch(const ClothAsset& a, uint32_t* scratch, uint3
 Result validate_asset(const ClothAsset& asset) {
     if (asset.slot_count > (1u << 28))
         return make_error(ErrorCode::corrupt_asset, "slot count %u is absurd", asset.slot_count);
-    std::vector<uint32_t> scratch(asset.slot_count);
-    return validate_asset_with_scratch(asset, scratch.data(), asset.slot_count);
+    if (asset.coarse_slot_count > (1u << 28))
+        return make_error(ErrorCode::corrupt_asset, "coarse slot count %u is absurd", asset.coarse_slot_count);
+    const uint32_t count = asset.slot_count > asset.coarse_slot_count ? asset.slot_count : asset.coarse_slot_count;
+    std::vector<uint32_t> scratch(count);
+    return validate_asset_with_scratch(asset, scratch.data(), count);
 }
 
 }  // namespace weft

@@ -11,17 +11,11 @@
 #include <utility>
 
 #include "constraints/coarse.h"
+#include "integrate/predict.h"
 #include "kernels.h"
 #include "simd/float_w.h"
 
 namespace weft {
-
-// The Verlet prediction of one lane group; shared with the coarse level's node prediction so
-// both give the same bits.
-template <class F>
-inline F verlet_predict(F x, F previous, F acceleration, F velocity_scale, F h2) {
-    return simd::mul_add(acceleration, h2, simd::mul_add(x - previous, velocity_scale, x));
-}
 
 // One lane group at slot i. Lanes below `done_lanes` already hold this pass's result (the group
 // overlaps the previous one at a row's end) and are kept: a row's tail costs one more full group
@@ -59,7 +53,9 @@ inline void integrate_lanes(const Particles& p, const IntegrateArgs& args, uint3
 
 // No coarse level: a flat pass over slots [first, end), lane groups then single lanes.
 template <class F, bool kWind>
-void integrate_slots(const Particles& p, const IntegrateArgs& args, uint32_t first, uint32_t end) {
+void integrate_slots(const Particles& particles, const IntegrateArgs& integrate_args, uint32_t first, uint32_t end) {
+    const Particles p = particles;  // local copies: see integrate_with_coarse_lattice
+    const IntegrateArgs args = integrate_args;
     const F zero = simd::splat(0.0f, F{});
     uint32_t i = first;
     for (; i + F::width <= end; i += F::width) integrate_lanes<F, kWind>(p, args, i, zero, zero, zero);
@@ -69,9 +65,11 @@ void integrate_slots(const Particles& p, const IntegrateArgs& args, uint32_t fir
 
 // General coarse form: each slot gathers the displacement of its kCoarseWeights nodes.
 template <class F, bool kWind>
-void integrate_with_coarse_weights(const Particles& p, const IntegrateArgs& args, const ClothAsset& a,
-                                   const CoarseState& st) {
+void integrate_with_coarse_weights(const Particles& particles, const IntegrateArgs& integrate_args,
+                                   const ClothAsset& a, const CoarseState& st) {
     using namespace simd;
+    const Particles p = particles;  // local copies: see integrate_with_coarse_lattice
+    const IntegrateArgs args = integrate_args;
     for (uint32_t i = 0; i < p.slot_count; i += F::width) {
         F cx = splat(0.0f, F{}), cy = cx, cz = cx;
         for (uint32_t k = 0; k < kCoarseWeights; ++k) {
@@ -102,8 +100,12 @@ inline void integrate_lattice_lanes(const Particles& p, const IntegrateArgs& arg
 }
 
 template <class F, bool kWind>
-void integrate_with_coarse_lattice(const Particles& p, const IntegrateArgs& args, const ClothAsset& a,
-                                   const CoarseState& st) {
+void integrate_with_coarse_lattice(const Particles& particles, const IntegrateArgs& integrate_args,
+                                   const ClothAsset& a, const CoarseState& st) {
+    // Local copies: the pass's stores cannot alias them, so the array pointers and the constants stay
+    // in registers instead of being reloaded after every store.
+    const Particles p = particles;
+    const IntegrateArgs args = integrate_args;
     const uint32_t rows = a.lattice_plane_rows, cols = a.lattice_plane_cols;
     for (uint32_t column_parity = 0; column_parity < 2; ++column_parity) {
         // Fine rows in order (plane row r of row parity 0, then of parity 1): the coarse rows only
