@@ -301,7 +301,8 @@ TEST_CASE("broken files: every byte flipped is refused; with the checksum fixed 
             ++refused;
         }
     }
-    MESSAGE(loaded, " flips loaded once the checksum was fixed (padding, the minor version, floats still in range), ", refused, " refused");
+    MESSAGE(loaded, " flips loaded once the checksum was fixed (padding, the minor version, floats still in range), ",
+            refused, " refused");
     CHECK(refused > loaded);
 }
 

@@ -31,7 +31,8 @@ void step_a_little(const ClothAsset& asset, bool scalar) {
     desc.simd = scalar ? SimdPath::scalar : SimdPath::automatic;
     const MemoryRequirements need = world_memory_requirements(desc);
     if (need.bytes == 0) return;
-    void* memory = std::aligned_alloc(need.alignment, (need.bytes + need.alignment - 1) / need.alignment * need.alignment);
+    const size_t rounded = (need.bytes + need.alignment - 1) / need.alignment * need.alignment;
+    void* memory = std::aligned_alloc(need.alignment, rounded);
     World* world = nullptr;
     if (create_world(desc, memory, need.bytes, &world).ok()) {
         set_wind(world, {5.0f, 0.0f, 2.0f});

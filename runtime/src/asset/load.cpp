@@ -130,8 +130,10 @@ Result check_file(const void* bytes, size_t size, AssetFileInfo& info, AssetFile
     if (header.header_size < sizeof(AssetFileHeader) || header.header_size % 8 != 0 || header.header_size > size)
         return make_error(ErrorCode::corrupt_asset, "bad header size %u", header.header_size);
     if (header.section_count > kMaxAssetSections)
-        return make_error(ErrorCode::corrupt_asset, "%u sections (at most %u)", header.section_count, kMaxAssetSections);
-    const uint64_t table_end = uint64_t(header.header_size) + uint64_t(header.section_count) * sizeof(AssetSectionEntry);
+        return make_error(ErrorCode::corrupt_asset, "%u sections (at most %u)", header.section_count,
+                          kMaxAssetSections);
+    const uint64_t table_end =
+        uint64_t(header.header_size) + uint64_t(header.section_count) * sizeof(AssetSectionEntry);
     if (table_end > size) return make_error(ErrorCode::corrupt_asset, "section table runs past the end of the file");
     const uint64_t checksum = xxh64(file + kAssetChecksumStart, size - kAssetChecksumStart, 0);
     if (checksum != header.checksum)
