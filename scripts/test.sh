@@ -1,9 +1,11 @@
 #!/usr/bin/env bash
 # Builds and tests Weft twice: Release (build/), then AddressSanitizer + UBSan, RelWithDebInfo
-# (build-asan/). Both configurations run even when the first fails, so one report shows both.
+# (build-asan/); then, where clang is installed, fuzzes briefly (scripts/fuzz.sh, build-fuzz/).
+# Every configuration runs even when an earlier one fails, so one report shows them all.
 #   bash scripts/test.sh
-# Environment: WEFT_BUILD_DIR, WEFT_ASAN_BUILD_DIR (build directories, relative to the repository),
-# WEFT_SKIP_ASAN=1 (Release only), WEFT_CTEST_ARGS (extra ctest arguments, e.g. "-LE slow").
+# Environment: WEFT_BUILD_DIR, WEFT_ASAN_BUILD_DIR, WEFT_FUZZ_BUILD_DIR (build directories, relative
+# to the repository), WEFT_SKIP_ASAN=1 (Release only), WEFT_SKIP_FUZZ=1, WEFT_FUZZ_SECONDS (per
+# harness, default 30), WEFT_CTEST_ARGS (extra ctest arguments, e.g. "-LE slow").
 # Exits non-zero when anything failed; the last line is always a one-line summary.
 set -euo pipefail
 
@@ -58,6 +60,20 @@ if [[ -z "${WEFT_SKIP_ASAN:-}" ]]; then
   export ASAN_OPTIONS=${ASAN_OPTIONS:-abort_on_error=0:halt_on_error=1:detect_stack_use_after_return=1}
   export UBSAN_OPTIONS=${UBSAN_OPTIONS:-print_stacktrace=1:halt_on_error=1}
   run_config asan "$asan_dir" -DCMAKE_BUILD_TYPE=RelWithDebInfo -DWEFT_SANITIZE=ON || failed=1
+fi
+
+if [[ -z "${WEFT_SKIP_FUZZ:-}" ]]; then
+  if command -v clang++ >/dev/null; then
+    fuzz_seconds=${WEFT_FUZZ_SECONDS:-30}
+    if bash "$root/scripts/fuzz.sh" "$fuzz_seconds"; then
+      results+=("fuzz: no crash in ${fuzz_seconds}s per harness")
+    else
+      results+=("fuzz: FAILED")
+      failed=1
+    fi
+  else
+    results+=("fuzz: skipped (no clang++)")
+  fi
 fi
 
 summary=$(printf '%s; ' "${results[@]}")

@@ -80,6 +80,7 @@ uint32_t section_count(const Bytes& file) { return read_at<uint32_t>(file, offse
 // The loader's output before a call, to check that a failed load left it as it was.
 struct Output {
     ClothAsset asset;
+    AlignedBytes bytes;  // what a loaded asset points into
     unsigned char before[sizeof(ClothAsset)];
     Output() {
         asset.particle_count = 777;  // anything a load would overwrite
@@ -89,13 +90,13 @@ struct Output {
     bool untouched() const { return std::memcmp(before, &asset, sizeof(asset)) == 0; }
 };
 
-// Loads `file` from an aligned copy (plus `misalign` bytes).
+// Loads `file` from an aligned copy (plus `misalign` bytes) that `out` keeps.
 Result load(const Bytes& file, Output& out, size_t misalign = 0) {
     std::vector<uint32_t> scratch(1 << 16);
     Bytes padded(misalign, std::byte{0});
     padded.insert(padded.end(), file.begin(), file.end());
-    const AlignedBytes copy(padded.data(), padded.size());
-    return load_asset_in_place(copy.data() + misalign, file.size(), scratch.data(), uint32_t(scratch.size()),
+    out.bytes = AlignedBytes(padded.data(), padded.size());
+    return load_asset_in_place(out.bytes.data() + misalign, file.size(), scratch.data(), uint32_t(scratch.size()),
                                &out.asset);
 }
 
@@ -300,7 +301,8 @@ TEST_CASE("broken files: every byte flipped is refused; with the checksum fixed 
             ++refused;
         }
     }
-    MESSAGE(loaded, " flips loaded once the checksum was fixed (padding, the minor version, floats still in range), ", refused, " refused");
+    MESSAGE(loaded, " flips loaded once the checksum was fixed (padding, the minor version, floats still in range), ",
+            refused, " refused");
     CHECK(refused > loaded);
 }
 

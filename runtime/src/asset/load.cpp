@@ -96,11 +96,11 @@ Result check_entry(const AssetSectionEntry& s, uint32_t index, uint64_t table_en
     return {};
 }
 
-bool overlap(const AssetSectionEntry& a, const AssetSectionEntry& b) {
+bool overlap(const AssetSectionInfo& a, const AssetSectionEntry& b) {
     return a.size > 0 && b.size > 0 && a.offset < b.offset + b.size && b.offset < a.offset + a.size;
 }
 
-// Steps 1-4 of the file comment. Fills `info` (the caller's copy is written only on success).
+// Steps 1-4 of the file comment. Fills `info`, a scratch copy: the caller's is written only on success.
 Result check_file(const void* bytes, size_t size, AssetFileInfo& info, AssetFileHeader& header) {
     if (bytes == nullptr) return make_error(ErrorCode::invalid_argument, "asset bytes are null");
     if (reinterpret_cast<uintptr_t>(bytes) % kAssetSectionAlignment != 0)
@@ -132,8 +132,10 @@ Result check_file(const void* bytes, size_t size, AssetFileInfo& info, AssetFile
     if (header.header_size < sizeof(AssetFileHeader) || header.header_size % 8 != 0 || header.header_size > size)
         return make_error(ErrorCode::corrupt_asset, "bad header size %u", header.header_size);
     if (header.section_count > kMaxAssetSections)
-        return make_error(ErrorCode::corrupt_asset, "%u sections (at most %u)", header.section_count, kMaxAssetSections);
-    const uint64_t table_end = uint64_t(header.header_size) + uint64_t(header.section_count) * sizeof(AssetSectionEntry);
+        return make_error(ErrorCode::corrupt_asset, "%u sections (at most %u)", header.section_count,
+                          kMaxAssetSections);
+    const uint64_t table_end =
+        uint64_t(header.header_size) + uint64_t(header.section_count) * sizeof(AssetSectionEntry);
     if (table_end > size) return make_error(ErrorCode::corrupt_asset, "section table runs past the end of the file");
     const uint64_t checksum = xxh64(file + kAssetChecksumStart, size - kAssetChecksumStart, 0);
     if (checksum != header.checksum)
@@ -143,17 +145,17 @@ Result check_file(const void* bytes, size_t size, AssetFileInfo& info, AssetFile
         return make_error(ErrorCode::corrupt_asset, "has_uv or has_fabric is neither 0 nor 1");
 
     const ExpectedSections expected = expected_sections(header);
-    AssetSectionEntry entries[kMaxAssetSections];
     uint64_t seen = 0;  // bit k: known kind k was present
     static_assert(kAssetSectionKindCount < 64);
     for (uint32_t i = 0; i < header.section_count; ++i) {
-        AssetSectionEntry& s = entries[i];
+        AssetSectionEntry s;
         std::memcpy(&s, file + header.header_size + uint64_t(i) * sizeof(AssetSectionEntry), sizeof(s));
         if (Result r = check_entry(s, i, table_end, size); !r.ok()) return r;
         for (uint32_t j = 0; j < i; ++j)
-            if (overlap(entries[j], s))
+            if (overlap(info.sections[j], s))
                 return make_error(ErrorCode::corrupt_asset, "sections %u (%s) and %u (%s) overlap", j,
-                                  asset_section_name(entries[j].kind), i, asset_section_name(s.kind));
+                                  asset_section_name(info.sections[j].kind), i, asset_section_name(s.kind));
+        info.sections[i] = {s.kind, s.element_size, s.offset, s.size, s.element_count, s.alignment};
         if (!is_known(s.kind)) continue;  // a newer minor's section: skipped
         const char* name = asset_section_name(s.kind);
         if (seen & (uint64_t(1) << s.kind))
@@ -182,10 +184,6 @@ Result check_file(const void* bytes, size_t size, AssetFileInfo& info, AssetFile
     info.has_uv = header.has_uv != 0;
     info.load_scratch_count = std::max(header.slot_count, header.coarse_slot_count);  // validation colours both
     info.section_count = header.section_count;
-    for (uint32_t i = 0; i < header.section_count; ++i) {
-        const AssetSectionEntry& s = entries[i];
-        info.sections[i] = {s.kind, s.element_size, s.offset, s.size, s.element_count, s.alignment};
-    }
     return {};
 }
 

@@ -327,8 +327,9 @@ void build_coarse_level(const ClothMeshDesc& mesh, const LatticeLayout& layout, 
     for (const auto& [a, b] : pairs) {
         if (inverse_mass[nodes[a]] == 0.0f && inverse_mass[nodes[b]] == 0.0f) continue;
         float graph = inf;
+        const uint32_t target = nodes[b];  // named: clang 14 cannot capture a structured binding
         bounded_dijkstra(adj, nodes[a], 3.0f * radius, dist, touched, [&](uint32_t q, float d) {
-            if (q == nodes[b]) graph = std::min(graph, d);
+            if (q == target) graph = std::min(graph, d);
         });
         const float straight = rest_distance(rest[nodes[a]], rest[nodes[b]]);
         constraints.push_back({a, b, ConstraintKind::stretch, (graph != inf && graph > 1.5f * straight) ? graph : straight});

@@ -49,7 +49,8 @@ Result check_seam_sources(uint32_t point_count, const uint32_t* seam_first, cons
 
 Result check_panels(const uint16_t* panel, uint32_t panel_count, uint32_t particle_count) {
     if (panel == nullptr) {
-        if (panel_count != 0) return make_error(ErrorCode::invalid_argument, "panel_count %u without panels", panel_count);
+        if (panel_count != 0)
+            return make_error(ErrorCode::invalid_argument, "panel_count %u without panels", panel_count);
         return {};
     }
     if (panel_count == 0 || panel_count > (1u << 16))

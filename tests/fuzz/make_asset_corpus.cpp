@@ -1,0 +1,89 @@
+// Writes the asset loader's seed corpus (tests/fuzz/corpus/asset_loader/): small valid assets from
+// the writer, each in every way the harness can use it, and a few broken ones. Run it again when
+// the format changes:
+//   build/tests/make_asset_corpus tests/fuzz/corpus/asset_loader
+// Each file is the harness's mode byte (tests/fuzz/fuzz_asset_loader.cpp) followed by an asset file.
+#include <cstdio>
+#include <cstring>
+#include <string>
+#include <vector>
+
+#include "asset_writer.h"
+#include "seed_scenes.h"
+
+using namespace weft;
+
+namespace {
+
+using Bytes = std::vector<std::byte>;
+
+bool save(const std::string& path, uint8_t mode, const Bytes& file) {
+    FILE* f = std::fopen(path.c_str(), "wb");
+    if (f == nullptr) return false;
+    const bool ok = std::fwrite(&mode, 1, 1, f) == 1 && std::fwrite(file.data(), 1, file.size(), f) == file.size();
+    return std::fclose(f) == 0 && ok;
+}
+
+// A grid of n x n with two pinned corners; garment data, lattice and options as asked.
+Bytes grid_asset(uint32_t n, bool garment, bool lattice, const CookOptions& options, bool pinned = true) {
+    scenes::GridMesh grid = scenes::make_grid(n, 1.0f, 1.0f, false, 1.0f);
+    if (pinned) {
+        grid.masses[grid.index(0, 0)] = 0.0f;
+        grid.masses[grid.index(0, n - 1)] = 0.0f;
+    }
+    const scenes::GridGarment data = scenes::make_grid_garment(grid);
+    ClothMeshDesc desc = grid.desc();
+    if (garment) data.apply(desc);
+    if (!lattice) desc.lattice = nullptr;
+    CookedCloth cooked;
+    Bytes file;
+    if (!cook_cloth(desc, options, &cooked).ok() || !assets::write_asset(cooked.asset(), &file).ok()) return {};
+    return file;
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+    if (argc != 2) {
+        std::fprintf(stderr, "usage: make_asset_corpus DIRECTORY\n");
+        return 2;
+    }
+    const std::string dir = argv[1];
+    CookOptions wide, bare;
+    wide.simd_width = 16;
+    bare.coarse_spacing_m = 0.0f;
+    bare.tethers_per_particle = 0;
+    struct Seed {
+        const char* name;
+        Bytes file;
+    };
+    std::vector<Seed> valid = {
+        {"grid3_garment", grid_asset(3, true, true, {})},
+        {"grid4_garment_no_lattice", grid_asset(4, true, false, {})},
+        {"grid6_lattice_coarse", grid_asset(6, false, true, {})},
+        {"grid5_simd16", grid_asset(5, true, true, wide)},
+        {"grid4_bare_unpinned", grid_asset(4, false, true, bare, false)},
+    };
+    bool ok = true;
+    for (const Seed& s : valid) {
+        ok &= !s.file.empty();
+        ok &= save(dir + "/" + s.name + "_stepped", 0x03, s.file);  // checksum fixed up, stepped
+        ok &= save(dir + "/" + s.name + "_as_is", 0x00, s.file);    // loaded exactly as written
+    }
+    // Broken: truncated, a flipped section byte, another major version, big-endian.
+    const Bytes& small = valid[0].file;
+    ok &= save(dir + "/broken_truncated", 0x00, Bytes(small.begin(), small.begin() + small.size() / 2));
+    Bytes flipped = small;
+    flipped[flipped.size() - 3] ^= std::byte{0x40};
+    ok &= save(dir + "/broken_flipped", 0x00, flipped);
+    Bytes major = small;
+    const uint16_t three = 3;
+    std::memcpy(major.data() + offsetof(AssetFileHeader, version_major), &three, sizeof(three));
+    ok &= save(dir + "/broken_major3", 0x01, major);
+    Bytes big = small;
+    const uint8_t big_endian[4] = {1, 2, 3, 4};
+    std::memcpy(big.data() + offsetof(AssetFileHeader, endian_marker), big_endian, sizeof(big_endian));
+    ok &= save(dir + "/broken_big_endian", 0x01, big);
+    if (!ok) std::fprintf(stderr, "make_asset_corpus: could not write every file to %s\n", dir.c_str());
+    return ok ? 0 : 1;
+}
