@@ -11,6 +11,7 @@ set -euo pipefail
 # (and a weft_fuzz_harness line in tests/fuzz/CMakeLists.txt).
 harnesses=(
   asset_loader
+  pattern
 )
 
 root=$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)
