@@ -1,5 +1,7 @@
 #include "accuracy.h"
 
+#include <time.h>
+
 #include <chrono>
 #include <cmath>
 #include <limits>
@@ -7,6 +9,30 @@
 namespace weft::bench {
 
 using Clock = std::chrono::steady_clock;
+
+namespace {
+
+double thread_cpu_us() {
+    timespec t{};
+    clock_gettime(CLOCK_THREAD_CPUTIME_ID, &t);
+    return double(t.tv_sec) * 1e6 + double(t.tv_nsec) * 1e-3;
+}
+
+double wall_us() { return std::chrono::duration<double, std::micro>(Clock::now().time_since_epoch()).count(); }
+
+}  // namespace
+
+void StepClock::start() {
+    wall_start_us_ = wall_us();
+    cpu_start_us_ = thread_cpu_us();
+}
+
+void StepClock::stop(std::vector<double>* cpu_us, std::vector<double>* wall) const {
+    const double cpu_end = thread_cpu_us();
+    const double wall_end = wall_us();
+    cpu_us->push_back(cpu_end - cpu_start_us_);
+    wall->push_back(wall_end - wall_start_us_);
+}
 
 std::string run_trajectory(scenes::SeedScene scene, const scenes::SceneOptions& options, const Sampling& sampling,
                            Trajectory* out) {
@@ -18,12 +44,13 @@ std::string run_trajectory(scenes::SeedScene scene, const scenes::SceneOptions& 
     out->start.resize(count);
     if (Result r = read_positions(sw.world, sw.cloth, out->start.data(), count); !r.ok()) return r.message;
     out->step_us.reserve(sampling.frames);
+    out->step_wall_us.reserve(sampling.frames);
+    StepClock clock;
     for (uint32_t frame = 1; frame <= sampling.frames; ++frame) {
-        const auto t0 = Clock::now();
+        clock.start();
         const Result r = step(sw.world, sw.dt_s);
-        const auto t1 = Clock::now();
+        clock.stop(&out->step_us, &out->step_wall_us);
         if (!r.ok()) return std::string("step failed: ") + r.message;
-        out->step_us.push_back(std::chrono::duration<double, std::micro>(t1 - t0).count());
         if (!sampling.sampled(frame)) continue;
         std::vector<Vec3> positions(count);
         if (Result rr = read_positions(sw.world, sw.cloth, positions.data(), count); !rr.ok()) return rr.message;

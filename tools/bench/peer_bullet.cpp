@@ -7,7 +7,6 @@
 #include <BulletSoftBody/btSoftRigidDynamicsWorld.h>
 #include <btBulletDynamicsCommon.h>
 
-#include <chrono>
 #include <cmath>
 #include <memory>
 
@@ -81,13 +80,13 @@ std::string run_bullet(scenes::SeedScene scene, const scenes::SceneOptions& opti
     }
     world.addSoftBody(body.get());
 
-    using Clock = std::chrono::steady_clock;
     out->step_us.reserve(sampling.frames);
+    out->step_wall_us.reserve(sampling.frames);
+    StepClock clock;
     for (uint32_t frame = 1; frame <= sampling.frames; ++frame) {
-        const auto t0 = Clock::now();
+        clock.start();
         world.stepSimulation(sw.dt_s, 0);  // maxSubSteps 0: exactly one internal step of dt
-        const auto t1 = Clock::now();
-        out->step_us.push_back(std::chrono::duration<double, std::micro>(t1 - t0).count());
+        clock.stop(&out->step_us, &out->step_wall_us);
         info.m_sparsesdf.GarbageCollect();
         if (!sampling.sampled(frame)) continue;
         std::vector<Vec3> positions(count);

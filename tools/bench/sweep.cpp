@@ -24,7 +24,8 @@ struct Row {
     uint32_t substeps = 1, iterations = 0;
     bool tethers = false, coarse_level = false;
     float relaxation = 1.0f;
-    double us_per_step = 0.0;    // median over the steps (median over repeats of that)
+    double us_per_step = 0.0;    // CPU time: median over the steps (median over repeats of that)
+    double wall_us_per_step = 0.0;  // the same in wall time
     double trajectory_error = 0.0;
     std::optional<double> rest_error;  // scenes that come to rest
     metrics::Strain strain;      // at the last frame
@@ -39,6 +40,7 @@ struct Group {
     uint32_t n = 0;
     float wind_m_s = 0.0f;
     Reference reference;
+    metrics::Strain reference_strain;  // at its last frame: how stretched the reference itself is
     std::vector<Row> rows;
 };
 
@@ -61,9 +63,14 @@ std::string split_name(const Row& r) {
 }
 
 // Fills a row's errors from its trajectory, against the group's reference.
-void score(const Trajectory& t, const Reference& ref, const ClothAsset& asset, SeedScene scene,
-           std::vector<double> timings_us, Row* row) {
-    row->us_per_step = median(std::move(timings_us));
+struct Timing {
+    std::vector<double> cpu_us, wall_us;  // one median per repeat
+};
+
+void score(const Trajectory& t, const Reference& ref, const ClothAsset& asset, SeedScene scene, const Timing& timing,
+           Row* row) {
+    row->us_per_step = median(timing.cpu_us);
+    row->wall_us_per_step = median(timing.wall_us);
     row->trajectory_error = metrics::trajectory_error(t.frames, ref.trajectory.frames, ref.diagonal_m);
     if (comes_to_rest(scene)) row->rest_error = metrics::rest_state_error(t.frames, ref.trajectory.frames, ref.diagonal_m);
     if (!t.frames.empty()) row->strain = metrics::stretch_strain(asset, t.frames.back());
@@ -117,11 +124,12 @@ std::vector<std::pair<Row, scenes::SceneOptions>> weft_grid(const SweepOptions& 
 // Runs a configuration `repeat` times: the first run's trajectory is scored (the simulation is
 // deterministic), the step-time medians of all runs give the time.
 template <class RunOnce>
-std::string measure_row(const SweepOptions& o, RunOnce run_once, Trajectory* first, std::vector<double>* medians) {
+std::string measure_row(const SweepOptions& o, RunOnce run_once, Trajectory* first, Timing* timing) {
     for (uint32_t k = 0; k < std::max(1u, o.repeat); ++k) {
         Trajectory t;
         if (std::string err = run_once(&t); !err.empty()) return err;
-        medians->push_back(median(t.step_us));
+        timing->cpu_us.push_back(median(t.step_us));
+        timing->wall_us.push_back(median(t.step_wall_us));
         if (k == 0) *first = std::move(t);
     }
     return {};
@@ -177,6 +185,7 @@ nlohmann::ordered_json to_json(const SweepOptions& o, const Group& g, const Row&
     j["coarse_level"] = r.coarse_level;
     j["relaxation"] = rounded(r.relaxation, 3);
     j["us_per_step"] = json_number(r.us_per_step);
+    j["wall_us_per_step"] = json_number(r.wall_us_per_step);
     j["trajectory_error"] = json_number(r.trajectory_error);
     j["rest_error"] = r.rest_error ? json_number(*r.rest_error) : nlohmann::ordered_json(nullptr);
     j["max_strain"] = json_number(r.strain.max);
@@ -191,6 +200,7 @@ nlohmann::ordered_json to_json(const SweepOptions& o, const Group& g, const Row&
     j["reference_iterations"] = g.reference.iterations;
     j["reference_converged"] = g.reference.converged;
     j["reference_change"] = json_number(g.reference.change);
+    j["reference_max_strain"] = json_number(g.reference_strain.max);
     j["load_avg_1min"] = rounded(load_average_1min(), 3);
     return j;
 }
@@ -203,19 +213,22 @@ void print_reference(const SweepOptions& o, const Group& g) {
     std::printf("reference (plain, substeps doubled at 1 iteration each):");
     for (const ReferenceStep& s : g.reference.steps)
         std::printf(" %ux%u (%.2g, %.1f s)", s.substeps, s.iterations, s.change, s.seconds);
-    std::printf("\n  -> %ux%u, %s (last change %.3g, tolerance %.0e)\n", g.reference.substeps, g.reference.iterations,
+    std::printf("\n  -> %ux%u, %s (last change %.3g, tolerance %.0e); its strain at the end: mean %.3g, max %.3g\n",
+                g.reference.substeps, g.reference.iterations,
                 g.reference.converged ? "converged" : "NOT converged at the cap", g.reference.change,
-                o.reference.tolerance);
+                o.reference.tolerance, g.reference_strain.mean, g.reference_strain.max);
 }
 
 void print_rows(const SweepOptions& o, const Group& g) {
-    std::printf("%-7s %-5s %-22s %10s %10s %10s %10s %10s %11s %6s\n", "solver", "simd", "config", "ms/step",
-                "traj err", "rest err", "max strain", "mean str", "penetr. mm", "pareto");
+    std::printf("ms/step: median CPU time of the stepping thread (wall: median wall time)\n");
+    std::printf("%-7s %-5s %-22s %10s %10s %10s %10s %10s %10s %11s %6s\n", "solver", "simd", "config", "ms/step",
+                "wall", "traj err", "rest err", "max strain", "mean str", "penetr. mm", "pareto");
     for (const Row& r : g.rows) {
         char rest[32] = "-";
         if (r.rest_error) std::snprintf(rest, sizeof rest, "%.3g", *r.rest_error);
-        std::printf("%-7s %-5s %-22s %10.4f %10.3g %10s %10.3g %10.3g %11.3f %6s%s\n", r.solver.c_str(), r.simd.c_str(),
-                    split_name(r).c_str(), r.us_per_step * 1e-3, r.trajectory_error, rest, r.strain.max, r.strain.mean,
+        std::printf("%-7s %-5s %-22s %10.4f %10.4f %10.3g %10s %10.3g %10.3g %11.3f %6s%s\n", r.solver.c_str(),
+                    r.simd.c_str(), split_name(r).c_str(), r.us_per_step * 1e-3, r.wall_us_per_step * 1e-3,
+                    r.trajectory_error, rest, r.strain.max, r.strain.mean,
                     r.max_penetration_m * 1e3, r.pareto ? "*" : "", r.finite ? "" : " NON-FINITE");
     }
     (void)o;
@@ -245,13 +258,15 @@ bool write_csv(const SweepOptions& o, const std::vector<Group>& groups) {
         return false;
     }
     std::fprintf(f, "scene,solver,n,wind_m_s,simd,substeps,iterations,tethers,coarse_level,relaxation,us_per_step,"
+                    "wall_us_per_step,"
                     "trajectory_error,rest_error,max_strain,mean_strain,max_penetration_m,finite,pareto,"
                     "reference_substeps,reference_iterations,reference_converged\n");
     for (const Group& g : groups)
         for (const Row& r : g.rows)
-            std::fprintf(f, "%s,%s,%u,%g,%s,%u,%u,%d,%d,%g,%.3f,%.6g,%s,%.6g,%.6g,%.6g,%d,%d,%u,%u,%d\n",
+            std::fprintf(f, "%s,%s,%u,%g,%s,%u,%u,%d,%d,%g,%.3f,%.3f,%.6g,%s,%.6g,%.6g,%.6g,%d,%d,%u,%u,%d\n",
                          scenes::scene_name(o.scene), r.solver.c_str(), r.n, double(r.wind_m_s), r.simd.c_str(),
                          r.substeps, r.iterations, r.tethers, r.coarse_level, double(r.relaxation), r.us_per_step,
+                         r.wall_us_per_step,
                          r.trajectory_error, r.rest_error ? std::to_string(*r.rest_error).c_str() : "", r.strain.max,
                          r.strain.mean, r.max_penetration_m, r.finite, r.pareto, g.reference.substeps,
                          g.reference.iterations, g.reference.converged);
@@ -296,7 +311,7 @@ bool write_plot(const SweepOptions& o, const Group& g, const std::string& path) 
     const char* long_range = o.scene == SeedScene::sphere ? "coarse level" : "tethers";
     script +=
         "set logscale xy\n"
-        "set xlabel 'ms per step (median)'\n"
+        "set xlabel 'ms per step (median CPU time of the stepping thread)'\n"
         "set ylabel 'trajectory error (RMS distance to the reference / diagonal)'\n"
         "set grid\n"
         "set key outside right top\n"
@@ -312,7 +327,7 @@ bool write_plot(const SweepOptions& o, const Group& g, const std::string& path) 
     script += "     $bullet_front using 1:2:3 with labels offset 0.6,-0.8 left font ',8' tc rgb '#d62728' notitle";
     if (std::isfinite(g.reference.change) && g.reference.change > 0.0) {
         char line[200];  // errors below the reference's own last change are not resolved
-        std::snprintf(line, sizeof line, ", \\\n     %.6g with lines dt 3 lc rgb 'gray40' title \"reference's last change\"",
+        std::snprintf(line, sizeof line, ", \\\n     %.6g with lines dt 2 lw 1.5 lc rgb 'gray40' title \"reference's last change\"",
                       g.reference.change);
         script += line;
     }
@@ -384,11 +399,13 @@ int run_sweep(const SweepOptions& o) {
                 std::fprintf(stderr, "weft-bench sweep: %s\n", err.c_str());
                 return 1;
             }
+            if (!g.reference.trajectory.frames.empty())
+                g.reference_strain = metrics::stretch_strain(asset_world.asset(), g.reference.trajectory.frames.back());
             for (auto& [row, so] : weft_grid(options, physics)) {
                 Trajectory t;
-                std::vector<double> medians;
+                Timing timing;
                 const std::string err = measure_row(
-                    o, [&](Trajectory* out) { return run_trajectory(o.scene, so, o.sampling, out); }, &t, &medians);
+                    o, [&](Trajectory* out) { return run_trajectory(o.scene, so, o.sampling, out); }, &t, &timing);
                 if (!err.empty()) {
                     std::fprintf(stderr, "weft-bench sweep: %s: %s\n", split_name(row).c_str(), err.c_str());
                     ok = false;
@@ -396,7 +413,7 @@ int run_sweep(const SweepOptions& o) {
                 }
                 row.n = n;
                 row.wind_m_s = wind;
-                score(t, g.reference, asset_world.asset(), o.scene, medians, &row);
+                score(t, g.reference, asset_world.asset(), o.scene, timing, &row);
                 g.rows.push_back(row);
             }
             if (peer) {
@@ -407,16 +424,16 @@ int run_sweep(const SweepOptions& o) {
                     row.n = n;
                     row.iterations = iterations;
                     Trajectory t;
-                    std::vector<double> medians;
+                    Timing timing;
                     const std::string err = measure_row(
                         o, [&](Trajectory* out) { return run_bullet(o.scene, physics, iterations, o.sampling, out); },
-                        &t, &medians);
+                        &t, &timing);
                     if (!err.empty()) {
                         std::fprintf(stderr, "weft-bench sweep: bullet: %s\n", err.c_str());
                         ok = false;
                         continue;
                     }
-                    score(t, g.reference, asset_world.asset(), o.scene, medians, &row);
+                    score(t, g.reference, asset_world.asset(), o.scene, timing, &row);
                     g.rows.push_back(row);
                 }
             }
