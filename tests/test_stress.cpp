@@ -1,5 +1,5 @@
 // Numerical stability under abuse (acceptance point 6 of the accuracy issue; results table in
-// docs/accuracy.md). Every case runs at least 2 000 steps on a small grid (n = 10 to 24, so the
+// docs/accuracy.md). Every case runs at least 2 000 steps on a small grid (n = 6 to 24, so the
 // suite stays quick under ASan) and asserts finite positions, a bounded extent, no growing
 // penetration where there is a collider, and a return to rest where the scene allows one.
 // CTest label `stress`. Refused input (NaN, Inf, dt <= 0) is checked to change nothing over a whole
@@ -171,6 +171,21 @@ TEST_SUITE("stress") {
         CHECK(o.max_extent_m < 6.0);  // held by its pole and tethers; no rest in a gale
     }
 
+    // Found by `weft-bench sweep flag --wind 40` (docs/accuracy.md), not fixed here: the seed's plain
+    // method (no tethers) at 1 iteration per step flies apart in 40 m/s wind at n = 50 (after 2 000
+    // steps particles are 188 km away, max strain 2e6; still finite). At n = 24 it stays bounded.
+    // Remove the skip when the runtime bounds it.
+    TEST_CASE("stress: the plain method at 1 iteration stays bounded in 40 m/s wind at n = 50" * doctest::skip()) {
+        scenes::SceneOptions so = test::scene_options(50);
+        so.wind_m_s = 40.0f;
+        scenes::apply_config(scenes::Config::plain, 1, so);
+        const scenes::Scene scene = scenes::seed_scene(SeedScene::flag, so);
+        auto w = build(scene);
+        const Outcome o = watch(w->world, w->cloths[0].id, kSteps, w->dt_s, scene.colliders);
+        CHECK(o.finite);
+        CHECK(o.max_extent_m < 6.0);
+    }
+
     TEST_CASE("stress: the drape started stretched x5 or crumpled to a point or randomised") {
         // Pins stay at their places; every free particle is moved, at rest, then the cloth is let go.
         struct Start {
@@ -319,7 +334,8 @@ TEST_SUITE("stress") {
     TEST_CASE("stress: iterations 0 and 1 000 per substep") {
         for (uint32_t iterations : {0u, 1000u}) {
             CAPTURE(iterations);
-            scenes::SceneOptions so = test::scene_options(iterations == 0 ? 24 : 10);
+            // 1 000 iterations on a 6 x 6 grid: 2 000 steps of it take about 25 s under ASan.
+            scenes::SceneOptions so = test::scene_options(iterations == 0 ? 24 : 6);
             so.explicit_split = true;
             so.substeps = 1;
             so.iterations = iterations;
@@ -327,7 +343,7 @@ TEST_SUITE("stress") {
             const scenes::Scene scene = scenes::seed_scene(SeedScene::drape, so);
             auto w = build(scene);
             const Outcome o = watch(w->world, w->cloths[0].id, kSteps, w->dt_s, {});
-            report(iterations == 0 ? "drape, 0 iterations (tethers only)" : "drape n=10, 1000 iterations", o);
+            report(iterations == 0 ? "drape, 0 iterations (tethers only)" : "drape n=6, 1000 iterations", o);
             CHECK(o.finite);
             CHECK(o.max_extent_m < 3.0);  // with no spring sweep the tethers alone bound the cloth
             CHECK(o.final_speed < 0.01);
