@@ -219,7 +219,7 @@ void print_reference(const SweepOptions& o, const Group& g) {
                 o.reference.tolerance, g.reference_strain.mean, g.reference_strain.max);
 }
 
-void print_rows(const SweepOptions& o, const Group& g) {
+void print_rows(const Group& g) {
     std::printf("ms/step: median CPU time of the stepping thread (wall: median wall time)\n");
     std::printf("%-7s %-5s %-22s %10s %10s %10s %10s %10s %10s %11s %6s\n", "solver", "simd", "config", "ms/step",
                 "wall", "traj err", "rest err", "max strain", "mean str", "penetr. mm", "pareto");
@@ -231,7 +231,6 @@ void print_rows(const SweepOptions& o, const Group& g) {
                     r.trajectory_error, rest, r.strain.max, r.strain.mean,
                     r.max_penetration_m * 1e3, r.pareto ? "*" : "", r.finite ? "" : " NON-FINITE");
     }
-    (void)o;
 }
 
 void print_budgets(const SweepOptions& o, Group& g) {
@@ -446,7 +445,7 @@ int run_sweep(const SweepOptions& o) {
                 std::fflush(stdout);
             } else {
                 print_reference(o, g);
-                print_rows(o, g);
+                print_rows(g);
                 print_budgets(o, g);
             }
             for (const Row& r : g.rows)
