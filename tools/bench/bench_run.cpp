@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
+#include <cstdio>
 #include <numeric>
 
 namespace weft::bench {
@@ -32,6 +33,15 @@ std::string step_checked(scenes::SeedWorld& sw) {
 }
 
 }  // namespace
+
+double load_average_1min() {
+    double load = -1.0;
+    if (std::FILE* f = std::fopen("/proc/loadavg", "r")) {
+        if (std::fscanf(f, "%lf", &load) != 1) load = -1.0;
+        std::fclose(f);
+    }
+    return load;
+}
 
 Summary summarise(std::vector<double> samples) {
     Summary s;

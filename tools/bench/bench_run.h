@@ -63,6 +63,10 @@ struct Measurement {
     std::vector<Vec3> final_positions;  // caller order, after run 1 (for the bit-identity check)
 };
 
+// The 1-minute load average (Linux), or a negative value when unknown. Other processes on the
+// machine inflate the timings; the bench reports how busy it was instead of hiding it.
+double load_average_1min();
+
 // Returns the failure message (empty on success).
 std::string measure(const RunOptions& options, uint32_t n, SimdPath path, Measurement* out);
 

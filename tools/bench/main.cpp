@@ -7,6 +7,9 @@
 //   weft-bench sphere [same] [--budgets 3,4,6,10] [--friction 0.5] [--offset 0] [--inflation 0.01]
 //   weft-bench passes [same]        every scene, to show which passes each one pays for
 //   weft-bench levers [--size 100] [--sweeps 3] [--json]   docs/solver.md's table
+//   weft-bench sweep SCENE [--sizes 100] [--wind 10,20,40] [--frames 330] [--budget-ms 0.25,0.5,1]
+//                     [--json] [--csv FILE] [--plot FILE.png] [--quick] [--no-peer] ...
+//                     run time against error, Weft's budgets and Bullet's (docs/accuracy.md)
 //
 // The budget is `--sweeps` spent by the runtime's automatic policy (config "default") or the seed's
 // plain method (config "plain"); --iterations / --substeps give an explicit split instead.
@@ -23,6 +26,7 @@
 
 #include "bench_run.h"
 #include "levers.h"
+#include "sweep.h"
 
 namespace {
 
@@ -113,17 +117,6 @@ double round_to(double v, int digits) {
     return std::round(v * scale) / scale;
 }
 
-// The 1-minute load average (Linux), or a negative value when unknown. Other processes on the
-// machine inflate the timings; the bench reports how busy it was instead of hiding it.
-double load_average() {
-    double load = -1.0;
-    if (std::FILE* f = std::fopen("/proc/loadavg", "r")) {
-        if (std::fscanf(f, "%lf", &load) != 1) load = -1.0;
-        std::fclose(f);
-    }
-    return load;
-}
-
 bool bit_identical(const std::vector<Vec3>& a, const std::vector<Vec3>& b) {
     return a.size() == b.size() && std::memcmp(a.data(), b.data(), a.size() * sizeof(Vec3)) == 0;
 }
@@ -196,7 +189,7 @@ nlohmann::ordered_json to_json(const bench::Measurement& m, const CliOptions& o,
     } else {
         j["speedup_vs_scalar"] = m.path == SimdPath::scalar ? nlohmann::ordered_json(1.0) : nullptr;
     }
-    j["load_avg_1min"] = round_to(load_average(), 2);
+    j["load_avg_1min"] = round_to(bench::load_average_1min(), 2);
     j["contiguous_fraction"] = round_to(double(m.constraints_on_runs) / double(m.springs), 6);
     j["slots"] = m.slots;
     j["constraint_lanes"] = m.lanes;
@@ -241,7 +234,7 @@ void print_header(SeedScene scene, const CliOptions& o, const std::vector<SizeRe
     if (o.repeat > 1) std::printf(" (lowest of %u runs)", o.repeat);
     std::printf("; cloth metrics after step %u\n", o.warmup + o.steps);
     // Other processes (on this machine or, in a VM, on the host) only ever add time: say how busy it was.
-    if (const double load = load_average(); load >= 0.0) std::printf("1-minute load average at the start: %.2f\n", load);
+    if (const double load = bench::load_average_1min(); load >= 0.0) std::printf("1-minute load average at the start: %.2f\n", load);
     std::printf("\n");
 }
 
@@ -487,11 +480,92 @@ int main(int argc, char** argv) {
     CLI::App* passes = app.add_subcommand("passes", "per-pass costs of drape, flag and sphere side by side");
     add_common_options(passes, passes_o);
 
+    bench::SweepOptions sweep_o;
+    std::string sweep_scene = "drape";
+    bool sweep_quick = false, sweep_no_peer = false, sweep_csv_off = false;
+    CLI::App* sweep = app.add_subcommand(
+        "sweep", "run time against error: a grid of budgets against a converged reference, Bullet beside (docs/accuracy.md)");
+    sweep->add_option("scene", sweep_scene, "drape, flag or sphere")
+        ->check(CLI::IsMember({"drape", "flag", "sphere"}))
+        ->required();
+    sweep->add_option("--sizes", sweep_o.sizes, "grid sizes n, comma separated")
+        ->delimiter(',')
+        ->check(CLI::Range(2u, 4096u))
+        ->capture_default_str();
+    sweep->add_option("--wind", sweep_o.winds_m_s, "flag: wind speeds, m/s, comma separated (the paper: 10, 20, 40)")
+        ->delimiter(',')
+        ->check(CLI::Range(0.0f, 500.0f))
+        ->capture_default_str();
+    sweep->add_option("--frames", sweep_o.sampling.frames, "steps per run (dt 0.033 s)")
+        ->check(CLI::Range(1u, 100000u))
+        ->capture_default_str();
+    sweep->add_option("--sample-every", sweep_o.sampling.sample_every, "frames between sampled frames")
+        ->check(CLI::Range(1u, 100000u))
+        ->capture_default_str();
+    sweep->add_option("--iterations", sweep_o.iterations, "Weft: iterations per substep to sweep")
+        ->delimiter(',')
+        ->check(CLI::Range(0u, 1000u))
+        ->capture_default_str();
+    sweep->add_option("--substeps", sweep_o.substeps, "Weft: substeps per step to sweep")
+        ->delimiter(',')
+        ->check(CLI::Range(1u, 64u))
+        ->capture_default_str();
+    sweep->add_option("--peer-iterations", sweep_o.peer_iterations, "Bullet: position iterations to sweep")
+        ->delimiter(',')
+        ->check(CLI::Range(1u, 1000u))
+        ->capture_default_str();
+    sweep->add_option("--paths", sweep_o.paths, "Weft's SIMD paths: scalar, avx2")
+        ->delimiter(',')
+        ->check(CLI::IsMember({"scalar", "avx2"}))
+        ->capture_default_str();
+    sweep->add_option("--reference-cap", sweep_o.reference.max_substeps,
+                      "most substeps per step the reference doubles to (1 iteration each)")
+        ->check(CLI::Range(1u, 64u))
+        ->capture_default_str();
+    sweep->add_option("--tolerance", sweep_o.reference.tolerance, "the reference is converged when a doubling moves it less")
+        ->capture_default_str();
+    std::vector<float> sweep_compliance;
+    sweep->add_option("--compliance", sweep_compliance,
+                      "the fabric: XPBD compliance of stretch, shear and bend springs, m/N (three values)")
+        ->delimiter(',')
+        ->expected(3)
+        ->check(CLI::Range(0.0f, 1e6f));
+    sweep->add_option("--friction", sweep_o.friction, "sphere: Coulomb friction")->capture_default_str();
+    sweep->add_option("--repeat", sweep_o.repeat, "timing runs per configuration (median of their medians)")
+        ->check(CLI::Range(1u, 100u))
+        ->capture_default_str();
+    sweep->add_option("--budget-ms", sweep_o.budgets_ms, "name the least-error configuration within these ms per step")
+        ->delimiter(',')
+        ->check(CLI::PositiveNumber);
+    sweep->add_flag("--json", sweep_o.json, "one JSON object per configuration");
+    sweep->add_option("--csv", sweep_o.csv_path, "CSV output (default sweep-SCENE.csv)");
+    sweep->add_flag("--no-csv", sweep_csv_off, "write no CSV");
+    sweep->add_option("--plot", sweep_o.plot_path, "PNG plot via gnuplot (one per size / wind when several)");
+    sweep->add_flag("--no-peer", sweep_no_peer, "leave Bullet out");
+    sweep->add_flag("--quick", sweep_quick, "a tiny grid (tests): 2 x 2 configurations, one Bullet budget, reference capped at 4 substeps");
+
     CLI11_PARSE(app, argc, argv);
 
     if (drape->parsed()) return run({SeedScene::drape}, drape_o, true);
     if (flag->parsed()) return run({SeedScene::flag}, flag_o, true);
     if (sphere->parsed()) return run({SeedScene::sphere}, sphere_o, true);
+    if (sweep->parsed()) {
+        sweep_o.scene = sweep_scene == "drape" ? SeedScene::drape : sweep_scene == "flag" ? SeedScene::flag : SeedScene::sphere;
+        if (sweep_quick) {  // the quick grid, except what was given explicitly
+            bench::SweepOptions quick = sweep_o;
+            bench::make_quick(quick);
+            if (sweep->count("--iterations") == 0) sweep_o.iterations = quick.iterations;
+            if (sweep->count("--substeps") == 0) sweep_o.substeps = quick.substeps;
+            if (sweep->count("--peer-iterations") == 0) sweep_o.peer_iterations = quick.peer_iterations;
+            if (sweep->count("--reference-cap") == 0) sweep_o.reference.max_substeps = quick.reference.max_substeps;
+            sweep_o.long_range = quick.long_range;
+        }
+        for (size_t k = 0; k < sweep_compliance.size() && k < 3; ++k) sweep_o.compliance_m_per_n[k] = sweep_compliance[k];
+        sweep_o.peer = !sweep_no_peer;
+        if (sweep_o.csv_path.empty() && !sweep_csv_off) sweep_o.csv_path = "sweep-" + sweep_scene + ".csv";
+        if (sweep_csv_off) sweep_o.csv_path.clear();
+        return bench::run_sweep(sweep_o);
+    }
     if (levers->parsed()) return bench::run_levers(levers_size, levers_sweeps, levers_steps, levers_json);
     return run({SeedScene::drape, SeedScene::flag, SeedScene::sphere}, passes_o, false);
 }

@@ -6,8 +6,11 @@
 
 namespace weft::metrics {
 
-Strain stretch_strain(const ClothView& c) {
-    const ClothAsset& a = *c.asset;
+namespace {
+
+// Strain over the stretch and shear lanes; `at(slot)` gives a slot's position.
+template <class PositionOfSlot>
+Strain strain_of(const ClothAsset& a, PositionOfSlot at) {
     Strain s;
     uint64_t count = 0;
     for (uint32_t i = 0; i < a.batch_count; ++i) {
@@ -15,8 +18,8 @@ Strain stretch_strain(const ClothView& c) {
         if (b.kind == ConstraintKind::bend) continue;
         for (uint32_t l = b.first_lane; l < b.first_lane + b.lane_count; ++l) {
             if (a.lane_weight[l] == 0.0f || a.rest_length[l] <= 0.0f) continue;
-            const uint32_t p = a.index_a[l], q = a.index_b[l];
-            const double dx = double(c.x[q]) - c.x[p], dy = double(c.y[q]) - c.y[p], dz = double(c.z[q]) - c.z[p];
+            const Vec3 p = at(a.index_a[l]), q = at(a.index_b[l]);
+            const double dx = double(q.x) - p.x, dy = double(q.y) - p.y, dz = double(q.z) - p.z;
             const double strain = std::fabs(std::sqrt(dx * dx + dy * dy + dz * dz) / a.rest_length[l] - 1.0);
             s.mean += strain;
             s.max = std::isnan(strain) ? strain : std::max(s.max, strain);
@@ -25,6 +28,17 @@ Strain stretch_strain(const ClothView& c) {
     }
     if (count > 0) s.mean /= double(count);
     return s;
+}
+
+}  // namespace
+
+Strain stretch_strain(const ClothView& c) {
+    return strain_of(*c.asset, [&](uint32_t s) { return Vec3{c.x[s], c.y[s], c.z[s]}; });
+}
+
+Strain stretch_strain(const ClothAsset& a, const std::vector<Vec3>& positions) {
+    if (positions.size() != a.particle_count) return {};
+    return strain_of(a, [&](uint32_t s) { return positions[a.particle_of_slot[s]]; });
 }
 
 double mean_speed(const ClothView& c) {
@@ -104,6 +118,56 @@ double max_penetration_m(const ClothView& c, const ColliderDesc* colliders, uint
         for (uint32_t k = 0; k < count; ++k) worst = std::max(worst, depth_inside(colliders[k], c.x[s], c.y[s], c.z[s]));
     }
     return worst;
+}
+
+double max_penetration_m(const ClothAsset& a, const std::vector<Vec3>& positions, const ColliderDesc* colliders,
+                         uint32_t count) {
+    double worst = 0.0;
+    for (uint32_t p = 0; p < a.particle_count && p < positions.size(); ++p) {
+        if (a.inverse_mass[a.slot_of_particle[p]] == 0.0f) continue;
+        const Vec3 q = positions[p];
+        for (uint32_t k = 0; k < count; ++k) worst = std::max(worst, depth_inside(colliders[k], q.x, q.y, q.z));
+    }
+    return worst;
+}
+
+double rms_distance(const std::vector<Vec3>& a, const std::vector<Vec3>& b) {
+    if (a.size() != b.size() || a.empty()) return std::numeric_limits<double>::infinity();
+    double sum = 0.0;
+    for (size_t i = 0; i < a.size(); ++i) {
+        const double dx = double(a[i].x) - b[i].x, dy = double(a[i].y) - b[i].y, dz = double(a[i].z) - b[i].z;
+        sum += dx * dx + dy * dy + dz * dz;
+    }
+    // A NaN anywhere makes the run infinitely wrong, not "unordered".
+    return std::isfinite(sum) ? std::sqrt(sum / double(a.size())) : std::numeric_limits<double>::infinity();
+}
+
+double trajectory_error(const Frames& run, const Frames& reference, double diagonal) {
+    if (run.size() != reference.size() || run.empty() || !(diagonal > 0.0))
+        return std::numeric_limits<double>::infinity();
+    double sum = 0.0;  // of squared RMS distances: every frame has the same particle count
+    for (size_t f = 0; f < run.size(); ++f) {
+        const double d = rms_distance(run[f], reference[f]);
+        sum += d * d;
+    }
+    return std::isfinite(sum) ? std::sqrt(sum / double(run.size())) / diagonal
+                              : std::numeric_limits<double>::infinity();
+}
+
+double rest_state_error(const Frames& run, const Frames& reference, double diagonal) {
+    if (run.empty() || reference.empty() || !(diagonal > 0.0)) return std::numeric_limits<double>::infinity();
+    return rms_distance(run.back(), reference.back()) / diagonal;
+}
+
+double diagonal_m(const std::vector<Vec3>& positions) {
+    if (positions.empty()) return 0.0;
+    Vec3 lo = positions[0], hi = positions[0];
+    for (const Vec3& p : positions) {
+        lo = {std::min(lo.x, p.x), std::min(lo.y, p.y), std::min(lo.z, p.z)};
+        hi = {std::max(hi.x, p.x), std::max(hi.y, p.y), std::max(hi.z, p.z)};
+    }
+    const double dx = double(hi.x) - lo.x, dy = double(hi.y) - lo.y, dz = double(hi.z) - lo.z;
+    return std::sqrt(dx * dx + dy * dy + dz * dz);
 }
 
 Vec3 particle_position(const ClothView& c, uint32_t particle) {

@@ -1,6 +1,8 @@
 // Measurements of a cloth's state that tests and benchmarks share. Defined in docs/accuracy.md.
 #pragma once
 
+#include <vector>
+
 #include "weft/weft.h"
 
 namespace weft::metrics {
@@ -10,6 +12,8 @@ struct Strain {
     double max = 0.0;
 };
 Strain stretch_strain(const ClothView& cloth);
+// The same over positions in caller order (a peer solver's output, a stored frame).
+Strain stretch_strain(const ClothAsset& asset, const std::vector<Vec3>& positions);
 
 // Mean particle speed over the last substep, m/s (real, free particles only).
 double mean_speed(const ClothView& cloth);
@@ -26,6 +30,28 @@ double max_tether_excess(const ClothView& cloth);
 // Deepest a particle lies inside any collider's collision surface (the shape grown by its
 // inflation: the surface the solver enforces), metres; 0 when none is inside.
 double max_penetration_m(const ClothView& cloth, const ColliderDesc* colliders, uint32_t count);
+// The same over positions in caller order; pinned particles (asset inverse mass 0) are skipped.
+double max_penetration_m(const ClothAsset& asset, const std::vector<Vec3>& positions,
+                         const ColliderDesc* colliders, uint32_t count);
+
+// --- errors against a reference run (docs/accuracy.md) ------------------------------------------
+
+// A run's particle positions (caller order) at its sampled frames.
+using Frames = std::vector<std::vector<Vec3>>;
+
+// Root-mean-square distance between corresponding particles, metres: sqrt(sum |a_i - b_i|^2 / N).
+double rms_distance(const std::vector<Vec3>& a, const std::vector<Vec3>& b);
+
+// Trajectory error: RMS particle distance to the reference over every sampled frame, divided by the
+// cloth's diagonal: sqrt(sum_f sum_i |x_i(f) - r_i(f)|^2 / (F N)) / D. Infinite when the runs do not
+// match in shape or a position is not finite.
+double trajectory_error(const Frames& run, const Frames& reference, double diagonal_m);
+
+// Rest-state error: the same on the last sampled frame only (for scenes that come to rest).
+double rest_state_error(const Frames& run, const Frames& reference, double diagonal_m);
+
+// Diagonal of the axis-aligned box around the positions, metres (the cloth's size for the errors).
+double diagonal_m(const std::vector<Vec3>& positions);
 
 // Position of the real particle with this caller index.
 Vec3 particle_position(const ClothView& cloth, uint32_t particle);

@@ -118,6 +118,8 @@ Scene seed_scene(SeedScene which, const SceneOptions& o) {
     cd.coarse_level = o.coarse_level;
     cd.damping_per_s = o.damping_per_s;
     cd.projection = o.projection;
+    cd.compliance_m_per_n[0] = o.stretch_compliance_m_per_n;
+    cd.compliance_m_per_n[1] = o.shear_compliance_m_per_n;
     cd.compliance_m_per_n[2] = o.bend_compliance_m_per_n;
     scene.cloths.push_back(std::move(cloth));
     return scene;

@@ -43,6 +43,9 @@ struct SceneOptions {
     float relaxation = 1.0f;
     float damping_per_s = ClothDesc{}.damping_per_s;
     SpringProjection projection = SpringProjection::exact;
+    // XPBD compliance per spring kind, m/N (ClothDesc::compliance_m_per_n; 0 = hard).
+    float stretch_compliance_m_per_n = ClothDesc{}.compliance_m_per_n[0];
+    float shear_compliance_m_per_n = ClothDesc{}.compliance_m_per_n[1];
     float bend_compliance_m_per_n = ClothDesc{}.compliance_m_per_n[2];
     // The flag's fabric: heavy (a canvas banner), so that the seed's 10 to 40 m/s span drooping to
     // streaming; at cotton's 0.15 kg/m2 the wind of eq. (2)-(3) holds it fully out from 10 m/s on.

@@ -1,0 +1,24 @@
+// The peer in the same run (acceptance point 4): Bullet's position-based soft body (btSoftBody) on the
+// same scene, its points measured with the same metrics against the same reference as Weft's.
+// Built only where Bullet is found (WEFT_HAVE_BULLET); elsewhere `bullet_available()` is false and
+// the sweep leaves the peer out.
+#pragma once
+
+#include <string>
+
+#include "accuracy.h"
+
+namespace weft::bench {
+
+bool bullet_available();
+
+// Runs the seed scene `scene` (the n, friction, inflation and damping of `options`) as a btSoftBody:
+// the same particles, masses and pins (mass 0), one link per Weft spring (stretch, shear and bend,
+// rest length from the start pose, full stiffness), the sphere as a static btSphereShape rigid body
+// with the same friction, gravity, and one internal Bullet step per dt of 0.033 s. Its budget is
+// Config::piterations = `iterations`. Fills positions per sampled frame and per-step times like
+// run_trajectory; returns the failure message (empty on success).
+std::string run_bullet(scenes::SeedScene scene, const scenes::SceneOptions& options, uint32_t iterations,
+                       const Sampling& sampling, Trajectory* out);
+
+}  // namespace weft::bench
