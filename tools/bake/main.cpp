@@ -159,6 +159,8 @@ int main(int argc, char** argv) {
     j["total_mass_kg"] = garment.total_mass_kg;
     j["area_m2"] = garment.area_m2;
     j["pinned"] = garment.pinned.size();
+    j["min_run_lanes"] = baked.cook_options.min_run_lanes;
+    j["max_run_gap"] = baked.cook_options.max_run_gap;
     if (as_json) {
         std::printf("%s\n", j.dump().c_str());
     } else {

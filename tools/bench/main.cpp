@@ -7,6 +7,7 @@
 //   weft-bench sphere [same] [--budgets 3,4,6,10] [--friction 0.5] [--offset 0] [--inflation 0.01]
 //   weft-bench passes [same]        every scene, to show which passes each one pays for
 //   weft-bench levers [--size 100] [--sweeps 3] [--json]   docs/solver.md's table
+//   weft-bench garment PATTERN.json ... [--iterations 10] [--repeat 5]   baked vs in-memory, ns per projection
 //
 // The budget is `--sweeps` spent by the runtime's automatic policy (config "default") or the seed's
 // plain method (config "plain"); --iterations / --substeps give an explicit split instead.
@@ -22,6 +23,7 @@
 #include <vector>
 
 #include "bench_run.h"
+#include "garment.h"
 #include "levers.h"
 
 namespace {
@@ -487,8 +489,11 @@ int main(int argc, char** argv) {
     CLI::App* passes = app.add_subcommand("passes", "per-pass costs of drape, flag and sphere side by side");
     add_common_options(passes, passes_o);
 
+    CLI::App* garment = bench::add_garment_subcommand(app);
+
     CLI11_PARSE(app, argc, argv);
 
+    if (garment->parsed()) return bench::run_garment();
     if (drape->parsed()) return run({SeedScene::drape}, drape_o, true);
     if (flag->parsed()) return run({SeedScene::flag}, flag_o, true);
     if (sphere->parsed()) return run({SeedScene::sphere}, sphere_o, true);
