@@ -11,6 +11,7 @@
 #include <sstream>
 #include <string>
 
+#include "bake.h"
 #include "garment.h"
 #include "outline.h"
 #include "pattern.h"
@@ -28,14 +29,14 @@ std::string read_text(const std::filesystem::path& path) {
     return text.str();
 }
 
-struct Baked {
+struct Meshed {
     Pattern pattern;
     MeshedGarment garment;
     double seconds = 0.0;
 };
 
-Baked bake_text(const std::string& text, const ParseOptions& parse = {}, const MeshOptions& mesh = {}) {
-    Baked b;
+Meshed bake_text(const std::string& text, const ParseOptions& parse = {}, const MeshOptions& mesh = {}) {
+    Meshed b;
     const auto start = std::chrono::steady_clock::now();
     const Status parsed = parse_pattern(text, parse, &b.pattern);
     REQUIRE_MESSAGE(parsed.ok(), parsed.error);
@@ -45,16 +46,21 @@ Baked bake_text(const std::string& text, const ParseOptions& parse = {}, const M
     return b;
 }
 
-// constraints on SIMD runs / all constraints, after cook_cloth (the runtime's own measure).
-double contiguous_fraction(const MeshedGarment& g) {
+// The garment cooked as weft-bake cooks it (cook_garment: the cheapest of the run shapes it tries).
+struct RunFigures {
+    double contiguous_fraction = 0.0;  // constraints on SIMD runs / all constraints (the runtime's measure)
+    double padding_ratio = 0.0;        // lane_padding
+};
+RunFigures run_figures(const MeshedGarment& g) {
     CookedCloth cooked;
-    const Result r = cook_cloth(cloth_mesh_desc(g), CookOptions{}, &cooked);
+    const Result r = cook_garment(cloth_mesh_desc(g), CookOptions{}, true, &cooked);
     REQUIRE_MESSAGE(r.ok(), r.message);
-    return double(cooked.asset().constraints_on_runs) / double(cooked.asset().total_constraints());
+    return {double(cooked.asset().constraints_on_runs) / double(cooked.asset().total_constraints()),
+            lane_padding(cooked.asset()).ratio()};
 }
 
 // Every property a baked garment promises (garment.h), checked from the outside.
-void check_garment(const Baked& b) {
+void check_garment(const Meshed& b) {
     const Pattern& pattern = b.pattern;
     const MeshedGarment& g = b.garment;
     const size_t n = g.positions.size();
@@ -123,9 +129,9 @@ double lattice_fill(const MeshedGarment& g) {
     return double((i1 - i0) / 2 + 1) * double((j1 - j0) / 2 + 1) * 4.0 / double(g.positions.size());
 }
 
-void report(const std::string& name, const Baked& b, double reference_cm2 = 0.0) {
+void report(const std::string& name, const Meshed& b, double reference_cm2 = 0.0) {
     const PanelQuality& q = b.garment.quality.overall;
-    const double cf = contiguous_fraction(b.garment);
+    const RunFigures runs = run_figures(b.garment);
     const double area_cm2 = b.garment.area_m2 * 1e4;
     const double error = reference_cm2 > 0 ? (area_cm2 - reference_cm2) / reference_cm2 : 0.0;
     MESSAGE(name << ": " << q.particles << " particles (" << q.grid_particles << " grid), " << q.triangles
@@ -133,20 +139,23 @@ void report(const std::string& name, const Baked& b, double reference_cm2 = 0.0)
                  << " away from sharp corners), edges " << q.edge_min_h << "/" << q.edge_mean_h << "/" << q.edge_max_h
                  << " h, area " << area_cm2 << " cm^2 (outline " << q.outline_area_m2 * 1e4 << ", reference error "
                  << error * 100 << "%), rounds " << b.garment.quality.rounds << ", seam points "
-                 << b.garment.seam_first.size() - 1 << ", lattice box " << lattice_fill(b.garment) << " nodes per particle, contiguous_fraction " << cf << ", bake " << b.seconds << " s");
+                 << b.garment.seam_first.size() - 1 << ", lattice box " << lattice_fill(b.garment) << " nodes per particle, contiguous_fraction " << runs.contiguous_fraction << ", padding_ratio "
+                 << runs.padding_ratio << ", bake " << b.seconds << " s");
 }
 
-// The acceptance is contiguous_fraction >= 0.90 at the default resolution. Single-panel
-// cloths (sheet, flag) meet it; garments do not yet (0.6-0.8 at h = 2 cm: their panel rows hold
-// fewer than the runtime's 16 lanes per run between strips, see docs/pattern-format.md), so for
-// them this warns and guards against regressions only.
+// The acceptance at the default resolution: contiguous_fraction >= 0.90 (met by every
+// sample and GarmentCode pattern: 0.917-0.999, docs/pattern-format.md) and padding waste under 10%
+// (met by one-panel cloths, 0.015-0.035; not by garments, 0.17-0.31: every panel boundary and row
+// end inside a run costs padding lanes), so for garments the padding bound warns and guards
+// against regressions only.
 void check_contiguous(const std::string& name, const MeshedGarment& g) {
-    const double cf = contiguous_fraction(g);
+    const RunFigures runs = run_figures(g);
+    CHECK_MESSAGE(runs.contiguous_fraction >= 0.90, name);
     if (g.panel_names.size() == 1) {
-        CHECK_MESSAGE(cf >= 0.90, name);
+        CHECK_MESSAGE(runs.padding_ratio < 0.10, name);
     } else {
-        WARN_MESSAGE(cf >= 0.90, name << ": contiguous_fraction " << cf << " below the 0.90 target");
-        CHECK_MESSAGE(cf >= 0.45, name);
+        WARN_MESSAGE(runs.padding_ratio < 0.10, name << ": padding_ratio " << runs.padding_ratio << " above the 0.10 target");
+        CHECK_MESSAGE(runs.padding_ratio < 0.33, name);
     }
 }
 
@@ -158,7 +167,7 @@ const std::filesystem::path kShared = WEFT_SHARED_DATA_DIR;
 TEST_CASE("bake: the sample patterns mesh, sew and cook") {
     for (const char* name : {"sheet", "flag", "skirt", "tee"}) {
         CAPTURE(std::string(name));
-        const Baked b = bake_text(read_text(kSamples / (std::string(name) + ".json")));
+        const Meshed b = bake_text(read_text(kSamples / (std::string(name) + ".json")));
         check_garment(b);
         report(name, b);
         check_contiguous(name, b.garment);
@@ -183,7 +192,7 @@ TEST_CASE("bake: the GarmentCode patterns match the reference areas") {
         CAPTURE(std::string(c.file));
         ParseOptions options;
         options.placement_offset_m[1] = c.offset_y;
-        const Baked b = bake_text(read_text(kShared / "patterns" / c.file), options);
+        const Meshed b = bake_text(read_text(kShared / "patterns" / c.file), options);
         check_garment(b);
         report(c.file, b, c.area_cm2);
         CHECK(std::fabs(b.garment.quality.overall.outline_area_m2 * 1e4 - c.area_cm2) <= 0.005 * c.area_cm2);

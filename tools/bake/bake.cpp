@@ -42,11 +42,37 @@ GarmentInput garment_input(const MeshedGarment& g, const Fabric& f) {
 
 }  // namespace
 
+double run_cost_ns(const ClothAsset& a) {
+    double run = 0.0, indexed = 0.0;
+    for (uint32_t b = 0; b < a.batch_count; ++b)
+        (a.batches[b].layout == BatchLayout::run ? run : indexed) += a.batches[b].lane_count;
+    return kRunLaneNs * run + kIndexedLaneNs * indexed;
+}
+
+Result cook_garment(const ClothMeshDesc& mesh, const CookOptions& options, bool choose_runs, CookedCloth* out,
+                    CookOptions* chosen) {
+    if (chosen != nullptr) *chosen = options;
+    if (Result r = cook_cloth(mesh, options, out); !r.ok() || !choose_runs) return r;
+    double best = run_cost_ns(out->asset());
+    for (const auto& [min_run_lanes, max_run_gap] : kRunChoices) {
+        CookOptions cook = options;
+        cook.min_run_lanes = min_run_lanes;
+        cook.max_run_gap = max_run_gap;
+        CookedCloth trial;
+        if (Result r = cook_cloth(mesh, cook, &trial); !r.ok()) return r;
+        if (const double cost = run_cost_ns(trial.asset()); cost < best) {
+            best = cost, *out = std::move(trial);
+            if (chosen != nullptr) *chosen = cook;
+        }
+    }
+    return {};
+}
+
 Status bake_pattern(std::string_view text, const BakeOptions& options, Baked* out) {
     if (Status s = parse_pattern(text, options.parse, &out->pattern); !s.ok()) return s;
     if (Status s = mesh_garment(out->pattern, options.mesh, &out->garment); !s.ok()) return s;
     const GarmentInput input = garment_input(out->garment, out->pattern.fabric);
-    if (Result r = cook_cloth(input.desc, options.cook, &out->cooked); !r.ok()) return {r.message};
+    if (Result r = cook_garment(input.desc, options.cook, options.choose_runs, &out->cooked, &out->cook_options); !r.ok()) return {r.message};
     if (Result r = assets::write_asset(out->cooked.asset(), &out->bytes); !r.ok()) return {r.message};
     assets::LoadedAsset check;
     if (Result r = assets::load_asset_copy(out->bytes.data(), out->bytes.size(), &check); !r.ok())

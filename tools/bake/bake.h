@@ -20,12 +20,30 @@ struct BakeOptions {
     ParseOptions parse;
     MeshOptions mesh;
     CookOptions cook;
+    // Cook the garment with each of kRunChoices' (min_run_lanes, max_run_gap) as well as `cook`'s
+    // own, and keep the one with the lowest estimated constraint pass (run_cost_ns); false: `cook` as given.
+    bool choose_runs = true;
 };
+
+// Run shapes the baker tries (BakeOptions::choose_runs): {min_run_lanes, max_run_gap}.
+inline constexpr uint32_t kRunChoices[][2] = {{16, 4}, {8, 2}, {8, 4}, {8, 6}};
+
+// The constraint pass's estimated cost per sweep, ns: every run lane (padding included) at
+// kRunLaneNs, every indexed lane at kIndexedLaneNs. Measured with `weft-bench garment` on the AVX2
+// path (one core of the 2-core Zen 4 build machine): an indexed lane costs about 7.6 run lanes.
+inline constexpr double kRunLaneNs = 0.71, kIndexedLaneNs = 5.4;
+double run_cost_ns(const ClothAsset& asset);
+
+// cook_cloth(mesh, cook), and with `choose_runs` also each of kRunChoices' run shapes: the cheapest
+// by run_cost_ns is kept (the first on ties), its options in *chosen (optional). bake_pattern's cook step.
+Result cook_garment(const ClothMeshDesc& mesh, const CookOptions& cook, bool choose_runs, CookedCloth* out,
+                    CookOptions* chosen = nullptr);
 
 struct Baked {
     Pattern pattern;
     MeshedGarment garment;
     CookedCloth cooked;
+    CookOptions cook_options;      // what `cooked` was cooked with (BakeOptions::choose_runs)
     std::vector<std::byte> bytes;  // the asset file
 };
 

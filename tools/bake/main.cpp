@@ -1,7 +1,7 @@
 // weft-bake: sewing patterns -> binary cloth assets the runtime loads in place.
 //
 //   weft-bake PATTERN.json -o OUT.weft [--target-edge METRES] [--simd-width 8|16] [--json]
-//             [--depfile FILE] [--offset X,Y,Z]
+//             [--depfile FILE] [--offset X,Y,Z] [--runs]
 //   weft-bake --info FILE.weft [--json]
 //
 // The pipeline is bake_pattern (bake.h); this file is the command line around it.
@@ -17,6 +17,7 @@
 
 #include "asset_writer.h"
 #include "bake.h"
+#include "run_report.h"
 
 namespace {
 
@@ -106,6 +107,7 @@ int main(int argc, char** argv) {
     uint32_t simd_width = kSimdWidth;
     std::vector<double> offset;
     bool as_json = false;
+    bool runs = false;
     app.add_option("pattern", pattern_path, "sewing pattern (docs/pattern-format.md)");
     app.add_option("-o,--output", out_path, "the asset file to write (docs/asset-format.md)");
     app.add_option("--target-edge", target_edge, "mesh edge length, metres (default: the pattern's, else 0.02)")
@@ -117,6 +119,7 @@ int main(int argc, char** argv) {
     app.add_option("--depfile", depfile, "write a Make/Ninja depfile for the output");
     app.add_option("--info", info_path, "describe an asset file (loaded through the runtime's validating loader)");
     app.add_flag("--json", as_json, "one JSON object instead of the human summary");
+    app.add_flag("--runs", runs, "also print where the constraints off SIMD runs and the padding lanes come from (stderr)");
     CLI11_PARSE(app, argc, argv);
 
     if (!info_path.empty()) return info(info_path, as_json);
@@ -143,6 +146,8 @@ int main(int argc, char** argv) {
         if (!d) return fail("cannot write '" + depfile + "'");
     }
 
+    if (runs)
+        std::fprintf(stderr, "%s", bake::format_run_report(bake::run_report(garment, baked.cooked.asset(), options.cook)).c_str());
     const bake::PanelQuality& q = garment.quality.overall;
     json j = describe(baked.cooked.asset(), bytes.size());
     j["pattern"] = pattern_path;
@@ -154,6 +159,8 @@ int main(int argc, char** argv) {
     j["total_mass_kg"] = garment.total_mass_kg;
     j["area_m2"] = garment.area_m2;
     j["pinned"] = garment.pinned.size();
+    j["min_run_lanes"] = baked.cook_options.min_run_lanes;
+    j["max_run_gap"] = baked.cook_options.max_run_gap;
     if (as_json) {
         std::printf("%s\n", j.dump().c_str());
     } else {
