@@ -30,7 +30,7 @@ struct AssetCopy {
     std::vector<uint32_t> coarse_row_node[2], coarse_col_node[2];
     std::vector<float> coarse_row_frac[2], coarse_col_frac[2];
     std::vector<TriangleRun> wind_runs;
-    std::vector<float> wind_lane_weight;
+    std::vector<float> wind_lane_weight, wind_rest_area;
     ClothAsset asset;
 
     template <class T>
@@ -60,6 +60,7 @@ struct AssetCopy {
         triangles.assign(a.triangles, a.triangles + 3 * a.triangle_count);
         copy(wind_runs, a.wind_runs, a.wind_run_count);
         copy(wind_lane_weight, a.wind_lane_weight, a.wind_lane_count);
+        copy(wind_rest_area, a.wind_rest_area, a.wind_lane_count + (a.triangle_count - a.wind_run_triangles));
         copy(coarse_node_slot, a.coarse_node_slot, a.coarse_node_count);
         copy(coarse_slot_of_node, a.coarse_slot_of_node, a.coarse_node_count);
         copy(coarse_node_of_slot, a.coarse_node_of_slot, a.coarse_slot_count);
@@ -106,6 +107,7 @@ struct AssetCopy {
         asset.triangles = triangles.data();
         repoint(asset.wind_runs, wind_runs);
         repoint(asset.wind_lane_weight, wind_lane_weight);
+        repoint(asset.wind_rest_area, wind_rest_area);
         repoint(asset.coarse_node_slot, coarse_node_slot);
         repoint(asset.coarse_slot_of_node, coarse_slot_of_node);
         repoint(asset.coarse_node_of_slot, coarse_node_of_slot);
@@ -573,8 +575,10 @@ TEST_CASE("corrupt asset: wind run whose corners overlap") {
     expect_corrupt([](AssetCopy& c) { c.wind_runs[0].b0 = c.wind_runs[0].a0 + 1; });
 }
 
-TEST_CASE("corrupt asset: wind lane weight other than 0 or 1") {
+TEST_CASE("corrupt asset: wind lane weight other than 0 or 1 and a negative or NaN rest area") {
     expect_corrupt([](AssetCopy& c) { c.wind_lane_weight[0] = 0.5f; });
+    expect_corrupt([](AssetCopy& c) { c.wind_rest_area[0] = -1.0f; });
+    expect_corrupt([](AssetCopy& c) { c.wind_rest_area.back() = std::numeric_limits<float>::quiet_NaN(); });
 }
 
 TEST_CASE("corrupt asset: wind runs counting more triangles than the asset has") {

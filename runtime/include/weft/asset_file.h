@@ -142,8 +142,9 @@ enum class AssetSectionKind : uint32_t {
     coarse_index_a,
     coarse_index_b,
     coarse_batches,  // 49
+    wind_rest_area,  // 50
 };
-inline constexpr uint32_t kAssetSectionKindCount = 49;  // known kinds: 1..kAssetSectionKindCount
+inline constexpr uint32_t kAssetSectionKindCount = 50;  // known kinds: 1..kAssetSectionKindCount
 
 // Name of a section kind ("unknown" for kinds this runtime does not know).
 const char* asset_section_name(uint32_t kind);
@@ -175,6 +176,8 @@ void visit_asset_sections(const AssetFileHeader& h, Asset& a, Visit&& visit) {
     visit(K::triangles, a.triangles, 3 * uint64_t(h.triangle_count));
     visit(K::wind_runs, a.wind_runs, uint64_t(h.wind_run_count));
     visit(K::wind_lane_weight, a.wind_lane_weight, uint64_t(h.wind_lane_count));
+    visit(K::wind_rest_area, a.wind_rest_area,
+          uint64_t(h.wind_lane_count) + (h.triangle_count >= h.wind_run_triangles ? h.triangle_count - h.wind_run_triangles : 0));
     visit(K::coarse_node_slot, a.coarse_node_slot, uint64_t(h.coarse_node_count));
     visit(K::coarse_inverse_mass, a.coarse_inverse_mass, uint64_t(h.coarse_slot_count));
     visit(K::coarse_slot_of_node, a.coarse_slot_of_node, uint64_t(h.coarse_node_count));

@@ -128,6 +128,11 @@ struct ClothAsset {
     const TriangleRun* wind_runs = nullptr;
     uint32_t wind_lane_count = 0;
     const float* wind_lane_weight = nullptr;  // [wind_lane_count] 1 real, 0 padding
+    // The area each triangle has on the rest mesh, m^2: wind_lane_count entries for the runs' lanes
+    // (0 on padding), then one per triangle done one at a time (triangles[wind_run_triangles..]).
+    // The wind force is computed on at most this area: a triangle stretched far past its rest shape
+    // (a torn cloth at too small a budget) must not catch ever more wind and run away.
+    const float* wind_rest_area = nullptr;
     uint32_t wind_run_triangles = 0;
 
     // The coarse level (hierarchical position-based dynamics, Mueller 2008): a sparse subset of the
@@ -258,7 +263,7 @@ public:
     std::vector<TetherBatch> tether_batches;
     std::vector<uint32_t> triangles;
     std::vector<TriangleRun> wind_runs;
-    std::vector<float> wind_lane_weight;
+    std::vector<float> wind_lane_weight, wind_rest_area;
     uint32_t wind_run_triangles = 0;
     std::vector<uint32_t> coarse_node_slot, coarse_slot_of_node, coarse_node_of_slot;
     std::vector<float> coarse_inverse_mass;

@@ -28,8 +28,8 @@ struct WindArgs {
 // is degenerate, the air still relative to it, or the lane padding).
 template <class F>
 inline void triangle_wind(const F (&x)[3], const F (&y)[3], const F (&z)[3], const F (&px)[3], const F (&py)[3],
-                          const F (&pz)[3], const F (&w)[3], F weight, const WindArgs& args, F (&ax)[3], F (&ay)[3],
-                          F (&az)[3]) {
+                          const F (&pz)[3], const F (&w)[3], F weight, F rest_area, const WindArgs& args, F (&ax)[3],
+                          F (&ay)[3], F (&az)[3]) {
     using namespace simd;
     const F zero = splat(0.0f, F{}), one = splat(1.0f, F{}), third = splat(1.0f / 3.0f, F{});
     const F inv_h = splat(args.previous_substep_s > 0.0f ? 1.0f / args.previous_substep_s : 0.0f, F{});
@@ -48,7 +48,9 @@ inline void triangle_wind(const F (&x)[3], const F (&y)[3], const F (&z)[3], con
     const F inv_speed = one / speed, inv_twice_area = one / twice_area;
     const F hx = vx * inv_speed, hy = vy * inv_speed, hz = vz * inv_speed;                  // v_hat
     const F mx = nx * inv_twice_area, my = ny * inv_twice_area, mz = nz * inv_twice_area;  // n_hat
-    const F half_rho_area_v2 = splat(0.5f * args.air_density_kg_m3 * 0.5f, F{}) * twice_area * speed2;
+    // S in (2) and (3): the triangle's area, but never more than its rest area (ClothAsset::wind_rest_area).
+    const F area = min(splat(0.5f, F{}) * twice_area, rest_area);
+    const F half_rho_area_v2 = splat(0.5f * args.air_density_kg_m3, F{}) * area * speed2;
     // theta is the angle between v_relative and the surface: sin(theta) = |n . v_hat|.
     const F n_dot_v = mul_add(mx, hx, mul_add(my, hy, mz * hz));
     // Drag (2): opposite v_relative, 1/2 C_D rho |v|^2 S sin(theta).
@@ -93,7 +95,7 @@ inline void accumulate_wind(const Particles& p, const uint32_t (&corner)[3], con
 
 // One lane group whose corners k sit at slots corner[k] (+ lane for F wider than one).
 template <class F>
-inline void wind_lanes(const Particles& p, const uint32_t (&corner)[3], F weight, const WindArgs& args) {
+inline void wind_lanes(const Particles& p, const uint32_t (&corner)[3], F weight, F rest_area, const WindArgs& args) {
     using namespace simd;
     F x[3], y[3], z[3], px[3], py[3], pz[3], w[3], ax[3], ay[3], az[3];
     for (int k = 0; k < 3; ++k) {
@@ -102,7 +104,7 @@ inline void wind_lanes(const Particles& p, const uint32_t (&corner)[3], F weight
         px[k] = load(p.previous_x + i, F{}), py[k] = load(p.previous_y + i, F{}), pz[k] = load(p.previous_z + i, F{});
         w[k] = load(p.inverse_mass + i, F{});
     }
-    triangle_wind(x, y, z, px, py, pz, w, weight, args, ax, ay, az);
+    triangle_wind(x, y, z, px, py, pz, w, weight, rest_area, args, ax, ay, az);
     accumulate_wind(p, corner, ax, ay, az);
 }
 
@@ -117,12 +119,15 @@ void apply_wind(const Particles& p, const ClothAsset& a, const WindArgs& args) {
         const TriangleRun& run = a.wind_runs[r];
         for (uint32_t k = 0; k < run.lane_count; k += F::width) {
             const uint32_t corner[3] = {run.a0 + k, run.b0 + k, run.c0 + k};
-            wind_lanes<F>(p, corner, simd::load(a.wind_lane_weight + run.first_lane + k, F{}), args);
+            const uint32_t lane = run.first_lane + k;
+            wind_lanes<F>(p, corner, simd::load(a.wind_lane_weight + lane, F{}), simd::load(a.wind_rest_area + lane, F{}),
+                          args);
         }
     }
     for (uint32_t t = a.wind_run_triangles; t < a.triangle_count; ++t) {
         const uint32_t corner[3] = {a.triangles[3 * t], a.triangles[3 * t + 1], a.triangles[3 * t + 2]};
-        wind_lanes<simd::Float1>(p, corner, simd::Float1{1.0f}, args);
+        const float rest_area = a.wind_rest_area[a.wind_lane_count + (t - a.wind_run_triangles)];
+        wind_lanes<simd::Float1>(p, corner, simd::Float1{1.0f}, simd::Float1{rest_area}, args);
     }
 }
 

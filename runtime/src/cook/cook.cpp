@@ -56,6 +56,7 @@ void CookedCloth::refresh_asset(uint32_t particle_count, uint32_t colour_count, 
     a.wind_runs = wind_runs.data();
     a.wind_lane_count = uint32_t(wind_lane_weight.size());
     a.wind_lane_weight = wind_lane_weight.data();
+    a.wind_rest_area = wind_rest_area.data();
     a.wind_run_triangles = wind_run_triangles;
     a.coarse_node_count = uint32_t(coarse_node_slot.size());
     a.coarse_node_slot = coarse_node_slot.data();
@@ -115,6 +116,14 @@ uint32_t round_up(uint32_t v, uint32_t m) { return (v + m - 1) / m * m; }
 float distance(const Vec3& p, const Vec3& q) {
     const double dx = double(p.x) - q.x, dy = double(p.y) - q.y, dz = double(p.z) - q.z;
     return float(std::sqrt(dx * dx + dy * dy + dz * dz));
+}
+
+// Triangle area in double precision, m^2.
+float triangle_area(const Vec3& p, const Vec3& q, const Vec3& r) {
+    const double ux = double(q.x) - p.x, uy = double(q.y) - p.y, uz = double(q.z) - p.z;
+    const double vx = double(r.x) - p.x, vy = double(r.y) - p.y, vz = double(r.z) - p.z;
+    const double cx = uy * vz - uz * vy, cy = uz * vx - ux * vz, cz = ux * vy - uy * vx;
+    return float(0.5 * std::sqrt(cx * cx + cy * cy + cz * cz));
 }
 
 bool finite(const Vec3& v) { return std::isfinite(v.x) && std::isfinite(v.y) && std::isfinite(v.z); }
@@ -487,11 +496,15 @@ void order_triangles(const ClothMeshDesc& mesh, const std::vector<uint32_t>& slo
                      const CookOptions& options, CookedCloth& out) {
     struct Tri {
         uint32_t a, b, c;  // slots, caller winding
+        float rest_area_m2;
     };
+    const Vec3* rest = mesh.rest_positions ? mesh.rest_positions : mesh.positions;
     std::vector<Tri> tris(mesh.triangle_count);
-    for (uint32_t t = 0; t < mesh.triangle_count; ++t)
-        tris[t] = {slot_of_particle[mesh.triangles[3 * t]], slot_of_particle[mesh.triangles[3 * t + 1]],
-                   slot_of_particle[mesh.triangles[3 * t + 2]]};
+    for (uint32_t t = 0; t < mesh.triangle_count; ++t) {
+        const uint32_t* v = mesh.triangles + 3 * t;
+        tris[t] = {slot_of_particle[v[0]], slot_of_particle[v[1]], slot_of_particle[v[2]],
+                   triangle_area(rest[v[0]], rest[v[1]], rest[v[2]])};
+    }
     auto offsets = [](const Tri& t) { return std::pair<int64_t, int64_t>{int64_t(t.b) - t.a, int64_t(t.c) - t.a}; };
     std::sort(tris.begin(), tris.end(), [&](const Tri& l, const Tri& r) {
         return offsets(l) != offsets(r) ? offsets(l) < offsets(r) : l.a < r.a;
@@ -507,6 +520,7 @@ void order_triangles(const ClothMeshDesc& mesh, const std::vector<uint32_t>& slo
     out.triangles.clear();
     out.wind_runs.clear();
     out.wind_lane_weight.clear();
+    out.wind_rest_area.clear();
     out.wind_run_triangles = 0;
     for (size_t i = 0; i < tris.size();) {
         size_t j = i + 1;
@@ -521,8 +535,10 @@ void order_triangles(const ClothMeshDesc& mesh, const std::vector<uint32_t>& slo
             run.lane_count = lanes;
             run.a0 = tris[i].a, run.b0 = tris[i].b, run.c0 = tris[i].c;
             out.wind_lane_weight.resize(run.first_lane + lanes, 0.0f);
+            out.wind_rest_area.resize(run.first_lane + lanes, 0.0f);
             for (size_t k = i; k < j; ++k) {
                 out.wind_lane_weight[run.first_lane + (tris[k].a - run.a0)] = 1.0f;
+                out.wind_rest_area[run.first_lane + (tris[k].a - run.a0)] = tris[k].rest_area_m2;
                 out.triangles.insert(out.triangles.end(), {tris[k].a, tris[k].b, tris[k].c});
             }
             out.wind_run_triangles += uint32_t(j - i);
@@ -542,8 +558,10 @@ void order_triangles(const ClothMeshDesc& mesh, const std::vector<uint32_t>& slo
         coloured.push_back({colour, t});
     }
     std::stable_sort(coloured.begin(), coloured.end());
-    for (const auto& [colour, t] : coloured)
+    for (const auto& [colour, t] : coloured) {
         out.triangles.insert(out.triangles.end(), {singles[t].a, singles[t].b, singles[t].c});
+        out.wind_rest_area.push_back(singles[t].rest_area_m2);
+    }
 }
 
 }  // namespace

@@ -222,6 +222,17 @@ Result check_triangles(const ClothAsset& a) {
     for (uint32_t i = 0; i < 3 * a.triangle_count; ++i)
         if (a.triangles[i] >= a.slot_count || a.particle_of_slot[a.triangles[i]] == kNoParticle)
             return make_error(ErrorCode::corrupt_asset, "triangle %u uses a slot without a particle", i / 3);
+    // Rest areas: one per wind lane (0 on padding), then one per triangle done one at a time.
+    const uint64_t areas = uint64_t(a.wind_lane_count) + (a.triangle_count - a.wind_run_triangles);
+    if (areas > 0 && a.wind_rest_area == nullptr)
+        return make_error(ErrorCode::corrupt_asset, "asset is missing the triangles' rest areas");
+    for (uint64_t i = 0; i < areas; ++i) {
+        const float area = a.wind_rest_area[i];
+        if (!finite_nonnegative(area) || area > 1e6f)
+            return make_error(ErrorCode::corrupt_asset, "triangle rest area %llu is bad", (unsigned long long)i);
+        if (i < a.wind_lane_count && a.wind_lane_weight[i] == 0.0f && area != 0.0f)
+            return make_error(ErrorCode::corrupt_asset, "wind padding lane %llu has an area", (unsigned long long)i);
+    }
     return {};
 }
 
