@@ -1,0 +1,111 @@
+// The project's own mannequin (tools/body): a closed, consistently oriented manifold whose girths
+// are the measurements it was made from, and a walk that moves its limbs and nothing else wildly.
+#include <doctest/doctest.h>
+
+#include <cmath>
+#include <map>
+#include <utility>
+
+#include "mannequin.h"
+
+namespace weft {
+namespace {
+
+const body::Mannequin& mannequin() {
+    static const body::Mannequin m = [] {
+        body::Mannequin made;
+        const std::string error = body::make_mannequin({}, {}, &made);
+        INFO(error);
+        REQUIRE(error.empty());
+        return made;
+    }();
+    return m;
+}
+
+// Perimeter of the body's cross-section at height y, torso only (segments within 0.24 m of the axis).
+double girth_at(const body::Mannequin& m, float y) {
+    double perimeter = 0.0;
+    for (size_t t = 0; t < m.triangles.size(); t += 3) {
+        Vec3 cut[2];
+        int n = 0;
+        for (int e = 0; e < 3; ++e) {
+            const Vec3 a = m.positions[m.triangles[t + e]], b = m.positions[m.triangles[t + (e + 1) % 3]];
+            if ((a.y < y) == (b.y < y)) continue;
+            const float s = (y - a.y) / (b.y - a.y);
+            if (n < 2) cut[n++] = {a.x + s * (b.x - a.x), y, a.z + s * (b.z - a.z)};
+        }
+        if (n != 2) continue;
+        const float mx = 0.5f * (cut[0].x + cut[1].x), mz = 0.5f * (cut[0].z + cut[1].z);
+        if (std::sqrt(mx * mx + mz * mz) > 0.24f) continue;  // an arm or a hand
+        perimeter += std::hypot(double(cut[1].x) - cut[0].x, double(cut[1].z) - cut[0].z);
+    }
+    return perimeter;
+}
+
+TEST_CASE("mannequin: closed, manifold, oriented outwards") {
+    const body::Mannequin& m = mannequin();
+    REQUIRE(m.triangles.size() >= 3 * 2000);
+    std::map<std::pair<uint32_t, uint32_t>, int> directed;
+    for (size_t t = 0; t < m.triangles.size(); t += 3)
+        for (int e = 0; e < 3; ++e) directed[{m.triangles[t + e], m.triangles[t + (e + 1) % 3]}] += 1;
+    bool manifold = true;
+    for (const auto& [edge, count] : directed) {
+        const auto reverse = directed.find({edge.second, edge.first});
+        manifold = manifold && count == 1 && reverse != directed.end() && reverse->second == 1;
+    }
+    CHECK(manifold);  // every edge has exactly two triangles, which traverse it in opposite directions
+    double volume = 0.0;  // divergence theorem: positive when the triangles face outwards
+    for (size_t t = 0; t < m.triangles.size(); t += 3) {
+        const Vec3 a = m.positions[m.triangles[t]], b = m.positions[m.triangles[t + 1]], c = m.positions[m.triangles[t + 2]];
+        volume += (double(a.x) * (double(b.y) * c.z - double(b.z) * c.y) - double(a.y) * (double(b.x) * c.z - double(b.z) * c.x) +
+                   double(a.z) * (double(b.x) * c.y - double(b.y) * c.x)) / 6.0;
+    }
+    CHECK(volume > 0.04);  // the real 172 cm body of ../shared is about 0.073 m^3
+    CHECK(volume < 0.10);
+}
+
+TEST_CASE("mannequin: its girths are the measurements") {
+    const body::Mannequin& m = mannequin();
+    const body::Measurements size;
+    CHECK(girth_at(m, body::kWaistHeight * size.height_m) == doctest::Approx(size.waist_m).epsilon(0.05));
+    CHECK(girth_at(m, body::kHipHeight * size.height_m) == doctest::Approx(size.hips_m).epsilon(0.05));
+    CHECK(girth_at(m, body::kBustHeight * size.height_m) == doctest::Approx(size.bust_m).epsilon(0.05));
+    float top = -1e9f, bottom = 1e9f;
+    for (const Vec3& p : m.positions) top = std::max(top, p.y), bottom = std::min(bottom, p.y);
+    CHECK(top - bottom == doctest::Approx(size.height_m).epsilon(0.03));
+    CHECK(bottom == doctest::Approx(0.0).epsilon(0.02));
+}
+
+TEST_CASE("mannequin: bad measurements are refused") {
+    body::Mannequin m;
+    body::Measurements tall;
+    tall.height_m = 30.0f;
+    CHECK_FALSE(body::make_mannequin(tall, {}, &m).empty());
+    body::Measurements thin;
+    thin.waist_m = 0.0f;
+    CHECK_FALSE(body::make_mannequin(thin, {}, &m).empty());
+    CHECK(m.positions.empty());
+}
+
+TEST_CASE("mannequin: the walk swings the limbs, keeps the body together and repeats") {
+    const body::Mannequin& m = mannequin();
+    std::vector<Vec3> a, b, again;
+    body::walk_pose(m, 0.0f, &a);
+    body::walk_pose(m, 0.275f, &b);  // a quarter stride later: the legs are at their widest
+    body::walk_pose(m, 1.1f, &again);  // one stride later
+    REQUIRE(a.size() == m.positions.size());
+    double moved = 0.0, furthest = 0.0, repeat = 0.0;
+    for (size_t v = 0; v < a.size(); ++v) {
+        const double d = std::hypot(double(b[v].x) - a[v].x, double(b[v].y) - a[v].y, double(b[v].z) - a[v].z);
+        moved = std::max(moved, d);
+        furthest = std::max(furthest, double(std::abs(b[v].y - m.positions[v].y)));
+        repeat = std::max(repeat, std::hypot(double(again[v].x) - a[v].x, double(again[v].y) - a[v].y,
+                                             double(again[v].z) - a[v].z));
+    }
+    CHECK(moved > 0.1);      // a foot or a hand travels
+    CHECK(furthest < 0.5);   // nothing flies off
+    CHECK(repeat < 1e-4);    // periodic
+}
+
+}  // namespace
+}  // namespace weft

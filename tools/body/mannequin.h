@@ -1,0 +1,54 @@
+// The project's own mannequin (the body garments are dressed on when ../shared is not there): a
+// smooth, closed, manifold surface meshed by CGAL's implicit surface mesher from an implicit body
+// built of smoothly joined parts sized by body measurements, with a skeleton of bone segments and
+// linear-blend skinning weights so that tools and samples can animate it (a procedural walk).
+// Y up, feet at y = 0, facing +Z, metres (the conventions of ../shared/data/bodies).
+#pragma once
+
+#include <array>
+#include <string>
+#include <vector>
+
+#include "weft/types.h"
+
+namespace weft::body {
+
+// Circumferences are girths around the body at their height (as in ../shared/data/bodies/*.yaml).
+struct Measurements {
+    float height_m = 1.72f;
+    float bust_m = 0.998f;
+    float waist_m = 0.843f;
+    float hips_m = 1.035f;
+};
+
+// Heights of the landmarks as fractions of the height (a standard adult figure).
+inline constexpr float kHipHeight = 0.52f, kWaistHeight = 0.62f, kBustHeight = 0.72f;
+
+struct Bone {
+    std::string name;
+    int parent = -1;  // index into Mannequin::bones, -1 for the root
+    Vec3 head{}, tail{};  // rest-pose joint positions, metres
+};
+
+inline constexpr int kBoneInfluences = 2;
+
+struct Mannequin {
+    std::vector<Vec3> positions;      // rest pose (A-pose), metres
+    std::vector<uint32_t> triangles;  // 3 per triangle, counter-clockwise seen from outside
+    std::vector<Bone> bones;
+    std::vector<std::array<uint16_t, kBoneInfluences>> bone;  // per vertex: its bones
+    std::vector<std::array<float, kBoneInfluences>> weight;   // per vertex: their weights, sum 1
+};
+
+struct MannequinOptions {
+    float edge_m = 0.025f;  // about the triangles' size (the mesher's radius bound)
+};
+
+// Meshes the mannequin. Returns the failure message (empty on success).
+std::string make_mannequin(const Measurements& m, const MannequinOptions& options, Mannequin* out);
+
+// The mannequin walking in place at time t: legs and arms swing about their joints, the torso
+// sways (one stride every 1.1 s). Writes the skinned positions (linear blend skinning).
+void walk_pose(const Mannequin& body, float t_s, std::vector<Vec3>* out);
+
+}  // namespace weft::body
