@@ -11,6 +11,7 @@ packages=(
   libcli11-dev nlohmann-json3-dev libxxhash-dev # tools: command lines, JSON, asset hashing
   clang libclang-rt-14-dev                      # fuzzing (clang -fsanitize=fuzzer)
   libbullet-dev gnuplot-nox                     # weft-bench sweep: the Bullet peer, the Pareto plot
+  libtinyobjloader-dev libtinygltf-dev          # tools/body: body meshes from OBJ and glTF
 )
 
 missing=()

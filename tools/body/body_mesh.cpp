@@ -1,0 +1,179 @@
+#include "body_mesh.h"
+
+#include <array>
+#include <cmath>
+#include <cstring>
+#include <fstream>
+
+#include <tiny_gltf.h>
+#include <tiny_obj_loader.h>
+
+namespace weft::body {
+namespace {
+
+bool ends_with(const std::string& s, const char* suffix) {
+    const size_t n = std::strlen(suffix);
+    if (s.size() < n) return false;
+    for (size_t i = 0; i < n; ++i)
+        if (std::tolower(static_cast<unsigned char>(s[s.size() - n + i])) != suffix[i]) return false;
+    return true;
+}
+
+std::string load_obj(const std::string& path, BodyMesh* out) {
+    tinyobj::ObjReader reader;
+    tinyobj::ObjReaderConfig config;
+    config.triangulate = true;
+    if (!reader.ParseFromFile(path, config)) return "cannot read '" + path + "': " + reader.Error();
+    const tinyobj::attrib_t& a = reader.GetAttrib();
+    for (size_t i = 0; i + 2 < a.vertices.size(); i += 3)
+        out->positions.push_back({a.vertices[i], a.vertices[i + 1], a.vertices[i + 2]});
+    for (const tinyobj::shape_t& shape : reader.GetShapes())
+        for (const tinyobj::index_t& index : shape.mesh.indices) {
+            if (index.vertex_index < 0) return "'" + path + "': a face refers to a missing vertex";
+            out->triangles.push_back(uint32_t(index.vertex_index));
+        }
+    return {};
+}
+
+// Column-major 4x4 matrices, as glTF stores them.
+using Matrix = std::array<double, 16>;
+constexpr Matrix kIdentity = {1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1};
+
+Matrix multiply(const Matrix& a, const Matrix& b) {
+    Matrix m{};
+    for (int c = 0; c < 4; ++c)
+        for (int r = 0; r < 4; ++r)
+            for (int k = 0; k < 4; ++k) m[c * 4 + r] += a[k * 4 + r] * b[c * 4 + k];
+    return m;
+}
+
+Matrix local_matrix(const tinygltf::Node& node) {
+    if (node.matrix.size() == 16) {
+        Matrix m;
+        for (int i = 0; i < 16; ++i) m[i] = node.matrix[i];
+        return m;
+    }
+    Matrix t = kIdentity, r = kIdentity, s = kIdentity;
+    if (node.translation.size() == 3) t[12] = node.translation[0], t[13] = node.translation[1], t[14] = node.translation[2];
+    if (node.rotation.size() == 4) {  // unit quaternion (x, y, z, w)
+        const double x = node.rotation[0], y = node.rotation[1], z = node.rotation[2], w = node.rotation[3];
+        r = {1 - 2 * (y * y + z * z), 2 * (x * y + z * w),     2 * (x * z - y * w),     0,
+             2 * (x * y - z * w),     1 - 2 * (x * x + z * z), 2 * (y * z + x * w),     0,
+             2 * (x * z + y * w),     2 * (y * z - x * w),     1 - 2 * (x * x + y * y), 0,
+             0,                       0,                       0,                       1};
+    }
+    if (node.scale.size() == 3) s[0] = node.scale[0], s[5] = node.scale[1], s[10] = node.scale[2];
+    return multiply(t, multiply(r, s));
+}
+
+// Reads one accessor as doubles (float or integer components), `components` per element.
+std::string read_accessor(const tinygltf::Model& model, int index, int components, std::vector<double>* out) {
+    if (index < 0 || size_t(index) >= model.accessors.size()) return "an accessor index is out of range";
+    const tinygltf::Accessor& acc = model.accessors[size_t(index)];
+    if (tinygltf::GetNumComponentsInType(uint32_t(acc.type)) != components) return "an accessor has the wrong type";
+    if (acc.bufferView < 0 || size_t(acc.bufferView) >= model.bufferViews.size()) return "a sparse or empty accessor";
+    const tinygltf::BufferView& view = model.bufferViews[size_t(acc.bufferView)];
+    if (view.buffer < 0 || size_t(view.buffer) >= model.buffers.size()) return "a buffer index is out of range";
+    const std::vector<unsigned char>& data = model.buffers[size_t(view.buffer)].data;
+    const int size = tinygltf::GetComponentSizeInBytes(uint32_t(acc.componentType));
+    if (size <= 0) return "an accessor has an unknown component type";
+    const size_t stride = view.byteStride ? view.byteStride : size_t(size) * components;
+    const size_t start = view.byteOffset + acc.byteOffset;
+    if (acc.count > 0 && start + (acc.count - 1) * stride + size_t(size) * components > data.size())
+        return "an accessor reaches past its buffer";
+    for (size_t i = 0; i < acc.count; ++i)
+        for (int c = 0; c < components; ++c) {
+            const unsigned char* p = data.data() + start + i * stride + size_t(c) * size;
+            double v = 0.0;
+            switch (acc.componentType) {
+                case TINYGLTF_COMPONENT_TYPE_FLOAT: { float f; std::memcpy(&f, p, 4); v = f; break; }
+                case TINYGLTF_COMPONENT_TYPE_UNSIGNED_INT: { uint32_t u; std::memcpy(&u, p, 4); v = u; break; }
+                case TINYGLTF_COMPONENT_TYPE_UNSIGNED_SHORT: { uint16_t u; std::memcpy(&u, p, 2); v = u; break; }
+                case TINYGLTF_COMPONENT_TYPE_UNSIGNED_BYTE: v = *p; break;
+                default: return "an accessor has an unsupported component type";
+            }
+            out->push_back(v);
+        }
+    return {};
+}
+
+std::string add_gltf_node(const tinygltf::Model& model, int index, const Matrix& parent, int depth, BodyMesh* out) {
+    if (index < 0 || size_t(index) >= model.nodes.size() || depth > 64) return "a node index is out of range";
+    const tinygltf::Node& node = model.nodes[size_t(index)];
+    const Matrix world = multiply(parent, local_matrix(node));
+    if (node.mesh >= 0 && size_t(node.mesh) < model.meshes.size()) {
+        for (const tinygltf::Primitive& prim : model.meshes[size_t(node.mesh)].primitives) {
+            if (prim.mode != TINYGLTF_MODE_TRIANGLES && prim.mode != -1) continue;  // points and lines are no body
+            const auto position = prim.attributes.find("POSITION");
+            if (position == prim.attributes.end()) continue;
+            std::vector<double> p, idx;
+            if (std::string e = read_accessor(model, position->second, 3, &p); !e.empty()) return e;
+            const uint32_t base = uint32_t(out->positions.size()), count = uint32_t(p.size() / 3);
+            for (size_t i = 0; i < p.size(); i += 3) {
+                const double x = p[i], y = p[i + 1], z = p[i + 2];
+                out->positions.push_back({float(world[0] * x + world[4] * y + world[8] * z + world[12]),
+                                          float(world[1] * x + world[5] * y + world[9] * z + world[13]),
+                                          float(world[2] * x + world[6] * y + world[10] * z + world[14])});
+            }
+            if (prim.indices >= 0) {
+                if (std::string e = read_accessor(model, prim.indices, 1, &idx); !e.empty()) return e;
+            } else {
+                for (uint32_t i = 0; i < count; ++i) idx.push_back(i);
+            }
+            for (double i : idx) {
+                if (!(i >= 0 && i < count)) return "a primitive's index is out of range";
+                out->triangles.push_back(base + uint32_t(i));
+            }
+        }
+    }
+    for (int child : node.children)
+        if (std::string e = add_gltf_node(model, child, world, depth + 1, out); !e.empty()) return e;
+    return {};
+}
+
+std::string load_gltf(const std::string& path, bool binary, BodyMesh* out) {
+    tinygltf::TinyGLTF loader;
+    tinygltf::Model model;
+    std::string error, warning;
+    const bool ok = binary ? loader.LoadBinaryFromFile(&model, &error, &warning, path)
+                           : loader.LoadASCIIFromFile(&model, &error, &warning, path);
+    if (!ok) return "cannot read '" + path + "': " + error;
+    const int scene = model.defaultScene >= 0 ? model.defaultScene : 0;
+    if (size_t(scene) < model.scenes.size()) {
+        for (int node : model.scenes[size_t(scene)].nodes)
+            if (std::string e = add_gltf_node(model, node, kIdentity, 0, out); !e.empty()) return "'" + path + "': " + e;
+    } else {
+        for (size_t n = 0; n < model.nodes.size(); ++n)  // no scene: every node as a root
+            if (std::string e = add_gltf_node(model, int(n), kIdentity, 0, out); !e.empty()) return "'" + path + "': " + e;
+    }
+    return {};
+}
+
+}  // namespace
+
+std::string load_body_mesh(const std::string& path, BodyMesh* out) {
+    BodyMesh mesh;
+    std::string error;
+    if (ends_with(path, ".obj")) error = load_obj(path, &mesh);
+    else if (ends_with(path, ".glb")) error = load_gltf(path, true, &mesh);
+    else if (ends_with(path, ".gltf")) error = load_gltf(path, false, &mesh);
+    else error = "'" + path + "': not .obj, .gltf or .glb";
+    if (!error.empty()) return error;
+    if (mesh.triangles.empty() || mesh.triangles.size() % 3 != 0) return "'" + path + "': no triangles";
+    for (const Vec3& p : mesh.positions)
+        if (!std::isfinite(p.x) || !std::isfinite(p.y) || !std::isfinite(p.z)) return "'" + path + "': a position is not finite";
+    for (uint32_t i : mesh.triangles)
+        if (i >= mesh.positions.size()) return "'" + path + "': a triangle refers to a missing vertex";
+    *out = std::move(mesh);
+    return {};
+}
+
+std::string save_obj(const std::string& path, const std::vector<Vec3>& positions, const std::vector<uint32_t>& triangles) {
+    std::ofstream file(path);
+    for (const Vec3& p : positions) file << "v " << p.x << ' ' << p.y << ' ' << p.z << '\n';
+    for (size_t t = 0; t + 2 < triangles.size(); t += 3)
+        file << "f " << triangles[t] + 1 << ' ' << triangles[t + 1] + 1 << ' ' << triangles[t + 2] + 1 << '\n';
+    return file ? std::string() : "cannot write '" + path + "'";
+}
+
+}  // namespace weft::body
