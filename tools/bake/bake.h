@@ -29,7 +29,7 @@ struct BakeOptions {
 inline constexpr uint32_t kRunChoices[][2] = {{16, 4}, {8, 2}, {8, 4}, {8, 6}};
 
 // The constraint pass's estimated cost per sweep, ns: every run lane (padding included) at
-// kRunLaneNs, every indexed lane at kIndexedLaneNs. Measured with `weft-bench garment` on the AVX2
+// kRunLaneNs, every indexed lane at kIndexedLaneNs. Measured with `weft-bench baked` on the AVX2
 // path (one core of the 2-core Zen 4 build machine): an indexed lane costs about 7.6 run lanes.
 inline constexpr double kRunLaneNs = 0.71, kIndexedLaneNs = 5.4;
 double run_cost_ns(const ClothAsset& asset);

@@ -10,7 +10,7 @@
 //   weft-bench sweep SCENE [--sizes 100] [--wind 10,20,40] [--frames 330] [--budget-ms 0.25,0.5,1]
 //                     [--json] [--csv FILE] [--plot FILE.png] [--quick] [--no-peer] ...
 //                     run time against error, Weft's budgets and Bullet's (docs/accuracy.md)
-//   weft-bench garment PATTERN.json ... [--iterations 10] [--repeat 5]   baked vs in-memory, ns per projection
+//   weft-bench baked PATTERN.json ... [--iterations 10] [--repeat 5]   baked vs in-memory, ns per projection
 //
 // The budget is `--sweeps` spent by the runtime's automatic policy (config "default") or the seed's
 // plain method (config "plain"); --iterations / --substeps give an explicit split instead.
@@ -26,7 +26,7 @@
 #include <vector>
 
 #include "bench_run.h"
-#include "garment.h"
+#include "baked.h"
 #include "levers.h"
 #include "sweep.h"
 
@@ -545,11 +545,11 @@ int main(int argc, char** argv) {
     sweep->add_option("--plot", sweep_o.plot_path, "PNG plot via gnuplot (one per size / wind when several)");
     sweep->add_flag("--no-peer", sweep_no_peer, "leave Bullet out");
     sweep->add_flag("--quick", sweep_quick, "a tiny grid (tests): 2 x 2 configurations, one Bullet budget, reference capped at 4 substeps");
-    CLI::App* garment = bench::add_garment_subcommand(app);
+    CLI::App* baked = bench::add_baked_subcommand(app);
 
     CLI11_PARSE(app, argc, argv);
 
-    if (garment->parsed()) return bench::run_garment();
+    if (baked->parsed()) return bench::run_baked();
     if (drape->parsed()) return run({SeedScene::drape}, drape_o, true);
     if (flag->parsed()) return run({SeedScene::flag}, flag_o, true);
     if (sphere->parsed()) return run({SeedScene::sphere}, sphere_o, true);

@@ -1,11 +1,11 @@
-// weft-bench garment: see garment.h. Each pattern is baked once (bake_pattern, as weft-bake does)
+// weft-bench baked: see garment.h. Each pattern is baked once (bake_pattern, as weft-bake does)
 // and its asset loaded back through the runtime's loader; the same meshed garment is cooked in memory
 // twice, with its lattice coordinates and without. Each asset steps in its own world: one substep
 // of `iterations` sweeps, no coarse level, no tethers, no colliders, so the constraint pass
 // dominates; WorldDesc::profile times it. The figure is the constraint pass's median per-step time
 // divided by the projections it ran (padding lanes excluded): ns per constraint projection. The
 // variants take turns within each repeat, and the repeat with the lowest median is kept.
-#include "garment.h"
+#include "baked.h"
 
 #include <nlohmann/json.hpp>
 
@@ -109,13 +109,13 @@ int run_pattern(const std::string& spec, const std::vector<SimdPath>& paths) {
     }
     bool ok = false;
     const std::string text = read_text(path, &ok);
-    if (!ok || text.empty()) return std::fprintf(stderr, "weft-bench garment: cannot read '%s'\n", path.c_str()), 1;
+    if (!ok || text.empty()) return std::fprintf(stderr, "weft-bench baked: cannot read '%s'\n", path.c_str()), 1;
     bake::Baked baked;
     if (bake::Status s = bake::bake_pattern(text, options, &baked); !s.ok())
-        return std::fprintf(stderr, "weft-bench garment: %s: %s\n", path.c_str(), s.error.c_str()), 1;
+        return std::fprintf(stderr, "weft-bench baked: %s: %s\n", path.c_str(), s.error.c_str()), 1;
     assets::LoadedAsset loaded;
     if (Result r = assets::load_asset_copy(baked.bytes.data(), baked.bytes.size(), &loaded); !r.ok())
-        return std::fprintf(stderr, "weft-bench garment: %s\n", r.message), 1;
+        return std::fprintf(stderr, "weft-bench baked: %s\n", r.message), 1;
 
     // The same garment in memory: pins hold (as in the baked asset), with and without the lattice.
     std::vector<float> masses = baked.garment.masses;
@@ -124,10 +124,10 @@ int run_pattern(const std::string& spec, const std::vector<SimdPath>& paths) {
     desc.masses = masses.data();
     CookedCloth with_lattice, plain;
     if (Result r = cook_cloth(desc, options.cook, &with_lattice); !r.ok())
-        return std::fprintf(stderr, "weft-bench garment: %s\n", r.message), 1;
+        return std::fprintf(stderr, "weft-bench baked: %s\n", r.message), 1;
     desc.lattice = nullptr;
     if (Result r = cook_cloth(desc, options.cook, &plain); !r.ok())
-        return std::fprintf(stderr, "weft-bench garment: %s\n", r.message), 1;
+        return std::fprintf(stderr, "weft-bench baked: %s\n", r.message), 1;
 
     const Variant variants[] = {{"baked", &loaded.asset}, {"mesh+lattice", &with_lattice.asset()}, {"mesh", &plain.asset()}};
     const std::string name = path.substr(path.rfind('/') + 1);
@@ -137,7 +137,7 @@ int run_pattern(const std::string& spec, const std::vector<SimdPath>& paths) {
             for (int v = 0; v < 3; ++v) {
                 Timing t;
                 if (std::string err = time_asset(*variants[v].asset, simd, &t); !err.empty())
-                    return std::fprintf(stderr, "weft-bench garment: %s\n", err.c_str()), 1;
+                    return std::fprintf(stderr, "weft-bench baked: %s\n", err.c_str()), 1;
                 if (rep == 0 || t.constraint_ns_per_projection < best[v].constraint_ns_per_projection) best[v] = t;
             }
         for (int v = 0; v < 3; ++v) {
@@ -169,9 +169,9 @@ int run_pattern(const std::string& spec, const std::vector<SimdPath>& paths) {
 
 }  // namespace
 
-CLI::App* add_garment_subcommand(CLI::App& app) {
+CLI::App* add_baked_subcommand(CLI::App& app) {
     CLI::App* cmd = app.add_subcommand(
-        "garment", "ns per constraint projection: a baked garment vs its mesh cooked in memory (with / without lattice)");
+        "baked", "ns per constraint projection: a baked garment vs its mesh cooked in memory (with / without lattice)");
     GarmentOptions& o = g_options;
     cmd->add_option("patterns", o.patterns, "sewing patterns; PATTERN@Y adds Y metres to every placement (GarmentCode v1)")
         ->required();
@@ -188,12 +188,12 @@ CLI::App* add_garment_subcommand(CLI::App& app) {
     return cmd;
 }
 
-int run_garment() {
+int run_baked() {
     std::vector<SimdPath> paths;
     for (const std::string& p : g_options.paths) {
         const SimdPath path = p == "scalar" ? SimdPath::scalar : SimdPath::avx2;
         if (!simd_path_available(path)) {
-            std::fprintf(stderr, "weft-bench garment: the %s path is not available here\n", p.c_str());
+            std::fprintf(stderr, "weft-bench baked: the %s path is not available here\n", p.c_str());
             return 1;
         }
         paths.push_back(path);
