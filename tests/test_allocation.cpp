@@ -346,3 +346,127 @@ TEST_CASE("reset_cloth and set_cloth_settings between frames allocate nothing") 
     CHECK(failures == 0);
     CHECK(allocations == 0);
 }
+
+// --- bodies --------------------------------------------------------------------------------------
+
+#include "body_mesh.h"
+
+namespace {
+
+// Counts, separately, the allocations made inside rtcCommitScene (Embree's) and outside (Weft's
+// and the test's), through the world's commit hook.
+std::atomic<bool> g_inside_commit{false};
+std::atomic<uint64_t> g_commits{0};
+void commit_hook(void*, bool entering) {
+    if (entering) {
+        g_inside_commit = true;
+        g_commits.fetch_add(1);
+        g_allocations = 0;  // the commit's own count starts here; the caller saved the rest
+    } else {
+        g_inside_commit = false;
+    }
+}
+
+}  // namespace
+
+TEST_CASE("a world without bodies creates no Embree device: create_world allocates nothing") {
+    WorldDesc desc;
+    desc.max_particles = 64;
+    const MemoryRequirements need = world_memory_requirements(desc);
+    std::vector<unsigned char> block(need.bytes + need.alignment);
+    void* memory = block.data() + (need.alignment - reinterpret_cast<uintptr_t>(block.data()) % need.alignment);
+    World* world = nullptr;
+    uint64_t allocations = 0;
+    {
+        CountingScope counting;
+        REQUIRE(create_world(desc, memory, need.bytes, &world).ok());
+        destroy_world(world);
+        allocations = counting.allocations();
+    }
+    CHECK(allocations == 0);
+}
+
+TEST_CASE("stepping with a body allocates nothing of Weft's; Embree at most once per moving body's commit") {
+    const body::BodyMesh sphere = body::make_icosphere({0, 0, 0}, 0.3f, 4);
+    const scenes::GridMesh grid = scenes::make_grid(30, 0.8f, 0.8f, false, 0.35f);
+    CookedCloth cooked;
+    REQUIRE(cook_cloth(grid.desc(), {}, &cooked).ok());
+    for (SimdPath path : available_paths()) {
+        CAPTURE(simd_path_name(path));
+        WorldDesc desc;
+        desc.max_cloths = 0;
+        reserve_cloth(desc, cooked.asset());
+        desc.max_bodies = 1;
+        desc.max_body_vertices = uint32_t(sphere.positions.size());
+        desc.max_body_triangles = uint32_t(sphere.triangles.size() / 3);
+        desc.simd = path;
+        const MemoryRequirements need = world_memory_requirements(desc);
+        std::unique_ptr<unsigned char[], void (*)(void*)> block(
+            static_cast<unsigned char*>(std::aligned_alloc(need.alignment, (need.bytes + need.alignment - 1) /
+                                                                               need.alignment * need.alignment)),
+            std::free);
+        World* world = nullptr;
+        REQUIRE(create_world(desc, block.get(), need.bytes, &world).ok());
+        ClothDesc cd;
+        cd.asset = &cooked.asset();
+        ClothId cloth;
+        REQUIRE(add_cloth(world, cd, &cloth).ok());
+        BodyDesc bd;
+        bd.positions = sphere.positions.data();
+        bd.vertex_count = uint32_t(sphere.positions.size());
+        bd.triangles = sphere.triangles.data();
+        bd.triangle_count = uint32_t(sphere.triangles.size() / 3);
+        BodyId body;
+        REQUIRE(add_body(world, bd, &body).ok());
+        REQUIRE(set_embree_commit_hook(world, commit_hook, nullptr).ok());
+        const WorldStats created = world_stats(world);
+        CHECK(created.embree_bytes > 0);  // the BVH, built at add_body
+
+        std::vector<Vec3> moved = sphere.positions;
+        uint32_t failures = 0;
+        uint64_t weft_allocations = 0, embree_allocations = 0, worst_commit = 0, commits = 0;
+        for (int phase = 0; phase < 2; ++phase) {  // 0: still body, 1: moving body
+            g_commits = 0;
+            CountingScope counting;
+            for (int i = 0; i < 200; ++i) {
+                if (phase == 1) {
+                    for (size_t v = 0; v < moved.size(); ++v)
+                        moved[v].x = sphere.positions[v].x + 0.001f * float(i % 50);
+                    failures += !set_body_vertices(world, body, moved.data(), uint32_t(moved.size())).ok();
+                }
+                // Everything before the commit is Weft's; the hook restarts the count at the commit.
+                const uint64_t before = g_allocations.load();
+                const uint64_t commits_before = g_commits.load();
+                failures += !step(world, 1.0f / 30.0f).ok();
+                if (g_commits.load() != commits_before) {
+                    // g_allocations now counts only what happened since the commit began (Embree's
+                    // commit, then the rest of this step, which the still phase proves is nothing).
+                    const uint64_t in_commit = g_allocations.load();
+                    embree_allocations += in_commit;
+                    worst_commit = in_commit > worst_commit ? in_commit : worst_commit;
+                    weft_allocations += before;
+                } else {
+                    weft_allocations += g_allocations.load();
+                }
+                g_allocations = 0;
+            }
+            commits += g_commits.load();
+            if (phase == 0) {
+                CHECK(g_commits.load() == 0);  // a still body needs no commit
+                CHECK(weft_allocations == 0);
+                CHECK(embree_allocations == 0);
+            }
+        }
+        const WorldStats after = world_stats(world);
+        MESSAGE(std::string(simd_path_name(path)), ": ", commits, " commits while moving; heap allocations inside them ",
+                embree_allocations, " (at most ", worst_commit, " per commit), outside them ", weft_allocations,
+                "; Embree's memory monitor: ", after.embree_allocations - created.embree_allocations,
+                " growths, ", after.embree_bytes - created.embree_bytes, " bytes held since creation");
+        CHECK(failures == 0);
+        CHECK(commits == 200);
+        CHECK(weft_allocations == 0);
+        CHECK(worst_commit <= 1);
+        CHECK(after.embree_bytes == created.embree_bytes);  // a refit holds no new memory
+        destroy_world(world);
+    }
+}

@@ -12,20 +12,6 @@ namespace {
 
 constexpr float kDt = scenes::kSeedTimeStep_s;
 
-// Unconnected particles (no triangles, no springs), 10 g each, in caller order.
-struct Points {
-    std::vector<Vec3> positions;
-    std::vector<float> masses;
-    CookedCloth cooked;
-    explicit Points(std::vector<Vec3> p) : positions(std::move(p)), masses(positions.size(), 0.01f) {
-        ClothMeshDesc d;
-        d.particle_count = uint32_t(positions.size());
-        d.positions = positions.data();
-        d.masses = masses.data();
-        cooked = cook(d);
-    }
-};
-
 // A world with one cloth and the given colliders.
 struct ColliderWorld {
     OwnedWorld owned;

@@ -111,6 +111,10 @@ struct OwnedWorld {
     std::unique_ptr<unsigned char[], void (*)(void*)> memory{nullptr, std::free};
     World* world = nullptr;
     size_t bytes = 0;
+    OwnedWorld() = default;
+    OwnedWorld(const OwnedWorld&) = delete;
+    OwnedWorld& operator=(const OwnedWorld&) = delete;
+    ~OwnedWorld() { destroy_world(world); }  // a world with bodies holds an Embree device
 };
 
 inline Result make_world(const WorldDesc& desc, OwnedWorld* out) {
@@ -143,6 +147,20 @@ inline CookedCloth cook(const ClothMeshDesc& mesh, const CookOptions& options = 
     REQUIRE(r.ok());
     return cooked;
 }
+
+// Unconnected particles (no triangles, no springs), 10 g each, in caller order.
+struct Points {
+    std::vector<Vec3> positions;
+    std::vector<float> masses;
+    CookedCloth cooked;
+    explicit Points(std::vector<Vec3> p) : positions(std::move(p)), masses(positions.size(), 0.01f) {
+        ClothMeshDesc d;
+        d.particle_count = uint32_t(positions.size());
+        d.positions = positions.data();
+        d.masses = masses.data();
+        cooked = cook(d);
+    }
+};
 
 }  // namespace weft::test
 

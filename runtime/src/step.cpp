@@ -5,7 +5,8 @@
 //   3. spring correction: a) one sweep of the coarse level (if any), b) `iterations` sweeps over
 //      every constraint batch, c) the tethers once (measured: tethers after every sweep cost 2x the
 //      pass for a smaller max strain, docs/solver.md)
-//   4. collision test and response against the inflated colliders
+//   4. collision test and response against the inflated colliders, then the bodies' offset hulls
+//      (section 4.2; a body the game moved is refitted once at the start of the step)
 // 3a runs before 2 on the coarse nodes' own Verlet prediction, so that its correction rides along
 // in the integration pass (one trip through the particle arrays instead of two).
 //
@@ -14,6 +15,7 @@
 // Nothing here allocates, throws, locks or reads global state.
 #include <chrono>
 #include <cmath>
+#include <cstring>
 #include <utility>
 
 #include "aerodynamics/wind.h"
@@ -133,6 +135,39 @@ void collide(World& world, ClothInstance& cloth, uint32_t substeps) {
     }
 }
 
+// Bodies the game moved since the last step: refit their BVH over the new offset hull (computed by
+// set_body_vertices). A body that stopped gets its previous hull equal to its hull again, so the
+// surface velocity friction sees is zero; a body that stays still costs nothing.
+void move_bodies(World& world) {
+    if (world.body_count == 0) return;
+    PassTimer timer(world, Pass::body);
+    world.stats.body_refits = 0;
+    for (uint32_t i = 0; i < world.body_count; ++i) {
+        BodyState& body = world.bodies[i];
+        if (body.refit_pending) {
+            rtcUpdateGeometryBuffer(body.geometry, RTC_BUFFER_TYPE_VERTEX, 0);
+            rtcCommitGeometry(body.geometry);
+            commit_body(world, body);
+            body.refit_pending = false;
+            body.moving = true;
+            world.stats.body_refits += 1;
+        } else if (body.moving) {
+            std::memcpy(body.previous_hull, body.hull, sizeof(float) * 4 * size_t(body.vertex_count));
+            body.moving = false;
+            body.sweep_m = 0.0f;
+        }
+    }
+}
+
+void collide_bodies(World& world, ClothInstance& cloth, uint32_t substeps) {
+    if (world.body_count == 0) return;
+    PassTimer timer(world, Pass::body);
+    BodyPassCounts counts;
+    for (uint32_t i = 0; i < world.body_count; ++i) collide_body(cloth.particles, world.bodies[i], substeps, counts);
+    world.stats.body_contacts += counts.contacts;
+    world.stats.body_rays += counts.rays;
+}
+
 void step_cloth(World& world, ClothInstance& cloth, float dt) {
     const float h = dt / float(cloth.split.substeps);
     for (uint32_t substep = 0; substep < cloth.split.substeps; ++substep) {
@@ -144,7 +179,8 @@ void step_cloth(World& world, ClothInstance& cloth, float dt) {
         for (uint32_t it = 0; it < cloth.split.iterations; ++it)
             correct_springs(world, cloth, h);                  // 3b. the springs, batch by batch
         apply_tethers(world, cloth);                           // 3c. the long-range attachments
-        collide(world, cloth, cloth.split.substeps);           // 4. collision response
+        collide(world, cloth, cloth.split.substeps);           // 4. collision response: colliders,
+        collide_bodies(world, cloth, cloth.split.substeps);    //    then bodies
         cloth.previous_substep_s = h;
     }
 }
@@ -167,6 +203,9 @@ Result step(World* world, float dt_s) {
     if (std::isnan(dt_s) || std::isinf(dt_s)) return make_error(ErrorCode::non_finite, "dt is not finite");
     if (!(dt_s > 0.0f) || dt_s > 1.0f)
         return make_error(ErrorCode::out_of_range, "dt %g s outside (0, 1]", double(dt_s));
+    world->stats.body_contacts = 0;
+    world->stats.body_rays = 0;
+    move_bodies(*world);                                       // 0. the game's new body pose
     for (uint32_t i = 0; i < world->cloth_count; ++i) step_cloth(*world, world->cloths[i], dt_s);
     for (uint32_t i = 0; i < world->collider_count; ++i) world->colliders[i].motion_m = {};
     world->stats.steps += 1;

@@ -45,17 +45,18 @@ const char* pass_name(Pass pass) {
         case Pass::constraints: return "constraints";
         case Pass::tethers: return "tethers";
         case Pass::collide: return "collide";
+        case Pass::body: return "body";
         case Pass::count: break;
     }
     return "unknown";
 }
 
+bool is_finite(Vec3 v) { return std::isfinite(v.x) && std::isfinite(v.y) && std::isfinite(v.z); }
+
 namespace {
 
 // Particle arrays per cloth: x, y, z, previous x, y, z, inverse mass, and (wind) 3 accelerations.
 uint32_t arrays_per_cloth(const WorldDesc& desc) { return desc.wind ? 10u : 7u; }
-
-bool finite(Vec3 v) { return std::isfinite(v.x) && std::isfinite(v.y) && std::isfinite(v.z); }
 
 // Asset validation stamps every particle slot and every coarse node slot.
 uint32_t validation_scratch_count(const WorldDesc& desc) {
@@ -76,6 +77,11 @@ ArenaSizer size_world(const WorldDesc& desc) {
                    kCacheLine * desc.max_cloths));
     sizer.add(6 * (sizeof(float) * (size_t(desc.max_particles) / 4 + kSimdWidth * desc.max_cloths) +
                    kCacheLine * desc.max_cloths));
+    // Bodies: hull and previous hull (4 floats a vertex), normals (3), triangles (3 indices); each
+    // array may waste a cache line per body, and Embree reads its buffers 16 bytes past the end.
+    sizer.add(sizeof(BodyState) * desc.max_bodies);
+    sizer.add(sizeof(float) * 11 * size_t(desc.max_body_vertices) + sizeof(uint32_t) * 3 * size_t(desc.max_body_triangles) +
+              4 * (kCacheLine + 16) * size_t(desc.max_bodies));
     sizer.bytes += kCacheLine;  // the caller's block may start anywhere on a cache line
     return sizer;
 }
@@ -84,12 +90,15 @@ Result check_world_desc(const WorldDesc& desc) {
     if (desc.max_cloths == 0) return make_error(ErrorCode::invalid_argument, "max_cloths is 0");
     if (desc.max_cloths > (1u << 16) || desc.max_colliders > (1u << 16) ||
         desc.max_particles > (1u << 28) || desc.max_constraints > (1u << 30) ||
-        desc.max_coarse_nodes > (1u << 28))
+        desc.max_coarse_nodes > (1u << 28) || desc.max_bodies > (1u << 10) ||
+        desc.max_body_vertices > (1u << 26) || desc.max_body_triangles > (1u << 26))
         return make_error(ErrorCode::out_of_range, "a capacity is absurdly large");
-    if (!finite(desc.gravity_m_s2) || !std::isfinite(desc.air_density_kg_m3))
+    if (!is_finite(desc.gravity_m_s2) || !std::isfinite(desc.air_density_kg_m3))
         return make_error(ErrorCode::non_finite, "gravity or air density is not finite");
     if (desc.air_density_kg_m3 < 0.0f)
         return make_error(ErrorCode::out_of_range, "air density is negative");
+    if (desc.max_bodies > 0 && (desc.max_body_vertices < 3 || desc.max_body_triangles < 1))
+        return make_error(ErrorCode::invalid_argument, "bodies need max_body_vertices >= 3 and max_body_triangles >= 1");
     if (desc.simd != SimdPath::automatic && !simd_path_available(desc.simd))
         return make_error(ErrorCode::unsupported, "SIMD path '%s' is not available in this build or CPU",
                           simd_path_name(desc.simd));
@@ -108,7 +117,7 @@ Result check_cloth_settings(const ClothDesc& desc) {
         return make_error(ErrorCode::invalid_argument, "unknown spring projection");
     if (desc.iterations > 1000)
         return make_error(ErrorCode::out_of_range, "iterations %u outside 0..1000", desc.iterations);
-    if (!std::isfinite(desc.relaxation) || !finite(desc.translation_m) ||
+    if (!std::isfinite(desc.relaxation) || !is_finite(desc.translation_m) ||
         !std::isfinite(desc.damping_per_s) || !std::isfinite(desc.tether_slack) ||
         !std::isfinite(desc.drag_coefficient) || !std::isfinite(desc.lift_coefficient))
         return make_error(ErrorCode::non_finite, "a cloth setting is not finite");
@@ -128,7 +137,7 @@ Result check_cloth_settings(const ClothDesc& desc) {
 }
 
 Result check_collider(const ColliderDesc& desc) {
-    if (!finite(desc.p0) || !finite(desc.p1) || !std::isfinite(desc.radius_m) ||
+    if (!is_finite(desc.p0) || !is_finite(desc.p1) || !std::isfinite(desc.radius_m) ||
         !std::isfinite(desc.inflation_m) || !std::isfinite(desc.friction))
         return make_error(ErrorCode::non_finite, "collider has a non-finite value");
     const float bound = 1e6f;  // metres: beyond this float precision no longer resolves a cloth
@@ -199,6 +208,13 @@ SolverSplit resolve_split(const ClothDesc& desc, const ClothAsset& asset) {
 
 namespace {
 
+bool count_embree_memory(void* user, ssize_t bytes, bool /*post*/) {
+    WorldStats& stats = static_cast<World*>(user)->stats;
+    stats.embree_bytes += int64_t(bytes);
+    if (bytes > 0) stats.embree_allocations += 1;
+    return true;  // never refuse: the budget was fixed at creation
+}
+
 Result find_cloth(const World* world, ClothId id) {
     if (world == nullptr) return make_error(ErrorCode::invalid_argument, "world is null");
     if (id.index >= world->cloth_count)
@@ -241,6 +257,17 @@ Result create_world(const WorldDesc& desc, void* memory, size_t bytes, World** o
     world->colliders = arena.allocate_array<ColliderState>(desc.max_colliders);
     for (uint32_t i = 0; i < desc.max_colliders; ++i) new (&world->colliders[i]) ColliderState();
     world->validation_scratch = arena.allocate_array<uint32_t>(validation_scratch_count(desc));
+    world->bodies = arena.allocate_array<BodyState>(desc.max_bodies);
+    for (uint32_t i = 0; i < desc.max_bodies; ++i) new (&world->bodies[i]) BodyState();
+    if (desc.max_bodies > 0) {
+        // One thread: the step is single-threaded and deterministic; Embree's refit then runs on the
+        // caller's thread. Its memory monitor feeds WorldStats (rtcSetDeviceMemoryMonitorFunction).
+        world->embree_device = rtcNewDevice("threads=1,set_affinity=0");
+        if (world->embree_device == nullptr)
+            return make_error(ErrorCode::unsupported, "Embree device creation failed (error %d)",
+                              int(rtcGetDeviceError(nullptr)));
+        rtcSetDeviceMemoryMonitorFunction(world->embree_device, count_embree_memory, world);
+    }
     world->arena = arena;
     world->gravity_m_s2 = desc.gravity_m_s2;
 
@@ -356,7 +383,7 @@ Result set_wind(World* world, Vec3 velocity_m_s) {
     if (world == nullptr) return make_error(ErrorCode::invalid_argument, "world is null");
     if (!world->desc.wind)
         return make_error(ErrorCode::invalid_argument, "world was created without the wind feature");
-    if (!finite(velocity_m_s)) return make_error(ErrorCode::non_finite, "wind velocity is not finite");
+    if (!is_finite(velocity_m_s)) return make_error(ErrorCode::non_finite, "wind velocity is not finite");
     const float speed2 = velocity_m_s.x * velocity_m_s.x + velocity_m_s.y * velocity_m_s.y +
                          velocity_m_s.z * velocity_m_s.z;
     if (speed2 > 1000.0f * 1000.0f)
@@ -367,7 +394,7 @@ Result set_wind(World* world, Vec3 velocity_m_s) {
 
 Result set_gravity(World* world, Vec3 gravity_m_s2) {
     if (world == nullptr) return make_error(ErrorCode::invalid_argument, "world is null");
-    if (!finite(gravity_m_s2)) return make_error(ErrorCode::non_finite, "gravity is not finite");
+    if (!is_finite(gravity_m_s2)) return make_error(ErrorCode::non_finite, "gravity is not finite");
     const float g2 = gravity_m_s2.x * gravity_m_s2.x + gravity_m_s2.y * gravity_m_s2.y +
                      gravity_m_s2.z * gravity_m_s2.z;
     if (g2 > 1e6f) return make_error(ErrorCode::out_of_range, "gravity above 1000 m/s^2");
@@ -413,7 +440,7 @@ Result set_particle(World* world, ClothId cloth, uint32_t particle, Vec3 positio
     ClothInstance& c = world->cloths[cloth.index];
     if (particle >= c.asset->particle_count)
         return make_error(ErrorCode::out_of_range, "particle %u of %u", particle, c.asset->particle_count);
-    if (!finite(position_m) || !std::isfinite(inverse_mass_per_kg))
+    if (!is_finite(position_m) || !std::isfinite(inverse_mass_per_kg))
         return make_error(ErrorCode::non_finite, "particle position or inverse mass is not finite");
     if (inverse_mass_per_kg < 0.0f)
         return make_error(ErrorCode::out_of_range, "inverse mass is negative");

@@ -1,6 +1,7 @@
 // The world's private layout. Everything here lives inside the caller's memory block.
 #pragma once
 
+#include "collide/body.h"
 #include "kernels.h"
 #include "memory/arena.h"
 #include "weft/world.h"
@@ -30,6 +31,15 @@ struct World {
     uint32_t cloth_count = 0;
     ColliderState* colliders = nullptr;  // [desc.max_colliders]
     uint32_t collider_count = 0;
+    // Body colliders: one Embree scene per body (a still body then needs no commit) on one device,
+    // created with the world only when desc.max_bodies > 0.
+    RTCDevice embree_device = nullptr;
+    BodyState* bodies = nullptr;  // [desc.max_bodies]
+    uint32_t body_count = 0;
+    uint32_t body_vertices_used = 0;
+    uint32_t body_triangles_used = 0;
+    EmbreeCommitHook commit_hook = nullptr;
+    void* commit_hook_user = nullptr;
     uint32_t* validation_scratch = nullptr;  // [max(max_particles, max_coarse_nodes)], for validate_asset
     uint32_t particles_used = 0;
     uint32_t constraints_used = 0;
@@ -39,6 +49,12 @@ struct World {
     Vec3 wind_m_s{};
     WorldStats stats;
 };
+
+// Commits a body's scene (a refit once built), telling the diagnostics hook.
+void commit_body(World& world, BodyState& body);
+
+// Checks a finite vector (no NaN or infinity).
+bool is_finite(Vec3 v);
 
 // Applies the budget policy (ClothDesc::policy) to a cloth's settings.
 SolverSplit resolve_split(const ClothDesc& desc, const ClothAsset& asset);

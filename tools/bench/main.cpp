@@ -27,6 +27,7 @@
 
 #include "bench_run.h"
 #include "baked.h"
+#include "body.h"
 #include "levers.h"
 #include "sweep.h"
 
@@ -547,7 +548,15 @@ int main(int argc, char** argv) {
     sweep->add_flag("--quick", sweep_quick, "a tiny grid (tests): 2 x 2 configurations, one Bullet budget, reference capped at 4 substeps");
     CLI::App* baked = bench::add_baked_subcommand(app);
 
+    uint32_t body_frames = 60, body_points = 10000;
+    float body_thickness = 0.005f;
+    CLI::App* body = app.add_subcommand("body", "body collision pass on the shared mean_all body, A-pose <-> T-pose");
+    body->add_option("--frames", body_frames, "frames measured")->capture_default_str();
+    body->add_option("--points", body_points, "particles near the torso, hips and upper arms")->capture_default_str();
+    body->add_option("--thickness", body_thickness, "offset hull thickness, m")->capture_default_str();
+
     CLI11_PARSE(app, argc, argv);
+    if (body->parsed()) return bench::run_body(body_frames, body_points, body_thickness);
 
     if (baked->parsed()) return bench::run_baked();
     if (drape->parsed()) return run({SeedScene::drape}, drape_o, true);

@@ -1,5 +1,6 @@
-// Body meshes from files, for tools and tests (the runtime takes plain arrays and reads no files):
-// Wavefront OBJ through tinyobjloader, glTF 2.0 (.gltf, .glb) through tinygltf, both from Debian.
+// Body meshes for tools and tests (the runtime takes plain arrays and reads no files): Wavefront OBJ
+// through tinyobjloader, glTF 2.0 (.gltf, .glb) through tinygltf, both from Debian; a procedural
+// icosphere and box; and the A-pose to T-pose blend of the shared body.
 #pragma once
 
 #include <string>
@@ -12,6 +13,8 @@ namespace weft::body {
 struct BodyMesh {
     std::vector<Vec3> positions;      // metres, as stored in the file (glTF: node transforms applied)
     std::vector<uint32_t> triangles;  // 3 per triangle (polygons are fanned into triangles)
+    uint32_t vertex_count() const { return uint32_t(positions.size()); }
+    uint32_t triangle_count() const { return uint32_t(triangles.size() / 3); }
 };
 
 // Loads by extension (.obj, .gltf, .glb). Refuses non-finite positions and out-of-range indices.
@@ -20,5 +23,17 @@ std::string load_body_mesh(const std::string& path, BodyMesh* out);
 
 // Writes positions and triangles as an OBJ file.
 std::string save_obj(const std::string& path, const std::vector<Vec3>& positions, const std::vector<uint32_t>& triangles);
+
+// A sphere of `radius` around `centre`: an icosahedron subdivided `subdivisions` times.
+BodyMesh make_icosphere(Vec3 centre, float radius, uint32_t subdivisions);
+
+// An axis-aligned box from `min` to `max` (12 triangles): a slab when one side is thin.
+BodyMesh make_box(Vec3 min, Vec3 max);
+
+// Vertex by vertex a + (b - a) * t: two poses with the same faces give an animated body.
+void blend(const BodyMesh& a, const BodyMesh& b, float t, std::vector<Vec3>* out);
+
+// Where the shared data lives (WEFT_SHARED_DATA_DIR at build time), and the two poses of mean_all.
+std::string shared_body_path(const char* file_name);
 
 }  // namespace weft::body

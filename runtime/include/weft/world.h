@@ -7,7 +7,8 @@
 //   World* world; create_world(desc, block, need.bytes, &world);
 //   add_cloth(world, cloth_desc, &cloth);  add_collider(world, collider_desc, &collider);
 //   every frame: set_collider_pose(...), set_wind(...), step(world, dt), read_positions(...)
-//   the block is the caller's: free it when done (there is nothing else to release).
+//   destroy_world(world) (releases the Embree device of a world with bodies, weft/body.h), then
+//   free the block: it is the caller's.
 #pragma once
 
 #include "weft/cloth_asset.h"
@@ -37,6 +38,11 @@ struct WorldDesc {
     uint32_t max_constraints = 0;  // summed constraint lanes the step may project per sweep
     uint32_t max_colliders = 0;
     uint32_t max_coarse_nodes = 0;  // summed ClothAsset::coarse_slot_count (node slots) of the cloths
+    // Body colliders (weft/body.h). With max_bodies > 0, create_world creates an Embree device;
+    // a world without bodies never does.
+    uint32_t max_bodies = 0;
+    uint32_t max_body_vertices = 0;   // summed over bodies
+    uint32_t max_body_triangles = 0;  // summed over bodies
 
     // Features: a pass that is not enabled is not in the step at all (and costs nothing).
     bool wind = false;
@@ -108,7 +114,8 @@ struct ClothId {
 };
 
 // The passes of a step, in the order they run (seed section 2.3).
-enum class Pass : uint8_t { wind = 0, integrate, coarse, constraints, tethers, collide, count };
+// `body`: the body colliders (refit of moved bodies, closest-point queries, tunnelling rays).
+enum class Pass : uint8_t { wind = 0, integrate, coarse, constraints, tethers, collide, body, count };
 const char* pass_name(Pass pass);
 
 struct WorldStats {
@@ -118,6 +125,14 @@ struct WorldStats {
     // Projections the last step ran on runs and on the indexed path (padding lanes excluded).
     uint64_t run_projections = 0;
     uint64_t indexed_projections = 0;
+    // Body colliders, last step: particle contacts found, tunnelling rays cast, bodies refitted.
+    uint64_t body_contacts = 0;
+    uint64_t body_rays = 0;
+    uint64_t body_refits = 0;
+    // Embree's heap as its memory monitor reports it (rtcSetDeviceMemoryMonitorFunction): bytes
+    // held now, and how many times it grew since creation.
+    int64_t embree_bytes = 0;
+    uint64_t embree_allocations = 0;
 };
 
 // --- creation -------------------------------------------------------------------------------
@@ -131,6 +146,10 @@ MemoryRequirements world_memory_requirements(const WorldDesc& desc);
 // Creates a world inside `memory` (at least `world_memory_requirements(desc)`). Nothing else is
 // allocated, now or later.
 Result create_world(const WorldDesc& desc, void* memory, size_t bytes, World** out_world);
+
+// Releases what a world holds outside its block (the Embree device and scenes of its bodies); the
+// world is unusable afterwards. Does nothing for a null world or one without bodies.
+void destroy_world(World* world);
 
 // Adds a cloth instance; validates the asset and the settings first. Fails without changing the
 // world when a capacity would be exceeded.

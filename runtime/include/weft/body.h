@@ -1,0 +1,83 @@
+// Body colliders: a triangle mesh (a mannequin, a game character's skin) the cloth rests on, moved
+// every frame by the game (seed section 4.2: the garment half of the paper).
+//
+//   WorldDesc desc; desc.max_bodies = 1; desc.max_body_vertices = V; desc.max_body_triangles = T;
+//   ... create_world(desc, block, bytes, &world);          // creates the Embree device
+//   BodyDesc body; body.positions = ...; body.triangles = ...; add_body(world, body, &id);
+//   every frame: set_body_vertices(world, id, skinned, V); step(world, dt);
+//   at the end: destroy_world(world) (releases Embree's device), then free the block.
+//
+// The collision surface is the seed's offset hull: every body vertex pushed out along its
+// area-weighted normal by `thickness_m`, recomputed whenever the vertices move. Each substep every
+// particle asks Embree (rtcPointQuery) for the closest hull point within thickness + margin + the
+// largest vertex motion of the body at this step (a moving arm sweeps over resting cloth); a
+// particle inside the hull is projected back onto it along the contact normal, with friction
+// relative to the moving surface. A particle that moved further than the thickness in one substep
+// is also checked by a ray from its old to its new position, so it cannot cross a thin limb.
+//
+// Memory: Weft's part (the hull, its normals, the previous pose, the triangles) is carved from the
+// world's block; Embree's device is created by create_world (only when max_bodies > 0) and each
+// body's BVH by add_body. Moving a body refits its BVH in place (Embree's dynamic scene, refit
+// quality): no memory of Weft's, and inside Embree 3.13.5 at most one small transient heap
+// allocation per moved body per step (tests/test_allocation.cpp). A still body costs no refit.
+#pragma once
+
+#include "weft/types.h"
+
+namespace weft {
+
+struct World;
+
+struct BodyDesc {
+    // Rest pose: `vertex_count` positions (metres) and `triangle_count` triangles of three vertex
+    // indices each, wound counter-clockwise seen from outside (the normals point out). Copied into
+    // the world; the caller's arrays may go away after add_body.
+    const Vec3* positions = nullptr;
+    uint32_t vertex_count = 0;
+    const uint32_t* triangles = nullptr;  // [3 * triangle_count]
+    uint32_t triangle_count = 0;
+
+    float thickness_m = 0.005f;  // offset of the hull from the skin: the cloth's thickness
+    float margin_m = 0.002f;     // query reach beyond the thickness (deeper particles go by the ray)
+    float friction = 0.5f;       // Coulomb coefficient against the moving surface; 0 = frictionless
+};
+
+struct BodyId {
+    uint32_t index = 0;
+};
+
+// Adds a body (validated: finite positions, indices in range, capacities). Builds its BVH.
+Result add_body(World* world, const BodyDesc& desc, BodyId* out_body);
+
+// The body's new vertex positions (the game's skinned pose), `count` = its vertex count. The next
+// step refits the BVH and uses (new - previous) hull positions as the surface velocity for
+// friction. Refuses non-finite or absurd positions without changing anything.
+Result set_body_vertices(World* world, BodyId body, const Vec3* positions, uint32_t count);
+
+// The closest offset-hull point to `point` within thickness + margin (+ how far the body's
+// vertices moved at the last step): what the step's query sees.
+struct BodyContact {
+    bool found = false;       // a hull triangle lies within reach
+    float penetration_m = 0;  // > 0: the point is inside the hull by this much
+    Vec3 hull_point{};        // closest point on the offset hull
+    Vec3 normal{};            // contact normal: the interpolated hull normal there (unit, outward)
+    uint32_t triangle = 0;
+};
+Result query_body(const World* world, BodyId body, Vec3 point, BodyContact* out);
+
+// The offset hull as the step sees it, for tests, debugging views and brute-force references.
+struct BodyView {
+    uint32_t vertex_count = 0, triangle_count = 0;
+    const float* hull = nullptr;     // [4 * vertex_count]: x, y, z, unused (Embree's vertex layout)
+    const float* normals = nullptr;  // [3 * vertex_count]: unit area-weighted vertex normals
+    const uint32_t* triangles = nullptr;
+    float thickness_m = 0, margin_m = 0;
+};
+Result view_body(const World* world, BodyId body, BodyView* out);
+
+// Diagnostics: called with `entering` true just before and false just after every rtcCommitScene
+// the world makes (creation and steps), so a test can tell Embree's allocations from Weft's.
+using EmbreeCommitHook = void (*)(void* user, bool entering);
+Result set_embree_commit_hook(World* world, EmbreeCommitHook hook, void* user);
+
+}  // namespace weft

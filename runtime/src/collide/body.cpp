@@ -1,0 +1,271 @@
+// Body colliders: the offset hull, Embree's closest-point query, the tunnelling ray, the response.
+// One particle at a time (Embree's queries are single; rtcPointQuery4/8 loop over single queries).
+#include "collide/body.h"
+
+#include <cmath>
+
+#include "collide/colliders.h"
+
+namespace weft {
+namespace {
+
+inline float dot3(const float* a, const float* b) { return a[0] * b[0] + a[1] * b[1] + a[2] * b[2]; }
+inline void sub3(const float* a, const float* b, float* out) {
+    out[0] = a[0] - b[0];
+    out[1] = a[1] - b[1];
+    out[2] = a[2] - b[2];
+}
+
+// What the point-query callback reads and keeps: the closest hull triangle seen so far.
+struct ClosestQuery {
+    const BodyState* body;
+    float point[3];
+    float best_distance2;
+    uint32_t best_triangle;
+    Barycentric best;
+};
+
+// Embree calls this for every triangle whose box meets the query sphere; shrinking the radius to
+// the best distance so far prunes the rest of the traversal (Embree docs, rtcPointQuery).
+bool closest_triangle_callback(RTCPointQueryFunctionArguments* args) {
+    ClosestQuery& q = *static_cast<ClosestQuery*>(args->userPtr);
+    const BodyState& body = *q.body;
+    const uint32_t* t = body.triangles + 3 * args->primID;
+    const float* a = body.hull + 4 * t[0];
+    const float* b = body.hull + 4 * t[1];
+    const float* c = body.hull + 4 * t[2];
+    const Barycentric w = closest_on_triangle(q.point, a, b, c);
+    float d[3];
+    for (int k = 0; k < 3; ++k) d[k] = q.point[k] - (w.w0 * a[k] + w.w1 * b[k] + w.w2 * c[k]);
+    const float distance2 = dot3(d, d);
+    // Strictly closer only: ties keep the triangle met first, so the result is deterministic.
+    if (!(distance2 < q.best_distance2)) return false;
+    q.best_distance2 = distance2;
+    q.best_triangle = args->primID;
+    q.best = w;
+    args->query->radius = std::sqrt(distance2);
+    return true;
+}
+
+// The closest hull triangle to `point` within thickness + margin + sweep: its index and barycentric point.
+bool find_closest(const BodyState& body, const float* point, uint32_t* triangle, Barycentric* w) {
+    const float reach = body.desc.thickness_m + body.desc.margin_m + body.sweep_m;
+    ClosestQuery q{&body, {point[0], point[1], point[2]}, reach * reach, 0, {1.0f, 0.0f, 0.0f}};
+    RTCPointQuery query;
+    query.x = point[0];
+    query.y = point[1];
+    query.z = point[2];
+    query.time = 0.0f;
+    query.radius = reach;
+    RTCPointQueryContext context;
+    rtcInitPointQueryContext(&context);
+    rtcPointQuery(body.scene, &query, &context, closest_triangle_callback, &q);
+    if (!(q.best_distance2 < reach * reach)) return false;
+    *triangle = q.best_triangle;
+    *w = q.best;
+    return true;
+}
+
+// The hull point and contact normal at barycentric `w` of triangle `triangle`.
+void interpolate(const BodyState& body, uint32_t triangle, Barycentric w, float* point, float* normal) {
+    const uint32_t* t = body.triangles + 3 * triangle;
+    float n[3];
+    for (int k = 0; k < 3; ++k) {
+        point[k] = w.w0 * body.hull[4 * t[0] + k] + w.w1 * body.hull[4 * t[1] + k] + w.w2 * body.hull[4 * t[2] + k];
+        n[k] = w.w0 * body.normals[3 * t[0] + k] + w.w1 * body.normals[3 * t[1] + k] +
+               w.w2 * body.normals[3 * t[2] + k];
+    }
+    const float length2 = dot3(n, n);
+    const float inverse = length2 > 1e-24f ? 1.0f / std::sqrt(length2) : 0.0f;
+    for (int k = 0; k < 3; ++k) normal[k] = n[k] * inverse;
+}
+
+// The surface's displacement at a contact over one substep: the hull's per-vertex motion since the
+// previous step, interpolated, times the substep's share of the step.
+Vec3 surface_motion(const BodyState& body, uint32_t triangle, Barycentric w, float share) {
+    const uint32_t* t = body.triangles + 3 * triangle;
+    float m[3];
+    for (int k = 0; k < 3; ++k) {
+        const float d0 = body.hull[4 * t[0] + k] - body.previous_hull[4 * t[0] + k];
+        const float d1 = body.hull[4 * t[1] + k] - body.previous_hull[4 * t[1] + k];
+        const float d2 = body.hull[4 * t[2] + k] - body.previous_hull[4 * t[2] + k];
+        m[k] = (w.w0 * d0 + w.w1 * d1 + w.w2 * d2) * share;
+    }
+    return {m[0], m[1], m[2]};
+}
+
+// A particle that crossed the hull since its previous position: the entry point, or false. The ray
+// starts `back` metres behind the previous position: a particle projected onto the hull last
+// substep may sit a rounding error inside it, and a ray from there would first meet the hull from
+// within (a leaving hit) and miss the entry.
+bool trace_entry(const BodyState& body, const float* previous, const float* to, float back, uint32_t* triangle,
+                 Barycentric* w, float* hit) {
+    float d[3];
+    sub3(to, previous, d);
+    const float length = std::sqrt(dot3(d, d));
+    const float lead = back / length;  // length > thickness > 0: only moving particles get here
+    RTCRayHit rh{};
+    rh.ray.org_x = previous[0] - lead * d[0];
+    rh.ray.org_y = previous[1] - lead * d[1];
+    rh.ray.org_z = previous[2] - lead * d[2];
+    const float from[3] = {rh.ray.org_x, rh.ray.org_y, rh.ray.org_z};
+    rh.ray.dir_x = d[0];
+    rh.ray.dir_y = d[1];
+    rh.ray.dir_z = d[2];
+    rh.ray.tnear = 0.0f;
+    rh.ray.tfar = 1.0f + lead;  // to the new position: dir is the whole displacement
+    rh.ray.mask = ~0u;   // Debian's Embree is built with ray masks: 0 would hit nothing
+    rh.hit.geomID = RTC_INVALID_GEOMETRY_ID;
+    RTCIntersectContext context;
+    rtcInitIntersectContext(&context);
+    rtcIntersect1(body.scene, &context, &rh);
+    if (rh.hit.geomID == RTC_INVALID_GEOMETRY_ID) return false;
+    // Entering means moving against the outward face normal (our winding, not Embree's Ng sign).
+    const uint32_t* t = body.triangles + 3 * rh.hit.primID;
+    float e1[3], e2[3];
+    sub3(body.hull + 4 * t[1], body.hull + 4 * t[0], e1);
+    sub3(body.hull + 4 * t[2], body.hull + 4 * t[0], e2);
+    const float face[3] = {e1[1] * e2[2] - e1[2] * e2[1], e1[2] * e2[0] - e1[0] * e2[2], e1[0] * e2[1] - e1[1] * e2[0]};
+    const float dir[3] = {rh.ray.dir_x, rh.ray.dir_y, rh.ray.dir_z};
+    if (!(dot3(dir, face) < 0.0f)) return false;  // leaving the hull: not a crossing into it
+    *triangle = rh.hit.primID;
+    *w = {1.0f - rh.hit.u - rh.hit.v, rh.hit.u, rh.hit.v};  // Embree: p = (1-u-v) v0 + u v1 + v v2
+    for (int k = 0; k < 3; ++k) hit[k] = from[k] + rh.ray.tfar * dir[k];
+    return true;
+}
+
+}  // namespace
+
+Barycentric closest_on_triangle(const float* p, const float* a, const float* b, const float* c) {
+    // Ericson 5.1.5: find the Voronoi region of p among the vertices, edges and face.
+    float ab[3], ac[3], ap[3];
+    sub3(b, a, ab);
+    sub3(c, a, ac);
+    sub3(p, a, ap);
+    const float d1 = dot3(ab, ap), d2 = dot3(ac, ap);
+    if (d1 <= 0.0f && d2 <= 0.0f) return {1.0f, 0.0f, 0.0f};
+    float bp[3];
+    sub3(p, b, bp);
+    const float d3 = dot3(ab, bp), d4 = dot3(ac, bp);
+    if (d3 >= 0.0f && d4 <= d3) return {0.0f, 1.0f, 0.0f};
+    const float vc = d1 * d4 - d3 * d2;
+    if (vc <= 0.0f && d1 >= 0.0f && d3 <= 0.0f) {
+        const float v = d1 / (d1 - d3);
+        return {1.0f - v, v, 0.0f};
+    }
+    float cp[3];
+    sub3(p, c, cp);
+    const float d5 = dot3(ab, cp), d6 = dot3(ac, cp);
+    if (d6 >= 0.0f && d5 <= d6) return {0.0f, 0.0f, 1.0f};
+    const float vb = d5 * d2 - d1 * d6;
+    if (vb <= 0.0f && d2 >= 0.0f && d6 <= 0.0f) {
+        const float w = d2 / (d2 - d6);
+        return {1.0f - w, 0.0f, w};
+    }
+    const float va = d3 * d6 - d5 * d4;
+    if (va <= 0.0f && (d4 - d3) >= 0.0f && (d5 - d6) >= 0.0f) {
+        const float w = (d4 - d3) / ((d4 - d3) + (d5 - d6));
+        return {0.0f, 1.0f - w, w};
+    }
+    const float sum = va + vb + vc;
+    if (!(sum > 0.0f)) return {1.0f, 0.0f, 0.0f};  // degenerate triangle: its first vertex
+    const float denominator = 1.0f / sum;
+    const float v = vb * denominator, w = vc * denominator;
+    return {1.0f - v - w, v, w};
+}
+
+void compute_offset_hull(BodyState& body, const Vec3* positions) {
+    // Area-weighted normals: the sum of the unnormalised face normals (each |e1 x e2| = 2 area).
+    float* n = body.normals;
+    for (uint32_t i = 0; i < 3 * body.vertex_count; ++i) n[i] = 0.0f;
+    for (uint32_t f = 0; f < body.triangle_count; ++f) {
+        const uint32_t* t = body.triangles + 3 * f;
+        const Vec3 a = positions[t[0]], b = positions[t[1]], c = positions[t[2]];
+        const float e1[3] = {b.x - a.x, b.y - a.y, b.z - a.z};
+        const float e2[3] = {c.x - a.x, c.y - a.y, c.z - a.z};
+        const float face[3] = {e1[1] * e2[2] - e1[2] * e2[1], e1[2] * e2[0] - e1[0] * e2[2],
+                               e1[0] * e2[1] - e1[1] * e2[0]};
+        for (int corner = 0; corner < 3; ++corner)
+            for (int k = 0; k < 3; ++k) n[3 * t[corner] + k] += face[k];
+    }
+    // The seed's offset hull: every vertex pushed out along its normal by the thickness.
+    const float thickness = body.desc.thickness_m;
+    for (uint32_t v = 0; v < body.vertex_count; ++v) {
+        float* nv = n + 3 * v;
+        const float length2 = dot3(nv, nv);
+        const float inverse = length2 > 0.0f ? 1.0f / std::sqrt(length2) : 0.0f;  // isolated vertex: no push
+        for (int k = 0; k < 3; ++k) nv[k] *= inverse;
+        float* h = body.hull + 4 * v;
+        h[0] = positions[v].x + thickness * nv[0];
+        h[1] = positions[v].y + thickness * nv[1];
+        h[2] = positions[v].z + thickness * nv[2];
+        h[3] = 0.0f;
+    }
+}
+
+BodyContact closest_hull_point(const BodyState& body, const float* point) {
+    BodyContact contact;
+    uint32_t triangle = 0;
+    Barycentric w{};
+    if (!find_closest(body, point, &triangle, &w)) return contact;
+    float hull_point[3], normal[3], to_hull[3];
+    interpolate(body, triangle, w, hull_point, normal);
+    sub3(hull_point, point, to_hull);
+    contact.found = true;
+    contact.penetration_m = dot3(to_hull, normal);  // > 0: the point lies behind the hull
+    contact.hull_point = {hull_point[0], hull_point[1], hull_point[2]};
+    contact.normal = {normal[0], normal[1], normal[2]};
+    contact.triangle = triangle;
+    return contact;
+}
+
+void collide_body(const Particles& particles, const BodyState& body, uint32_t substeps, BodyPassCounts& counts) {
+    using F = simd::Float1;
+    const Particles p = particles;
+    const float share = 1.0f / float(substeps);
+    const float thickness2 = body.desc.thickness_m * body.desc.thickness_m;
+    ColliderKernelArgs args{};
+    args.friction = body.desc.friction;
+    for (uint32_t i = 0; i < p.slot_count; ++i) {
+        if (!(p.inverse_mass[i] > 0.0f)) continue;  // pinned and padding slots
+        const float x[3] = {p.x[i], p.y[i], p.z[i]};
+        const float previous[3] = {p.previous_x[i], p.previous_y[i], p.previous_z[i]};
+        float moved[3];
+        sub3(x, previous, moved);
+        uint32_t triangle = 0;
+        Barycentric w{};
+        float hull_point[3], normal[3];
+        float penetration = 0.0f;
+        bool contact = false;
+        if (dot3(moved, moved) > thickness2) {
+            // Further than the thickness in one substep: the point query alone could miss a crossing.
+            counts.rays += 1;
+            float hit[3];
+            if (trace_entry(body, previous, x, body.desc.thickness_m, &triangle, &w, hit)) {
+                float unused[3], to_hit[3];
+                interpolate(body, triangle, w, unused, normal);
+                sub3(hit, x, to_hit);
+                penetration = dot3(to_hit, normal);
+                contact = penetration > 0.0f;
+            }
+        }
+        if (!contact) {
+            if (!find_closest(body, x, &triangle, &w)) continue;
+            float to_hull[3];
+            interpolate(body, triangle, w, hull_point, normal);
+            sub3(hull_point, x, to_hull);
+            penetration = dot3(to_hull, normal);
+            contact = penetration > 0.0f;
+        }
+        if (!contact) continue;
+        counts.contacts += 1;
+        // Projection along the contact normal onto the hull, then friction against the surface's
+        // own motion (one concept, one place: colliders.h).
+        args.motion = surface_motion(body, triangle, w, share);
+        const Vec3W<F> xw{{x[0]}, {x[1]}, {x[2]}};
+        const Vec3W<F> nw{{normal[0]}, {normal[1]}, {normal[2]}};
+        resolve_contact(p, i, xw, nw, F{penetration}, simd::Mask1{true}, args);
+    }
+}
+
+}  // namespace weft
