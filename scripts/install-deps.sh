@@ -11,6 +11,8 @@ packages=(
   libcli11-dev nlohmann-json3-dev libxxhash-dev # tools: command lines, JSON, asset hashing
   clang libclang-rt-14-dev                      # fuzzing (clang -fsanitize=fuzzer)
   libbullet-dev gnuplot-nox                     # weft-bench sweep: the Bullet peer, the Pareto plot
+  libepoxy-dev libegl-dev libegl-mesa0          # samples/render: OpenGL loader, EGL (surfaceless)
+  libgl1-mesa-dri libstb-dev ffmpeg             # llvmpipe, PNG writing, weft-sim --gif/--mp4, figures
 )
 
 missing=()
