@@ -9,10 +9,11 @@ packages=(
   libglm-dev libembree-dev                      # runtime: maths, BVH queries
   doctest-dev libcgal-dev                       # tests (CGAL meshes the irregular disc; weft-bake later)
   libcli11-dev nlohmann-json3-dev libxxhash-dev # tools: command lines, JSON, asset hashing
-  libtinyobjloader-dev                          # tests and tools: body meshes (OBJ)
   clang libclang-rt-14-dev                      # fuzzing (clang -fsanitize=fuzzer)
   libbullet-dev gnuplot-nox                     # weft-bench sweep: the Bullet peer, the Pareto plot
   libtinyobjloader-dev libtinygltf-dev          # tools/body: body meshes from OBJ and glTF
+  libepoxy-dev libegl-dev libegl-mesa0          # samples/render: OpenGL loader, EGL (surfaceless)
+  libgl1-mesa-dri libstb-dev ffmpeg             # llvmpipe, PNG writing, weft-sim --gif/--mp4, figures
 )
 
 missing=()

@@ -2,8 +2,9 @@
 # The main job: builds Release, bakes the sample patterns (weft-bake, through the build's
 # weft_bake() rules), runs the baked drape in weft-sim, then the seed paper's experiments (Liu, Sun,
 # Xu 2008, section 3): the drape timing table beside the paper's, the flag (wind) and the sphere
-# (collision). Timings: lowest median of 3 runs (see README). Dressing the garment on the mannequin
-# and the pictures join when those issues land.
+# (collision), and draws two pictures (out/drape-baked.png, out/sphere.png) with weft-sim --png.
+# Timings: lowest median of 3 runs (see README). Dressing the garment on the mannequin joins when
+# that issue lands.
 #   bash scripts/main-job.sh
 # Environment: WEFT_BUILD_DIR (default build), WEFT_OUT_DIR (default out; JSON lines land there),
 # WEFT_BENCH_CPU (CPU to pin the single-threaded bench to; default 1 when there are two or more).
@@ -41,6 +42,15 @@ echo "== weft-sim: the seed drape from the baked sheet, then from the in-memory 
 sim=("${bench[@]:0:${#bench[@]}-1}" "$build_dir/tools/sim/weft-sim")
 "${sim[@]}" samples/scenes/drape-baked.json --assets "$build_dir/samples/assets"
 "${sim[@]}" samples/scenes/drape.json
+echo
+echo "== pictures (weft-sim --png: samples/render on Mesa's llvmpipe, headless)"
+sim_tool="$build_dir/tools/sim/weft-sim"
+if "$sim_tool" samples/scenes/drape-baked.json --assets "$build_dir/samples/assets" --png "$out_dir/drape-baked.png" >/dev/null &&
+  "$sim_tool" samples/scenes/sphere.json --png "$out_dir/sphere.png" >/dev/null; then
+  echo "pictures: $out_dir/drape-baked.png, $out_dir/sphere.png (1280x720)"
+else
+  echo "pictures: not written (weft-sim built without the renderer? run scripts/install-deps.sh)"
+fi
 echo
 "${bench[@]}" drape --sizes 25,50,75,100 --repeat 3 --json-out "$json"
 echo

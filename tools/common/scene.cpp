@@ -166,4 +166,13 @@ std::vector<uint32_t> caller_triangles(const ClothAsset& asset) {
     return t;
 }
 
+std::vector<std::vector<Vec3>> cloth_positions(const SceneWorld& world) {
+    std::vector<std::vector<Vec3>> positions;
+    for (const SceneCloth& c : world.cloths) {
+        std::vector<Vec3>& p = positions.emplace_back(c.asset->particle_count);
+        read_positions(world.world, c.id, p.data(), uint32_t(p.size()));
+    }
+    return positions;
+}
+
 }  // namespace weft::scenes

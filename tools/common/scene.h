@@ -99,4 +99,7 @@ std::string build_scene(const Scene& scene, SceneWorld* out, const std::vector<s
 // The triangles of a built cloth in caller particle order (for OBJ and glTF writers).
 std::vector<uint32_t> caller_triangles(const ClothAsset& asset);
 
+// Every cloth's current positions, in caller particle order (OBJ frames, pictures).
+std::vector<std::vector<Vec3>> cloth_positions(const SceneWorld& world);
+
 }  // namespace weft::scenes

@@ -1,12 +1,14 @@
 // weft-sim: runs a scene file headless and reports every frame.
 //
 //   weft-sim SCENE.json [--frames N] [--out DIR] [--json] [--simd automatic|scalar|avx2] [--assets DIR]
+//            [--png FILE [--frame N]] [--gif FILE | --mp4 FILE] [--every K] [--camera AZ,EL[,DIST]] [--size WxH]
 //
 // The world is created with exactly what the scene names (docs/scene-format.md). Every frame is one
 // step(dt); its wall time is measured around that call only. --out writes one OBJ per frame (all
 // cloths, caller particle order); --json prints one JSON object per frame and a last one with
 // "summary": true and the medians. Exit codes: 0 done, 1 bad arguments or scene, 2 the simulation
-// failed (a step refused, or a position stopped being finite).
+// failed (a step refused, or a position stopped being finite). --png, --gif and --mp4 draw the scene
+// (pictures.h) after the run; the step times do not include the drawing.
 #include <algorithm>
 #include <chrono>
 #include <cstdio>
@@ -19,6 +21,7 @@
 #include <nlohmann/json.hpp>
 
 #include "metrics.h"
+#include "pictures.h"
 #include "scene_json.h"
 
 namespace {
@@ -66,10 +69,10 @@ bool write_obj(const std::filesystem::path& file, const scenes::SceneWorld& sw, 
     std::ofstream out(file);
     out << "# weft-sim frame\n";
     uint32_t base = 1;  // OBJ indices start at 1
+    const std::vector<std::vector<Vec3>> positions = scenes::cloth_positions(sw);
     for (size_t i = 0; i < sw.cloths.size(); ++i) {
         const scenes::SceneCloth& c = sw.cloths[i];
-        std::vector<Vec3> p(c.asset->particle_count);
-        read_positions(sw.world, c.id, p.data(), uint32_t(p.size()));
+        const std::vector<Vec3>& p = positions[i];
         out << "o " << scene.cloths[i].name << "\n";
         for (const Vec3& v : p) out << "v " << v.x << ' ' << v.y << ' ' << v.z << "\n";
         const std::vector<uint32_t> t = scenes::caller_triangles(*c.asset);
@@ -95,7 +98,30 @@ int main(int argc, char** argv) {
     app.add_flag("--json", json, "one JSON object per frame, then a summary object");
     app.add_option("--simd", simd, "override the scene's SIMD path")
         ->check(CLI::IsMember({"automatic", "scalar", "avx2"}));
+    sim::PictureOptions pictures;
+    std::string camera, size, gif, mp4;
+    app.add_option("--png", pictures.png, "write a picture of one frame (default: the last) to this PNG");
+    app.add_option("--frame", pictures.png_frame, "--png shows the state after this many frames")
+        ->check(CLI::Range(1u, 10000000u));
+    auto* gif_option = app.add_option("--gif", gif, "write the animation as a GIF (ffmpeg)");
+    app.add_option("--mp4", mp4, "write the animation as an MP4 (ffmpeg, H.264)")->excludes(gif_option);
+    app.add_option("--every", pictures.every, "the animation keeps every K-th frame (default 3)")
+        ->check(CLI::Range(1u, 10000u));
+    app.add_option("--camera", camera, "AZIMUTH,ELEVATION[,DISTANCE]: degrees, degrees, metres (default 35,20 framing the scene)");
+    app.add_option("--size", size, "picture size WxH (default 1280x720)");
     CLI11_PARSE(app, argc, argv);
+    pictures.animation = gif.empty() ? mp4 : gif;
+    for (std::string e : {camera.empty() ? std::string() : sim::parse_camera(camera, &pictures),
+                          size.empty() ? std::string() : sim::parse_size(size, &pictures)}) {
+        if (!e.empty()) {
+            std::fprintf(stderr, "weft-sim: %s\n", e.c_str());
+            return 1;
+        }
+    }
+    if (pictures.wanted() && !sim::renderer_built_in()) {
+        std::fprintf(stderr, "weft-sim: --png, --gif and --mp4 need the renderer, and this weft-sim was built without it\n");
+        return 1;
+    }
 
     scenes::Scene scene;
     if (std::string e = scenes::load_scene_file(scene_path, &scene); !e.empty()) {
@@ -103,6 +129,10 @@ int main(int argc, char** argv) {
         return 1;
     }
     if (frames > 0) scene.frames = frames;
+    if (pictures.png_frame > scene.frames) {
+        std::fprintf(stderr, "weft-sim: --frame %u is past the last frame (%u)\n", pictures.png_frame, scene.frames);
+        return 1;
+    }
     if (simd == "scalar") scene.simd = SimdPath::scalar;
     if (simd == "avx2") scene.simd = SimdPath::avx2;
     if (simd == "automatic") scene.simd = SimdPath::automatic;
@@ -126,6 +156,8 @@ int main(int argc, char** argv) {
         std::printf("weft-sim %s: %zu cloth(s), %u particles, %zu collider(s), %s, dt %.4g s, %u frames\n",
                     scene_path.c_str(), sw.cloths.size(), particles, scene.colliders.size(),
                     simd_path_name(world_simd_path(sw.world)), double(scene.dt_s), scene.frames);
+    sim::PictureRecorder recorder(pictures, scene.frames);
+    if (pictures.wanted()) recorder.after_frame(0, sw);
     std::vector<double> us, max_strain;
     FrameReport last;
     double worst_penetration = 0.0;
@@ -163,6 +195,7 @@ int main(int argc, char** argv) {
             std::fprintf(stderr, "weft-sim: frame %u: a position is no longer finite\n", f);
             return 2;
         }
+        if (pictures.wanted()) recorder.after_frame(f, sw);
     }
     const double us_median = median(us), strain_median = median(max_strain);
     if (json) {
@@ -183,6 +216,17 @@ int main(int argc, char** argv) {
                     us_median / 1000.0, 1000.0 * scene.dt_s, 100.0 * strain_median);
         std::printf("last frame: max strain %.3f%%, mean strain %.4f%%, mean speed %.4f m/s; deepest penetration %.2f mm\n",
                     100.0 * last.max_strain, 100.0 * last.mean_strain, last.mean_speed_m_s, 1000.0 * worst_penetration);
+    }
+    if (pictures.wanted()) {
+        std::fflush(stdout);  // the report first, then any error from drawing
+        if (std::string e = recorder.write(scene, sw); !e.empty()) {
+            std::fprintf(stderr, "weft-sim: %s\n", e.c_str());
+            return 1;
+        }
+        if (!json) {
+            if (!pictures.png.empty()) std::printf("picture: %s\n", pictures.png.c_str());
+            if (!pictures.animation.empty()) std::printf("animation: %s\n", pictures.animation.c_str());
+        }
     }
     return 0;
 }

@@ -1,0 +1,13 @@
+// From a running scene (tools/common/scene.h) to what the renderer draws.
+#pragma once
+
+#include "renderer.h"
+#include "scene.h"
+
+namespace weft::render {
+
+// The scene's cloths (positions now, triangles, texture coordinates: the asset's `uv` when it has
+// them, else planar_uv of its start positions) and colliders.
+Snapshot snapshot_of_scene(const scenes::Scene& scene, const scenes::SceneWorld& world);
+
+}  // namespace weft::render

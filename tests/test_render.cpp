@@ -1,0 +1,145 @@
+// The renderer (samples/render) on the headless context: the sphere scene's picture is not blank,
+// and the cloth's pixels are where the cloth's projected bounding box says they must be. Runs on
+// Mesa's llvmpipe through EGL's surfaceless platform: no display, no GPU.
+#include <doctest/doctest.h>
+
+#include <algorithm>
+#include <map>
+#include <set>
+
+#include "headless.h"
+#include "renderer.h"
+#include "scene_json.h"
+#include "scene_snapshot.h"
+
+using namespace weft;
+
+namespace {
+
+constexpr int kWidth = 320, kHeight = 180;
+
+bool is_cloth_mask(const render::Image& image, int x, int y) {
+    const uint8_t* p = image.pixel(x, y);
+    return p[0] == render::kClothMaskRgb[0] && p[1] == render::kClothMaskRgb[1] && p[2] == render::kClothMaskRgb[2];
+}
+
+uint32_t packed(const uint8_t* p) { return uint32_t(p[0]) << 16 | uint32_t(p[1]) << 8 | p[2]; }
+
+}  // namespace
+
+TEST_CASE("frame_box keeps the whole box in the picture, from any direction") {
+    render::Box box;
+    box.add({-1.0f, -0.5f, -2.0f});
+    box.add({3.0f, 0.5f, 1.0f});
+    for (float azimuth : {0.0f, 35.0f, 90.0f, 200.0f}) {
+        for (float elevation : {-30.0f, 0.0f, 20.0f, 80.0f}) {
+            const render::Camera camera = render::frame_box(box, {azimuth, elevation, 0.0f}, 16.0f / 9.0f);
+            float min_x = 1e9f, max_x = -1e9f, min_y = 1e9f, max_y = -1e9f;
+            for (int corner = 0; corner < 8; ++corner) {
+                const glm::vec3 p{corner & 1 ? box.max.x : box.min.x, corner & 2 ? box.max.y : box.min.y,
+                                  corner & 4 ? box.max.z : box.min.z};
+                const glm::vec2 q = render::project_to_pixels(camera, p, 1600, 900);
+                min_x = std::min(min_x, q.x), max_x = std::max(max_x, q.x);
+                min_y = std::min(min_y, q.y), max_y = std::max(max_y, q.y);
+            }
+            INFO("azimuth " << azimuth << ", elevation " << elevation);
+            CHECK(min_x >= 0.0f);
+            CHECK(max_x <= 1600.0f);
+            CHECK(min_y >= 0.0f);
+            CHECK(max_y <= 900.0f);
+            // Not lost in the distance: the camera aims at the box's centre, so perspective leaves the
+            // far side some slack, but the box still spans most of the picture one way.
+            CHECK(std::max((max_x - min_x) / 1600.0f, (max_y - min_y) / 900.0f) > 0.6f);
+        }
+    }
+}
+
+TEST_CASE("planar_uv lays the rest cloth out on its two widest axes, in metres") {
+    // A vertical 2 m x 1 m rectangle in the x-y plane.
+    const std::vector<Vec3> rest = {{0, 3, 0}, {2, 3, 0}, {0, 2, 0}, {2, 2, 0}};
+    const std::vector<float> uv = render::planar_uv(rest);
+    REQUIRE(uv.size() == 8);
+    CHECK(uv[0] == doctest::Approx(0.0f));
+    CHECK(uv[1] == doctest::Approx(1.0f));
+    CHECK(uv[2] == doctest::Approx(2.0f));
+    CHECK(uv[7] == doctest::Approx(0.0f));
+}
+
+TEST_CASE("the sphere scene's picture: not blank, and the cloth inside its projected bounding box") {
+    scenes::Scene scene;
+    REQUIRE(scenes::load_scene_file(std::string(WEFT_SOURCE_DIR) + "/samples/scenes/sphere.json", &scene).empty());
+    scenes::SceneWorld world;
+    REQUIRE(scenes::build_scene(scene, &world).empty());
+    // 5 frames: the cloth is still falling, above the sphere, so it fills the top of the picture
+    // (a picture upside down or mirrored puts it elsewhere).
+    for (int frame = 0; frame < 5; ++frame) REQUIRE(step(world.world, scene.dt_s).ok());
+
+    std::string error;
+    const auto context = render::HeadlessContext::create(kWidth, kHeight, &error);
+    REQUIRE_MESSAGE(context, error);
+    const auto renderer = render::Renderer::create(&error);
+    REQUIRE_MESSAGE(renderer, error);
+    render::Snapshot snapshot = render::snapshot_of_scene(scene, world);
+    const render::Camera camera = render::frame_box(render::bounds(snapshot), {35.0f, 30.0f, 0.0f}, float(kWidth) / kHeight);
+
+    context->begin_frame();
+    renderer->draw(snapshot, camera, kWidth, kHeight, render::Look::shaded);
+    const render::Image shaded = context->read_image();
+    // The cloth alone in its flat colour, seen by the same camera: its pixels, unhidden by the sphere.
+    snapshot.colliders.clear();
+    context->begin_frame();
+    renderer->draw(snapshot, camera, kWidth, kHeight, render::Look::cloth_mask);
+    const render::Image mask = context->read_image();
+    REQUIRE(shaded.rgb.size() == size_t(3 * kWidth * kHeight));
+
+    // Where the particles project to.
+    float box_x0 = 1e9f, box_x1 = -1e9f, box_y0 = 1e9f, box_y1 = -1e9f;
+    for (const Vec3& p : snapshot.cloths[0].positions) {
+        const glm::vec2 q = render::project_to_pixels(camera, {p.x, p.y, p.z}, kWidth, kHeight);
+        box_x0 = std::min(box_x0, q.x), box_x1 = std::max(box_x1, q.x);
+        box_y0 = std::min(box_y0, q.y), box_y1 = std::max(box_y1, q.y);
+    }
+    INFO("projected cloth box x " << box_x0 << ".." << box_x1 << ", y " << box_y0 << ".." << box_y1);
+    REQUIRE(box_x1 - box_x0 > 40.0f);
+    REQUIRE(box_y1 - box_y0 > 10.0f);
+    CHECK(box_y1 < 0.75f * kHeight);  // above the sphere: the upper part of the picture
+
+    // Every cloth pixel (its centre) lies in the box, give or take one pixel, and the cloth reaches
+    // all four sides of it (within 3 pixels: a corner seen edge-on thins below a pixel).
+    int cloth_pixels = 0, outside = 0;
+    float seen_x0 = 1e9f, seen_x1 = -1e9f, seen_y0 = 1e9f, seen_y1 = -1e9f;
+    std::set<uint32_t> colours;
+    std::map<uint32_t, int> cloth_colours;  // shaded colour -> pixels
+    for (int y = 0; y < kHeight; ++y) {
+        for (int x = 0; x < kWidth; ++x) {
+            colours.insert(packed(shaded.pixel(x, y)));
+            if (!is_cloth_mask(mask, x, y)) continue;
+            ++cloth_pixels;
+            ++cloth_colours[packed(shaded.pixel(x, y))];
+            const float cx = float(x) + 0.5f, cy = float(y) + 0.5f;
+            outside += cx < box_x0 - 1.0f || cx > box_x1 + 1.0f || cy < box_y0 - 1.0f || cy > box_y1 + 1.0f;
+            seen_x0 = std::min(seen_x0, cx), seen_x1 = std::max(seen_x1, cx);
+            seen_y0 = std::min(seen_y0, cy), seen_y1 = std::max(seen_y1, cy);
+        }
+    }
+    CHECK(outside == 0);
+    CHECK(seen_x0 < box_x0 + 3.0f);
+    CHECK(seen_x1 > box_x1 - 3.0f);
+    CHECK(seen_y0 < box_y0 + 3.0f);
+    CHECK(seen_y1 > box_y1 - 3.0f);
+    // A flat square seen at an angle covers about half of its box.
+    CHECK(cloth_pixels > 0.25f * (box_x1 - box_x0) * (box_y1 - box_y0));
+
+    // Not blank: sky, ground, sphere and cloth make many colours; the cloth (flat and evenly lit
+    // while it falls) shows its checker: two colours of about half its pixels each, neither the
+    // mask's colour nor the sky's.
+    CHECK(colours.size() > 200);
+    std::vector<int> counts;
+    for (const auto& [colour, pixels] : cloth_colours) counts.push_back(pixels);
+    std::sort(counts.rbegin(), counts.rend());
+    REQUIRE(counts.size() >= 2);
+    CHECK(counts[0] > cloth_pixels / 5);
+    CHECK(counts[1] > cloth_pixels / 5);
+    CHECK(cloth_colours.count(packed(render::kClothMaskRgb)) == 0);
+    CHECK(cloth_colours.count(packed(shaded.pixel(kWidth / 2, 0))) == 0);
+}

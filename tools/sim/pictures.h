@@ -1,0 +1,48 @@
+// weft-sim's pictures: --png (one frame), --gif / --mp4 (the animation). While the scene runs the
+// recorder keeps the positions of the frames it needs; at the end it renders them with
+// samples/render. Built without the renderer (its libraries missing), `write` only says so.
+#pragma once
+
+#include <string>
+#include <vector>
+
+#include "scene.h"
+
+namespace weft::sim {
+
+struct PictureOptions {
+    std::string png;                 // --png FILE
+    uint32_t png_frame = 0;          // --frame N: the state after N frames; 0 = after the last
+    std::string animation;           // --gif FILE or --mp4 FILE
+    uint32_t every = 3;              // --every K: the animation keeps every K-th frame
+    float azimuth_deg = 35.0f, elevation_deg = 20.0f;
+    float distance_m = 0.0f;         // 0 = frame the scene
+    int width = 1280, height = 720;  // --size WxH
+    bool wanted() const { return !png.empty() || !animation.empty(); }
+};
+
+// Parses --camera AZIMUTH,ELEVATION[,DISTANCE] (degrees, degrees, metres) and --size WxH into
+// `options`; returns the error (empty when fine).
+std::string parse_camera(const std::string& text, PictureOptions* options);
+std::string parse_size(const std::string& text, PictureOptions* options);
+
+// Whether this weft-sim was built with the renderer.
+bool renderer_built_in();
+
+class PictureRecorder {
+public:
+    PictureRecorder(const PictureOptions& options, uint32_t scene_frames);
+    // Call with frame 0 before the first step, then after every step.
+    void after_frame(uint32_t frame, const scenes::SceneWorld& world);
+    // Renders and writes the files; returns the error (empty when written).
+    std::string write(const scenes::Scene& scene, const scenes::SceneWorld& world) const;
+
+private:
+    using Positions = std::vector<std::vector<Vec3>>;  // per cloth, caller order
+    PictureOptions options_;
+    uint32_t png_frame_ = 0;
+    Positions png_positions_;
+    std::vector<Positions> animation_frames_;
+};
+
+}  // namespace weft::sim

@@ -1,0 +1,12 @@
+// weft-sim built without samples/render (libepoxy or stb missing): no pictures.
+#include "pictures.h"
+
+namespace weft::sim {
+
+bool renderer_built_in() { return false; }
+
+std::string PictureRecorder::write(const scenes::Scene&, const scenes::SceneWorld&) const {
+    return "this weft-sim was built without the renderer (install libepoxy-dev and libstb-dev, then reconfigure)";
+}
+
+}  // namespace weft::sim

@@ -1,0 +1,57 @@
+// weft-sim's pictures drawn by samples/render on a headless OpenGL context.
+#include "headless.h"
+#include "pictures.h"
+#include "renderer.h"
+#include "scene_snapshot.h"
+
+namespace weft::sim {
+
+bool renderer_built_in() { return true; }
+
+std::string PictureRecorder::write(const scenes::Scene& scene, const scenes::SceneWorld& world) const {
+    const int width = options_.width, height = options_.height;
+    std::string error;
+    const std::unique_ptr<render::HeadlessContext> context = render::HeadlessContext::create(width, height, &error);
+    if (!context) return error;
+    const std::unique_ptr<render::Renderer> renderer = render::Renderer::create(&error);
+    if (!renderer) return error;
+
+    render::Snapshot snapshot = render::snapshot_of_scene(scene, world);
+    const auto show = [&](const Positions& positions) {
+        for (size_t i = 0; i < positions.size(); ++i) snapshot.cloths[i].positions = positions[i];
+    };
+    const auto draw = [&](const render::Camera& camera) {
+        context->begin_frame();
+        renderer->draw(snapshot, camera, width, height);
+        return context->read_image();
+    };
+    const render::CameraAngles angles{options_.azimuth_deg, options_.elevation_deg, options_.distance_m};
+    const float aspect = float(width) / float(height);
+
+    if (!options_.png.empty()) {
+        show(png_positions_);
+        const render::Camera camera = render::frame_box(render::bounds(snapshot), angles, aspect);
+        if (!render::write_png(options_.png, draw(camera))) return "cannot write " + options_.png;
+    }
+    if (!options_.animation.empty()) {
+        // One camera for the whole animation, framing every recorded frame.
+        render::Box box;
+        for (const Positions& frame : animation_frames_) {
+            show(frame);
+            box.add(render::bounds(snapshot));
+        }
+        const render::Camera camera = render::frame_box(box, angles, aspect);
+        const double frames_per_second = 1.0 / (double(scene.dt_s) * options_.every);
+        std::unique_ptr<render::AnimationWriter> writer =
+            render::AnimationWriter::open(options_.animation, width, height, frames_per_second, &error);
+        if (!writer) return error;
+        for (const Positions& frame : animation_frames_) {
+            show(frame);
+            if (!writer->add_frame(draw(camera))) break;  // close() reports why
+        }
+        if (!writer->close(&error)) return options_.animation + ": " + error;
+    }
+    return {};
+}
+
+}  // namespace weft::sim
