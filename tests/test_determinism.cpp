@@ -101,6 +101,35 @@ TEST_CASE("scalar vs avx2: sphere with friction 0.5 after 100 steps") {
     CHECK(same_bits(ps, pv));
 }
 
+TEST_CASE("scalar vs avx2: the coarse lattice's row tails and narrow rows on the sphere") {
+    // n = 37: plane rows of 19 columns (two lane groups and one overlapping tail group); n = 12: rows
+    // of 6 columns, narrower than a lane group (one lane at a time on both paths). The default
+    // policy (coarse level, 3 substeps) and friction, so the lattice interpolation (gather_near),
+    // the integration's row tails and the friction response all run.
+    if (!simd_path_available(SimdPath::avx2)) {
+        MESSAGE("AVX2 is not available in this build or CPU: scalar vs SIMD parity not tested");
+        return;
+    }
+    for (uint32_t n : {37u, 12u}) {
+        CAPTURE(n);
+        scenes::SceneOptions o = scene_options(n);
+        o.sphere_friction = 0.5f;
+        o.sphere_offset_m = 0.1f;
+        o.simd = SimdPath::scalar;
+        auto scalar = make_scene(SeedScene::sphere, o);
+        o.simd = SimdPath::avx2;
+        auto avx2 = make_scene(SeedScene::sphere, o);
+        REQUIRE(scalar->asset().coarse_lattice_cols > 0);
+        step_n(*scalar, 60);
+        step_n(*avx2, 60);
+        const std::vector<Vec3> ps = read_all(*scalar), pv = read_all(*avx2);
+        INFO("max |scalar - avx2| = ", max_abs_difference(ps, pv), " m");
+        CHECK(all_finite(pv));
+        CHECK(!same_bits(pv, avx2->mesh.positions));
+        CHECK(same_bits(ps, pv));
+    }
+}
+
 TEST_CASE("scalar vs avx2: substeps, compliance and relaxation") {
     if (!simd_path_available(SimdPath::avx2)) {
         MESSAGE("AVX2 is not available in this build or CPU: scalar vs SIMD parity not tested");

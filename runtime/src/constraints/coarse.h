@@ -89,34 +89,47 @@ void solve_coarse_level(const Particles& particles, const IntegrateArgs& integra
     for (; j < nodes; ++j) coarse_displacement<Float1>(a, st, j);
 }
 
-// Step 3 for the lattice form, separably: a coarse row's node displacements are interpolated to
-// every plane column once (a 32-entry register lookup, no gathers), and each plane row then blends
-// the two coarse rows around it with contiguous loads. Plane rows visit coarse rows in order, so two
-// interpolated rows are kept and the next one is made only when the plane row crosses into it.
-template <class F, class Table>
-inline void interpolate_columns(const ClothAsset& a, const Table& left_nodes, const Table& right_nodes,
-                                uint32_t parity, uint32_t column, float* out) {
-    using namespace simd;
-    const uint32_t* node = a.coarse_col_node[parity] + column;
-    const F left = lookup32(left_nodes, node, F{}), right = lookup32(right_nodes, node, F{});
-    store(out + column, mul_add(load(a.coarse_col_frac[parity] + column, F{}), right - left, left));
+// The lane groups a plane row of `cols` columns is processed in, everywhere the lattice form
+// touches a row (the interpolated coarse rows and the integration pass): groups at 0, W, 2W, ...
+// and one group overlapping the last full one at cols - W (narrower rows: one lane at a time).
+// Every store and every later load of a row then covers the same lanes, so loads are served from
+// the store buffer instead of waiting for half-overlapping stores to retire.
+template <class F, class Visit>
+inline void lattice_lane_groups(uint32_t cols, Visit visit) {
+    if (cols < F::width) {
+        for (uint32_t c = 0; c < cols; ++c) visit(simd::Float1{}, c);
+        return;
+    }
+    const uint32_t last = cols - F::width;
+    for (uint32_t c = 0; c < last; c += F::width) visit(F{}, c);
+    visit(F{}, last);
 }
 
+// Step 3 for the lattice form, separably: a coarse row's node displacements are interpolated to
+// every plane column once, and each plane row then blends the two coarse rows around it with
+// contiguous loads (integrate/verlet.h). A lane group of plane columns spans at most 8 nodes (nodes
+// are at least one plane column apart), so its nodes come from one load and one permute.
+//
+// Coarse row `coarse_row` interpolated to the plane columns of one column parity, into out[axis *
+// stride + column]; with `lower` (the row below, same layout) also out - lower into `delta`.
 template <class F>
 void interpolate_coarse_row(const ClothAsset& a, const CoarseState& st, uint32_t coarse_row, uint32_t parity,
-                            float* const out[3]) {
-    using simd::Float1;
-    const float* const node_row[3] = {st.dx + coarse_row * a.coarse_lattice_cols,
-                                      st.dy + coarse_row * a.coarse_lattice_cols,
-                                      st.dz + coarse_row * a.coarse_lattice_cols};
-    const uint32_t cols = a.lattice_plane_cols;
-    for (int axis = 0; axis < 3; ++axis) {
-        // The row's nodes (left) and the row shifted by one (right) stay in registers for the loop.
-        const auto left = load_table32(node_row[axis], F{}), right = load_table32(node_row[axis] + 1, F{});
-        uint32_t c = 0;
-        for (; c + F::width <= cols; c += F::width) interpolate_columns<F>(a, left, right, parity, c, out[axis]);
-        const auto left1 = load_table32(node_row[axis], Float1{}), right1 = load_table32(node_row[axis] + 1, Float1{});
-        for (; c < cols; ++c) interpolate_columns<Float1>(a, left1, right1, parity, c, out[axis]);
+                            float* out, const float* lower, float* delta, uint32_t stride) {
+    using namespace simd;
+    const uint32_t offset = coarse_row * a.coarse_lattice_cols;
+    const float* const node_row[3] = {st.dx + offset, st.dy + offset, st.dz + offset};
+    const uint32_t* const node = a.coarse_col_node[parity];
+    const float* const frac = a.coarse_col_frac[parity];
+    for (uint32_t axis = 0; axis < 3; ++axis) {
+        const uint32_t row = axis * stride;
+        lattice_lane_groups<F>(a.lattice_plane_cols, [&](auto lanes, uint32_t c) {
+            using W = decltype(lanes);
+            const W left = gather_near(node_row[axis], node + c, W{});
+            const W right = gather_near(node_row[axis] + 1, node + c, W{});
+            const W value = mul_add(load(frac + c, W{}), right - left, left);
+            store(out + row + c, value);
+            if (lower != nullptr) store(delta + row + c, value - load(lower + row + c, W{}));
+        });
     }
 }
 
