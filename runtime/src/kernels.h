@@ -54,12 +54,13 @@ struct CoarseState {
     float* x = nullptr;  // [coarse_slot_count] by node slot (the solve's layout)
     float* y = nullptr;
     float* z = nullptr;
-    float* dx = nullptr;  // [coarse_node_count + kCoarseNodePadding] by node (row-major on a lattice)
+    float* dx = nullptr;  // by node (row-major on a lattice); during the solve by node slot
     float* dy = nullptr;
     float* dz = nullptr;
     // Lattice form: the coarse rows around the current plane row, interpolated to every plane
     // column, as kCoarseColumnRows rows of `column_stride` floats: two coarse rows (x, y, z each)
     // and their difference (integrate/verlet.h).
+    uint32_t* particle_slot = nullptr;  // [coarse_slot_count] the particle slot of each node slot
     float* column_rows = nullptr;
     uint32_t column_stride = 0;  // floats, at least lattice_plane_cols + kSimdWidth
 };

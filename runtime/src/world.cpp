@@ -77,6 +77,7 @@ ArenaSizer size_world(const WorldDesc& desc) {
                    kCacheLine * desc.max_cloths));
     sizer.add(kCoarseColumnRows * (sizeof(float) * (size_t(desc.max_particles) / 4 + 2 * kSimdWidth * desc.max_cloths)) +
               kCacheLine * desc.max_cloths);
+    sizer.add(sizeof(uint32_t) * size_t(desc.max_coarse_nodes) + kCacheLine * desc.max_cloths);  // particle_slot
     // Bodies: hull and previous hull (4 floats a vertex), normals (3), triangles (3 indices); each
     // array may waste a cache line per body, and Embree reads its buffers 16 bytes past the end.
     sizer.add(sizeof(BodyState) * desc.max_bodies);
@@ -316,6 +317,11 @@ Result add_cloth(World* world, const ClothDesc& desc, ClothId* out_cloth) {
             return make_error(ErrorCode::capacity_exceeded, "world memory exhausted");
         }
     }
+    uint32_t* const node_particle_slot = world->arena.allocate_array<uint32_t>(asset.coarse_slot_count);
+    if (node_particle_slot == nullptr && asset.coarse_slot_count > 0) {
+        world->arena = saved;
+        return make_error(ErrorCode::capacity_exceeded, "world memory exhausted");
+    }
     ClothInstance& cloth = world->cloths[world->cloth_count];
     cloth = ClothInstance();
     cloth.asset = &asset;
@@ -342,6 +348,9 @@ Result add_cloth(World* world, const ClothDesc& desc, ClothId* out_cloth) {
     c.dx = arrays[count + 3];
     c.dy = arrays[count + 4];
     c.dz = arrays[count + 5];
+    c.particle_slot = node_particle_slot;
+    for (uint32_t k = 0; k < asset.coarse_slot_count; ++k)
+        node_particle_slot[k] = asset.coarse_node_slot[asset.coarse_node_of_slot[k]];
     c.column_rows = arrays[count + 6];
     c.column_stride = column_stride;
     for (float* node_array : {c.x, c.y, c.z, c.dx, c.dy, c.dz})  // the padding is read, never used
