@@ -556,6 +556,15 @@ TEST_CASE("corrupt asset: coarse lattice column table past the coarse columns") 
     });
 }
 
+TEST_CASE("corrupt asset: coarse lattice column table out of order") {
+    // The lattice form reads 8 columns' nodes with one load and one permute (gather_near): they
+    // must be in order and within 8 nodes of each other.
+    expect_corrupt([](AssetCopy& c) {
+        REQUIRE(c.coarse_col_node[0].size() > 2);
+        std::swap(c.coarse_col_node[0][1], c.coarse_col_node[0].back());
+    });
+}
+
 TEST_CASE("corrupt asset: coarse lattice planes larger than the slots") {
     expect_corrupt([](AssetCopy& c) { c.asset.lattice_plane_rows = c.asset.slot_count; });
 }

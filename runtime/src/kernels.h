@@ -54,15 +54,22 @@ struct CoarseState {
     float* x = nullptr;  // [coarse_slot_count] by node slot (the solve's layout)
     float* y = nullptr;
     float* z = nullptr;
-    float* dx = nullptr;  // [coarse_node_count + kCoarseNodePadding] by node (row-major on a lattice)
+    float* dx = nullptr;  // by node (row-major on a lattice); during the solve by node slot
     float* dy = nullptr;
     float* dz = nullptr;
-    // Lattice form: two coarse rows interpolated to every plane column ([lattice_plane_cols + pad]
-    // each: row I in [0..2], row I + 1 in [3..5], one per axis).
-    float* column_rows[6] = {};
+    // Lattice form: the coarse rows around the current plane row, interpolated to every plane
+    // column, as kCoarseColumnRows rows of `column_stride` floats: two coarse rows (x, y, z each)
+    // and their difference (integrate/verlet.h).
+    uint32_t* particle_slot = nullptr;  // [coarse_slot_count] the particle slot of each node slot
+    float* column_rows = nullptr;
+    uint32_t column_stride = 0;  // floats, at least lattice_plane_cols + kSimdWidth
 };
-// Padding after the node arrays: the lattice form reads a coarse row as a 32-entry table.
+// Padding after the node arrays: the lattice form reads up to 8 entries past a coarse row's nodes.
 inline constexpr uint32_t kCoarseNodePadding = 40;
+inline constexpr uint32_t kCoarseColumnRows = 9;
+inline constexpr uint32_t coarse_column_stride(uint32_t lattice_plane_cols) {
+    return (lattice_plane_cols + 2 * kSimdWidth - 1) / kSimdWidth * kSimdWidth;
+}
 
 // Verlet (seed section 1.1): x' = x + (x - x_prev) * (h / h_prev) * damping + (g + a_wind) * h2.
 struct IntegrateArgs {

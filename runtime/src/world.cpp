@@ -72,11 +72,12 @@ ArenaSizer size_world(const WorldDesc& desc) {
     // Each cloth's arrays start on a cache line; every cloth may waste up to one line per array.
     const size_t arrays = arrays_per_cloth(desc);
     sizer.add(arrays * (sizeof(float) * size_t(desc.max_particles) + kCacheLine * desc.max_cloths));
-    // Coarse level: 6 node arrays (padded), 6 interpolated rows of at most a quarter of the slots.
+    // Coarse level: 6 node arrays (padded), kCoarseColumnRows interpolated rows of at most a quarter of the slots.
     sizer.add(6 * (sizeof(float) * (size_t(desc.max_coarse_nodes) + kCoarseNodePadding * desc.max_cloths) +
                    kCacheLine * desc.max_cloths));
-    sizer.add(6 * (sizeof(float) * (size_t(desc.max_particles) / 4 + kSimdWidth * desc.max_cloths) +
-                   kCacheLine * desc.max_cloths));
+    sizer.add(kCoarseColumnRows * (sizeof(float) * (size_t(desc.max_particles) / 4 + 2 * kSimdWidth * desc.max_cloths)) +
+              kCacheLine * desc.max_cloths);
+    sizer.add(sizeof(uint32_t) * size_t(desc.max_coarse_nodes) + kCacheLine * desc.max_cloths);  // particle_slot
     // Bodies: hull and previous hull (4 floats a vertex), normals (3), triangles (3 indices); each
     // array may waste a cache line per body, and Embree reads its buffers 16 bytes past the end.
     sizer.add(sizeof(BodyState) * desc.max_bodies);
@@ -305,15 +306,21 @@ Result add_cloth(World* world, const ClothDesc& desc, ClothId* out_cloth) {
     const Arena saved = world->arena;
     float* arrays[22] = {};
     const uint32_t count = arrays_per_cloth(world->desc);
-    for (uint32_t i = 0; i < count + 12; ++i) {
+    const uint32_t column_stride = coarse_column_stride(asset.lattice_plane_cols);
+    for (uint32_t i = 0; i < count + 7; ++i) {
         const uint32_t length = i < count       ? asset.slot_count
                                 : i < count + 6 ? asset.coarse_slot_count + kCoarseNodePadding
-                                                : asset.lattice_plane_cols + kSimdWidth;
+                                                : kCoarseColumnRows * column_stride;
         arrays[i] = world->arena.allocate_array<float>(length);
         if (arrays[i] == nullptr) {
             world->arena = saved;
             return make_error(ErrorCode::capacity_exceeded, "world memory exhausted");
         }
+    }
+    uint32_t* const node_particle_slot = world->arena.allocate_array<uint32_t>(asset.coarse_slot_count);
+    if (node_particle_slot == nullptr && asset.coarse_slot_count > 0) {
+        world->arena = saved;
+        return make_error(ErrorCode::capacity_exceeded, "world memory exhausted");
     }
     ClothInstance& cloth = world->cloths[world->cloth_count];
     cloth = ClothInstance();
@@ -341,7 +348,11 @@ Result add_cloth(World* world, const ClothDesc& desc, ClothId* out_cloth) {
     c.dx = arrays[count + 3];
     c.dy = arrays[count + 4];
     c.dz = arrays[count + 5];
-    for (uint32_t i = 0; i < 6; ++i) c.column_rows[i] = arrays[count + 6 + i];
+    c.particle_slot = node_particle_slot;
+    for (uint32_t k = 0; k < asset.coarse_slot_count; ++k)
+        node_particle_slot[k] = asset.coarse_node_slot[asset.coarse_node_of_slot[k]];
+    c.column_rows = arrays[count + 6];
+    c.column_stride = column_stride;
     for (float* node_array : {c.x, c.y, c.z, c.dx, c.dy, c.dz})  // the padding is read, never used
         for (uint32_t i = 0; i < asset.coarse_slot_count + kCoarseNodePadding; ++i) node_array[i] = 0.0f;
     place_at_start(cloth);

@@ -24,29 +24,49 @@ inline F dot(const Vec3W<F>& a, const Vec3W<F>& b) {
     return simd::mul_add(a.x, b.x, simd::mul_add(a.y, b.y, a.z * b.z));
 }
 
-// Moves the contact target against the tangential motion it would otherwise keep. A sticking lane
-// (|tangent| <= friction * penetration, compared squared) cancels its whole tangent; only a group
-// with a sliding contact pays the square root and division of the shortening (most contacts stick
-// once the cloth rests, and the divider is this pass's bottleneck).
-template <class F, class Mask>
-inline void apply_friction(Vec3W<F>& target, const Vec3W<F>& previous, const Vec3W<F>& normal,
-                           F penetration, Mask contact, const ColliderKernelArgs& c) {
+// Friction's inputs that need no normal: the particle's displacement over the substep relative to
+// the collider, e = x - (x_previous + motion), and |e|^2. Computed beside the normal's square root
+// and division instead of after them (the pass is bound by that chain's latency, not by its count).
+template <class F>
+struct RelativeMotion {
+    Vec3W<F> start;  // x_previous + motion: where a sticking particle stays (tangentially)
+    Vec3W<F> e;      // x - start
+    F e2;            // |e|^2
+};
+template <class F>
+inline RelativeMotion<F> relative_motion(const Particles& p, uint32_t i, const Vec3W<F>& x, const ColliderKernelArgs& c) {
     using namespace simd;
-    const Vec3W<F> disp{target.x - previous.x - splat(c.motion.x, F{}),
-                        target.y - previous.y - splat(c.motion.y, F{}),
-                        target.z - previous.z - splat(c.motion.z, F{})};
-    const F normal_part = dot(disp, normal);
-    const Vec3W<F> tangent{neg_mul_add(normal_part, normal.x, disp.x),
-                           neg_mul_add(normal_part, normal.y, disp.y),
-                           neg_mul_add(normal_part, normal.z, disp.z)};
-    const F tangent_len2 = dot(tangent, tangent);
+    const Vec3W<F> start{load(p.previous_x + i, F{}) + splat(c.motion.x, F{}),
+                         load(p.previous_y + i, F{}) + splat(c.motion.y, F{}),
+                         load(p.previous_z + i, F{}) + splat(c.motion.z, F{})};
+    const Vec3W<F> e{x.x - start.x, x.y - start.y, x.z - start.z};
+    return {start, e, dot(e, e)};
+}
+
+// The response with friction, given the unit normal n, the penetration and e's normal part
+// e_n = n . e. The target x + n * penetration moved by e's tangent t = e - e_n n: a sticking lane
+// (|t| <= friction * penetration, compared squared as |e|^2 - e_n^2) loses all of it and lands on
+//   start + n * (penetration + e_n),
+// a sliding lane keeps (1 - friction * penetration / |t|) of it; only a group with a sliding lane
+// pays that square root and division (most contacts stick once the cloth rests).
+template <class F, class Mask>
+inline void respond_with_friction(const Particles& p, uint32_t i, const Vec3W<F>& x, const Vec3W<F>& n,
+                                  F penetration, const RelativeMotion<F>& m, F e_n, Mask contact,
+                                  const ColliderKernelArgs& c) {
+    using namespace simd;
     const F limit = splat(c.friction, F{}) * penetration;
-    const auto slides = tangent_len2 > limit * limit;  // so tangent_len2 > 0 where it is divided by
-    F cancel = splat(1.0f, F{});
-    if (any(slides & contact)) cancel = select(slides, limit / sqrt(tangent_len2), cancel);
-    target.x = neg_mul_add(cancel, tangent.x, target.x);
-    target.y = neg_mul_add(cancel, tangent.y, target.y);
-    target.z = neg_mul_add(cancel, tangent.z, target.z);
+    const auto slides = neg_mul_add(e_n, e_n, m.e2) > limit * limit;
+    const F along = penetration + e_n;
+    Vec3W<F> r{mul_add(n.x, along, m.start.x), mul_add(n.y, along, m.start.y), mul_add(n.z, along, m.start.z)};
+    if (any(slides & contact)) {
+        const Vec3W<F> t{neg_mul_add(e_n, n.x, m.e.x), neg_mul_add(e_n, n.y, m.e.y), neg_mul_add(e_n, n.z, m.e.z)};
+        const F keep = splat(1.0f, F{}) - limit / sqrt(dot(t, t));  // |t| > limit > 0 on sliding lanes
+        r = {select(slides, mul_add(keep, t.x, r.x), r.x), select(slides, mul_add(keep, t.y, r.y), r.y),
+             select(slides, mul_add(keep, t.z, r.z), r.z)};
+    }
+    store(p.x + i, select(contact, r.x, x.x));
+    store(p.y + i, select(contact, r.y, x.y));
+    store(p.z + i, select(contact, r.z, x.z));
 }
 
 // The response (seed eq. 7 and 8): lanes in contact move to the closest surface point,
@@ -55,20 +75,20 @@ template <class F, class Mask>
 inline void resolve_contact(const Particles& p, uint32_t i, const Vec3W<F>& x, const Vec3W<F>& n, F penetration,
                             Mask contact, const ColliderKernelArgs& c) {
     using namespace simd;
-    Vec3W<F> target{mul_add(n.x, penetration, x.x), mul_add(n.y, penetration, x.y), mul_add(n.z, penetration, x.z)};
     if (c.friction > 0.0f) {
-        const Vec3W<F> previous{load(p.previous_x + i, F{}), load(p.previous_y + i, F{}), load(p.previous_z + i, F{})};
-        apply_friction(target, previous, n, penetration, contact, c);
+        const RelativeMotion<F> m = relative_motion(p, i, x, c);
+        respond_with_friction(p, i, x, n, penetration, m, dot(n, m.e), contact, c);
+        return;
     }
-    store(p.x + i, select(contact, target.x, x.x));
-    store(p.y + i, select(contact, target.y, x.y));
-    store(p.z + i, select(contact, target.z, x.z));
+    store(p.x + i, select(contact, mul_add(n.x, penetration, x.x), x.x));
+    store(p.y + i, select(contact, mul_add(n.y, penetration, x.y), x.y));
+    store(p.z + i, select(contact, mul_add(n.z, penetration, x.z), x.z));
 }
 
 // Sphere (p0 only), capsule, or finite cylinder (no contact beyond the axis ends, eq. 6).
 enum class SegmentShape { sphere, capsule, cylinder };
 
-template <class F, SegmentShape kShape>
+template <class F, SegmentShape kShape, bool kFriction>
 void collide_segment(const Particles& particles, const ColliderKernelArgs& collider) {
     using namespace simd;
     // Local copies: the pass's stores cannot alias them, so pointers and constants stay in registers.
@@ -100,11 +120,18 @@ void collide_segment(const Particles& particles, const ColliderKernelArgs& colli
         const F dist2 = dot(d, d);
         contact = contact & (dist2 < radius2) & (dist2 > min_distance2);
         if (!any(contact)) continue;
+        // The square root and the division both start from dist2 (1 / dist = dist * (1 / dist^2)),
+        // so they overlap instead of waiting on each other.
         const F dist = sqrt(dist2);
+        const F inv_dist = dist * (one / dist2);
         const F penetration = radius - dist;
-        const F inv_dist = one / dist;  // one division, not three
         const Vec3W<F> n{d.x * inv_dist, d.y * inv_dist, d.z * inv_dist};
-        resolve_contact(p, i, x, n, penetration, contact, c);
+        if constexpr (kFriction) {
+            const RelativeMotion<F> m = relative_motion(p, i, x, c);
+            respond_with_friction(p, i, x, n, penetration, m, dot(d, m.e) * inv_dist, contact, c);
+        } else {
+            resolve_contact(p, i, x, n, penetration, contact, c);
+        }
     }
 }
 
@@ -128,13 +155,22 @@ void collide_plane(const Particles& particles, const ColliderKernelArgs& collide
     }
 }
 
+template <class F, SegmentShape kShape>
+void collide_segment_with(const Particles& p, const ColliderKernelArgs& c) {
+    if (c.friction > 0.0f) {
+        collide_segment<F, kShape, true>(p, c);
+    } else {
+        collide_segment<F, kShape, false>(p, c);
+    }
+}
+
 template <class F>
 void collide(const Particles& p, const ColliderKernelArgs& c) {
     switch (static_cast<ColliderShape>(c.shape)) {
         case ColliderShape::plane: collide_plane<F>(p, c); break;
-        case ColliderShape::cylinder: collide_segment<F, SegmentShape::cylinder>(p, c); break;
-        case ColliderShape::sphere: collide_segment<F, SegmentShape::sphere>(p, c); break;
-        case ColliderShape::capsule: collide_segment<F, SegmentShape::capsule>(p, c); break;
+        case ColliderShape::cylinder: collide_segment_with<F, SegmentShape::cylinder>(p, c); break;
+        case ColliderShape::sphere: collide_segment_with<F, SegmentShape::sphere>(p, c); break;
+        case ColliderShape::capsule: collide_segment_with<F, SegmentShape::capsule>(p, c); break;
     }
 }
 

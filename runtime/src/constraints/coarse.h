@@ -22,13 +22,13 @@
 
 namespace weft {
 
-// Step 1 for the nodes j..j+width: their Verlet prediction, by node, into the displacement arrays
-// (which hold it until step 2 is done).
+// Step 1 for the node slots k..k+width: their nodes' Verlet prediction, straight into the node
+// slots the sweep works on (st.x) and, kept for the displacement, into st.dx (by node slot until
+// step 2 is done). Padding node slots predict some particle and are never moved (inverse mass 0).
 template <class F>
-inline void predict_coarse_nodes(const Particles& p, const IntegrateArgs& args, const ClothAsset& a,
-                                 const CoarseState& st, uint32_t j) {
+inline void predict_coarse_nodes(const Particles& p, const IntegrateArgs& args, const CoarseState& st, uint32_t k) {
     using namespace simd;
-    const uint32_t* slot = a.coarse_node_slot + j;
+    const uint32_t* slot = st.particle_slot + k;
     const F h2 = splat(args.h2_s2, F{}), velocity_scale = splat(args.velocity_scale, F{});
     F ax = splat(args.gravity.x, F{}), ay = splat(args.gravity.y, F{}), az = splat(args.gravity.z, F{});
     if (args.wind) {
@@ -38,19 +38,34 @@ inline void predict_coarse_nodes(const Particles& p, const IntegrateArgs& args, 
     }
     const auto is_free = gather(p.inverse_mass, slot, F{}) > splat(0.0f, F{});
     const F x = gather(p.x, slot, F{}), y = gather(p.y, slot, F{}), z = gather(p.z, slot, F{});
-    store(st.dx + j, select(is_free, verlet_predict(x, gather(p.previous_x, slot, F{}), ax, velocity_scale, h2), x));
-    store(st.dy + j, select(is_free, verlet_predict(y, gather(p.previous_y, slot, F{}), ay, velocity_scale, h2), y));
-    store(st.dz + j, select(is_free, verlet_predict(z, gather(p.previous_z, slot, F{}), az, velocity_scale, h2), z));
+    const F px = select(is_free, verlet_predict(x, gather(p.previous_x, slot, F{}), ax, velocity_scale, h2), x);
+    const F py = select(is_free, verlet_predict(y, gather(p.previous_y, slot, F{}), ay, velocity_scale, h2), y);
+    const F pz = select(is_free, verlet_predict(z, gather(p.previous_z, slot, F{}), az, velocity_scale, h2), z);
+    store(st.x + k, px);
+    store(st.y + k, py);
+    store(st.z + k, pz);
+    store(st.dx + k, px);
+    store(st.dy + k, py);
+    store(st.dz + k, pz);
 }
 
-// Step 3's input for the nodes j..j+width: solved minus predicted position.
+// Step 3's input for the node slots k..k+width, in place: solved minus predicted position.
+template <class F>
+inline void coarse_slot_displacement(const CoarseState& st, uint32_t k) {
+    using namespace simd;
+    store(st.x + k, load(st.x + k, F{}) - load(st.dx + k, F{}));
+    store(st.y + k, load(st.y + k, F{}) - load(st.dy + k, F{}));
+    store(st.z + k, load(st.z + k, F{}) - load(st.dz + k, F{}));
+}
+
+// ... and by node (what the integration pass reads), for the nodes j..j+width.
 template <class F>
 inline void coarse_displacement(const ClothAsset& a, const CoarseState& st, uint32_t j) {
     using namespace simd;
     const uint32_t* slot = a.coarse_slot_of_node + j;
-    store(st.dx + j, gather(st.x, slot, F{}) - load(st.dx + j, F{}));
-    store(st.dy + j, gather(st.y, slot, F{}) - load(st.dy + j, F{}));
-    store(st.dz + j, gather(st.z, slot, F{}) - load(st.dz + j, F{}));
+    store(st.dx + j, gather(st.x, slot, F{}));
+    store(st.dy + j, gather(st.y, slot, F{}));
+    store(st.dz + j, gather(st.z, slot, F{}));
 }
 
 // Steps 1 and 2; leaves each node's displacement in state.dx/dy/dz (added to every particle by the
@@ -63,15 +78,8 @@ void solve_coarse_level(const Particles& particles, const IntegrateArgs& integra
     const IntegrateArgs args = integrate_args;
     const CoarseState st = state;
     const uint32_t nodes = a.coarse_node_count;
-    uint32_t j = 0;
-    for (; j + F::width <= nodes; j += F::width) predict_coarse_nodes<F>(p, args, a, st, j);
-    for (; j < nodes; ++j) predict_coarse_nodes<Float1>(p, args, a, st, j);
-    for (uint32_t k = 0; k < a.coarse_slot_count; k += F::width) {  // by node into node slots
-        const uint32_t* node = a.coarse_node_of_slot + k;
-        store(st.x + k, gather(st.dx, node, F{}));
-        store(st.y + k, gather(st.dy, node, F{}));
-        store(st.z + k, gather(st.dz, node, F{}));
-    }
+    // coarse_slot_count is a multiple of the SIMD width (cook_lanes pads the node slots).
+    for (uint32_t k = 0; k < a.coarse_slot_count; k += F::width) predict_coarse_nodes<F>(p, args, st, k);
 
     const PointSet points{st.x, st.y, st.z, a.coarse_inverse_mass};
     const ConstraintLanes constraints = coarse_lanes(a);
@@ -85,38 +93,53 @@ void solve_coarse_level(const Particles& particles, const IntegrateArgs& integra
         }
     }
 
-    for (j = 0; j + F::width <= nodes; j += F::width) coarse_displacement<F>(a, st, j);
+    for (uint32_t k = 0; k < a.coarse_slot_count; k += F::width) coarse_slot_displacement<F>(st, k);
+    uint32_t j = 0;
+    for (; j + F::width <= nodes; j += F::width) coarse_displacement<F>(a, st, j);
     for (; j < nodes; ++j) coarse_displacement<Float1>(a, st, j);
 }
 
-// Step 3 for the lattice form, separably: a coarse row's node displacements are interpolated to
-// every plane column once (a 32-entry register lookup, no gathers), and each plane row then blends
-// the two coarse rows around it with contiguous loads. Plane rows visit coarse rows in order, so two
-// interpolated rows are kept and the next one is made only when the plane row crosses into it.
-template <class F, class Table>
-inline void interpolate_columns(const ClothAsset& a, const Table& left_nodes, const Table& right_nodes,
-                                uint32_t parity, uint32_t column, float* out) {
-    using namespace simd;
-    const uint32_t* node = a.coarse_col_node[parity] + column;
-    const F left = lookup32(left_nodes, node, F{}), right = lookup32(right_nodes, node, F{});
-    store(out + column, mul_add(load(a.coarse_col_frac[parity] + column, F{}), right - left, left));
+// The lane groups a plane row of `cols` columns is processed in, everywhere the lattice form
+// touches a row (the interpolated coarse rows and the integration pass): groups at 0, W, 2W, ...
+// and one group overlapping the last full one at cols - W (narrower rows: one lane at a time).
+// Every store and every later load of a row then covers the same lanes, so loads are served from
+// the store buffer instead of waiting for half-overlapping stores to retire.
+template <class F, class Visit>
+inline void lattice_lane_groups(uint32_t cols, Visit visit) {
+    if (cols < F::width) {
+        for (uint32_t c = 0; c < cols; ++c) visit(simd::Float1{}, c);
+        return;
+    }
+    const uint32_t last = cols - F::width;
+    for (uint32_t c = 0; c < last; c += F::width) visit(F{}, c);
+    visit(F{}, last);
 }
 
+// Step 3 for the lattice form, separably: a coarse row's node displacements are interpolated to
+// every plane column once, and each plane row then blends the two coarse rows around it with
+// contiguous loads (integrate/verlet.h). A lane group of plane columns spans at most 8 nodes (nodes
+// are at least one plane column apart), so its nodes come from one load and one permute.
+//
+// Coarse row `coarse_row` interpolated to the plane columns of one column parity, into out[axis *
+// stride + column]; with `lower` (the row below, same layout) also out - lower into `delta`.
 template <class F>
 void interpolate_coarse_row(const ClothAsset& a, const CoarseState& st, uint32_t coarse_row, uint32_t parity,
-                            float* const out[3]) {
-    using simd::Float1;
-    const float* const node_row[3] = {st.dx + coarse_row * a.coarse_lattice_cols,
-                                      st.dy + coarse_row * a.coarse_lattice_cols,
-                                      st.dz + coarse_row * a.coarse_lattice_cols};
-    const uint32_t cols = a.lattice_plane_cols;
-    for (int axis = 0; axis < 3; ++axis) {
-        // The row's nodes (left) and the row shifted by one (right) stay in registers for the loop.
-        const auto left = load_table32(node_row[axis], F{}), right = load_table32(node_row[axis] + 1, F{});
-        uint32_t c = 0;
-        for (; c + F::width <= cols; c += F::width) interpolate_columns<F>(a, left, right, parity, c, out[axis]);
-        const auto left1 = load_table32(node_row[axis], Float1{}), right1 = load_table32(node_row[axis] + 1, Float1{});
-        for (; c < cols; ++c) interpolate_columns<Float1>(a, left1, right1, parity, c, out[axis]);
+                            float* out, const float* lower, float* delta, uint32_t stride) {
+    using namespace simd;
+    const uint32_t offset = coarse_row * a.coarse_lattice_cols;
+    const float* const node_row[3] = {st.dx + offset, st.dy + offset, st.dz + offset};
+    const uint32_t* const node = a.coarse_col_node[parity];
+    const float* const frac = a.coarse_col_frac[parity];
+    for (uint32_t axis = 0; axis < 3; ++axis) {
+        const uint32_t row = axis * stride;
+        lattice_lane_groups<F>(a.lattice_plane_cols, [&](auto lanes, uint32_t c) {
+            using W = decltype(lanes);
+            const W left = gather_near(node_row[axis], node + c, W{});
+            const W right = gather_near(node_row[axis] + 1, node + c, W{});
+            const W value = mul_add(load(frac + c, W{}), right - left, left);
+            store(out + row + c, value);
+            if (lower != nullptr) store(delta + row + c, value - load(lower + row + c, W{}));
+        });
     }
 }
 

@@ -170,7 +170,7 @@ void build_lattice_level(const LatticeLayout& layout, const Vec3* rest, const st
         }
     const double edge = edges > 0 ? sum / double(edges) : 0.0;
     uint32_t step = edge > 0.0 ? uint32_t(std::lround(spacing_m / edge / 2.0)) * 2 : 2;
-    // At most 32 nodes along an axis, so a coarse row fits the kernel's register lookup.
+    // At most 32 nodes along an axis (validate_asset's bound on a coarse row).
     const uint32_t longest = std::max(layout.fine_rows, layout.fine_cols);
     step = std::max({step, 2u, 2 * ((longest - 1 + 61) / 62)});
     const std::vector<uint32_t> ui = axis_nodes(layout.fine_rows, step), uj = axis_nodes(layout.fine_cols, step);

@@ -1,6 +1,7 @@
 // Asset validation: every invariant the step relies on, checked once before a cloth is added, so
 // the step itself needs no checks. A baked file that passes this cannot make the step read or write
 // out of bounds, divide by zero or see a NaN it did not make itself.
+#include <algorithm>
 #include <cmath>
 #include <vector>
 
@@ -293,10 +294,14 @@ Result check_coarse(const ClothAsset& a, uint32_t* scratch) {
                 if (a.coarse_row_node[parity][r] > rows - 2 ||
                     !(a.coarse_row_frac[parity][r] >= 0.0f && a.coarse_row_frac[parity][r] <= 1.0f))
                     return make_error(ErrorCode::corrupt_asset, "coarse row table entry %u is bad", r);
-            for (uint32_t c = 0; c < a.lattice_plane_cols; ++c)
-                if (a.coarse_col_node[parity][c] > cols - 2 ||
+            for (uint32_t c = 0; c < a.lattice_plane_cols; ++c) {
+                const uint32_t* node = a.coarse_col_node[parity];
+                // gather_near: any 8 consecutive columns lie within 8 nodes of the first, in order.
+                const uint32_t ahead = std::min(c + 7, a.lattice_plane_cols - 1);
+                if (node[c] > cols - 2 || (c > 0 && node[c] < node[c - 1]) || node[ahead] - node[c] > 7 ||
                     !(a.coarse_col_frac[parity][c] >= 0.0f && a.coarse_col_frac[parity][c] <= 1.0f))
                     return make_error(ErrorCode::corrupt_asset, "coarse column table entry %u is bad", c);
+            }
         }
     }
     return {};

@@ -17,12 +17,13 @@
 
 namespace weft {
 
-// One lane group at slot i. Lanes below `done_lanes` already hold this pass's result (the group
-// overlaps the previous one at a row's end) and are kept: a row's tail costs one more full group
-// instead of masked loads and stores (vmaskmovps, measured slower than the whole group here).
+// One lane group at slot i: x(t+h) from x(t), x(t-h) and the coarse displacement c.
+template <class F>
+struct Predicted {
+    F x, y, z;
+};
 template <class F, bool kWind>
-inline void integrate_lanes(const Particles& p, const IntegrateArgs& args, uint32_t i, F cx, F cy, F cz,
-                            uint32_t done_lanes = 0) {
+inline Predicted<F> predict_lanes(const Particles& p, const IntegrateArgs& args, uint32_t i, F cx, F cy, F cz) {
     using namespace simd;
     const F h2 = splat(args.h2_s2, F{});
     const F velocity_scale = splat(args.velocity_scale, F{});
@@ -35,20 +36,23 @@ inline void integrate_lanes(const Particles& p, const IntegrateArgs& args, uint3
     const auto is_free = load(p.inverse_mass + i, F{}) > splat(0.0f, F{});  // pinned particles stay put
     const F x = load(p.x + i, F{}), y = load(p.y + i, F{}), z = load(p.z + i, F{});
     const F px = load(p.previous_x + i, F{}), py = load(p.previous_y + i, F{}), pz = load(p.previous_z + i, F{});
-    F nx = select(is_free, verlet_predict(x, px, ax, velocity_scale, h2) + cx, x);
-    F ny = select(is_free, verlet_predict(y, py, ay, velocity_scale, h2) + cy, y);
-    F nz = select(is_free, verlet_predict(z, pz, az, velocity_scale, h2) + cz, z);
-    if (done_lanes > 0) {
-        const auto fresh = lanes_from(done_lanes, F{});
-        nx = select(fresh, nx, px);
-        ny = select(fresh, ny, py);
-        nz = select(fresh, nz, pz);
-    }
-    // x(t+h) overwrites x(t-h), which is no longer needed; the caller then swaps the two arrays, so
-    // x(t) becomes the previous position without being copied (3 stores a lane instead of 6).
-    store(p.previous_x + i, nx);
-    store(p.previous_y + i, ny);
-    store(p.previous_z + i, nz);
+    return {select(is_free, verlet_predict(x, px, ax, velocity_scale, h2) + cx, x),
+            select(is_free, verlet_predict(y, py, ay, velocity_scale, h2) + cy, y),
+            select(is_free, verlet_predict(z, pz, az, velocity_scale, h2) + cz, z)};
+}
+
+// x(t+h) overwrites x(t-h), which is no longer needed; the caller then swaps the two arrays, so
+// x(t) becomes the previous position without being copied (3 stores a lane instead of 6).
+template <class F>
+inline void store_predicted(const Particles& p, uint32_t i, const Predicted<F>& n) {
+    simd::store(p.previous_x + i, n.x);
+    simd::store(p.previous_y + i, n.y);
+    simd::store(p.previous_z + i, n.z);
+}
+
+template <class F, bool kWind>
+inline void integrate_lanes(const Particles& p, const IntegrateArgs& args, uint32_t i, F cx, F cy, F cz) {
+    store_predicted(p, i, predict_lanes<F, kWind>(p, args, i, cx, cy, cz));
 }
 
 // No coarse level: a flat pass over slots [first, end), lane groups then single lanes.
@@ -84,19 +88,16 @@ void integrate_with_coarse_weights(const Particles& particles, const IntegrateAr
 }
 
 // Lattice coarse form: plane row by plane row, blending the two coarse rows around it (each
-// already interpolated to every plane column) with contiguous loads.
+// already interpolated to every plane column) with contiguous loads: L + frac * (U - L).
 template <class F, bool kWind>
-inline void integrate_lattice_lanes(const Particles& p, const IntegrateArgs& args, float* const lower[3],
-                                    float* const upper[3], float frac, uint32_t slot, uint32_t c,
-                                    uint32_t done_lanes = 0) {
+inline Predicted<F> predict_lattice_lanes(const Particles& p, const IntegrateArgs& args, const float* lower,
+                                          const float* delta, uint32_t stride, F frac, uint32_t slot, uint32_t c) {
     using namespace simd;
-    const F f = splat(frac, F{});
-    F d[3];
-    for (int axis = 0; axis < 3; ++axis) {
-        const F l = load(lower[axis] + c, F{}), u = load(upper[axis] + c, F{});
-        d[axis] = mul_add(f, u - l, l);
-    }
-    integrate_lanes<F, kWind>(p, args, slot, d[0], d[1], d[2], done_lanes);
+    const float* l = lower + c;
+    const float* d = delta + c;
+    return predict_lanes<F, kWind>(p, args, slot, mul_add(frac, load(d, F{}), load(l, F{})),
+                                   mul_add(frac, load(d + stride, F{}), load(l + stride, F{})),
+                                   mul_add(frac, load(d + 2 * stride, F{}), load(l + 2 * stride, F{})));
 }
 
 template <class F, bool kWind>
@@ -107,34 +108,46 @@ void integrate_with_coarse_lattice(const Particles& particles, const IntegrateAr
     const Particles p = particles;
     const IntegrateArgs args = integrate_args;
     const uint32_t rows = a.lattice_plane_rows, cols = a.lattice_plane_cols;
+    const uint32_t stride = st.column_stride;
+    // CoarseState::column_rows: two interpolated coarse rows (lower and upper, swapped as the window
+    // slides up) and upper - lower.
+    float* const delta = st.column_rows + 6 * stride;
     for (uint32_t column_parity = 0; column_parity < 2; ++column_parity) {
         // Fine rows in order (plane row r of row parity 0, then of parity 1): the coarse rows only
         // grow, so each is interpolated to the plane columns once per column parity.
-        float* lower[3] = {st.column_rows[0], st.column_rows[1], st.column_rows[2]};
-        float* upper[3] = {st.column_rows[3], st.column_rows[4], st.column_rows[5]};
+        float* lower = st.column_rows;
+        float* upper = st.column_rows + 3 * stride;
         uint32_t loaded = ~0u;  // coarse row held in `lower` (loaded + 1 in `upper`)
         for (uint32_t r = 0; r < rows; ++r) {
             for (uint32_t row_parity = 0; row_parity < 2; ++row_parity) {
                 const uint32_t coarse_row = a.coarse_row_node[row_parity][r];
-                if (loaded != ~0u && coarse_row == loaded + 1) {  // slide the window up one coarse row
-                    for (int axis = 0; axis < 3; ++axis) std::swap(lower[axis], upper[axis]);
-                    interpolate_coarse_row<F>(a, st, coarse_row + 1, column_parity, upper);
-                } else if (coarse_row != loaded) {
-                    interpolate_coarse_row<F>(a, st, coarse_row, column_parity, lower);
-                    interpolate_coarse_row<F>(a, st, coarse_row + 1, column_parity, upper);
+                if (coarse_row != loaded) {
+                    if (loaded != ~0u && coarse_row == loaded + 1) {  // slide the window up one coarse row
+                        std::swap(lower, upper);
+                    } else {
+                        interpolate_coarse_row<F>(a, st, coarse_row, column_parity, lower, nullptr, nullptr, stride);
+                    }
+                    interpolate_coarse_row<F>(a, st, coarse_row + 1, column_parity, upper, lower, delta, stride);
+                    loaded = coarse_row;
                 }
-                loaded = coarse_row;
-                const float frac = a.coarse_row_frac[row_parity][r];
                 const uint32_t base = ((row_parity * 2 + column_parity) * rows + r) * cols;
-                uint32_t c = 0;
-                for (; c + F::width <= cols; c += F::width)
-                    integrate_lattice_lanes<F, kWind>(p, args, lower, upper, frac, base + c, c);
-                if (c < cols && cols >= F::width) {  // the row's tail: one group overlapping the last
-                    integrate_lattice_lanes<F, kWind>(p, args, lower, upper, frac, base + cols - F::width,
-                                                      cols - F::width, F::width - (cols - c));
+                if (cols >= F::width) {
+                    // The row's tail: one group overlapping the last full one (lattice_lane_groups),
+                    // computed before the full groups are stored (same inputs, same bits on the shared
+                    // lanes), so no load waits on a store it half overlaps and no lanes need masking.
+                    const F frac = simd::splat(a.coarse_row_frac[row_parity][r], F{});
+                    const uint32_t last = cols - F::width;
+                    const Predicted<F> tail =
+                        predict_lattice_lanes<F, kWind>(p, args, lower, delta, stride, frac, base + last, last);
+                    for (uint32_t c = 0; c < last; c += F::width)
+                        store_predicted(p, base + c, predict_lattice_lanes<F, kWind>(p, args, lower, delta, stride,
+                                                                                     frac, base + c, c));
+                    store_predicted(p, base + last, tail);
                 } else {  // rows narrower than a lane group
-                    for (; c < cols; ++c)
-                        integrate_lattice_lanes<simd::Float1, kWind>(p, args, lower, upper, frac, base + c, c);
+                    const simd::Float1 frac{a.coarse_row_frac[row_parity][r]};
+                    for (uint32_t c = 0; c < cols; ++c)
+                        store_predicted(p, base + c, predict_lattice_lanes<simd::Float1, kWind>(
+                                                         p, args, lower, delta, stride, frac, base + c, c));
                 }
             }
         }

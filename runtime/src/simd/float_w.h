@@ -39,14 +39,9 @@ inline void store(float* p, Float1 a) { *p = a.v; }
 // The first n lanes at p (n >= 1): the tail of a row. Other lanes read as 0 and are not written.
 // base[index[k]] for every lane k.
 inline Float1 gather(const float* base, const uint32_t* index, Float1) { return {base[*index]}; }
-// A small table (at most 32 entries, readable up to entry 39) held for lookup32: loaded once for a
-// loop of lookups, so the loop's stores cannot force it to be read again.
-struct Table1 {
-    const float* entries;
-};
-inline Table1 load_table32(const float* table, Float1) { return {table}; }
-// table[index[k]] for every lane k.
-inline Float1 lookup32(const Table1& table, const uint32_t* index, Float1) { return {table.entries[*index]}; }
+// table[index[k]] for every lane k, where the lanes' indices lie within 8 of the first lane's
+// (index[k] - index[0] in [0, 7]; the table is readable up to entry index[0] + 7).
+inline Float1 gather_near(const float* table, const uint32_t* index, Float1) { return {table[*index]}; }
 inline Float1 splat(float s, Float1) { return {s}; }
 inline Float1 operator+(Float1 a, Float1 b) { return {a.v + b.v}; }
 inline Float1 operator-(Float1 a, Float1 b) { return {a.v - b.v}; }
@@ -109,25 +104,13 @@ inline Mask8 lanes_from(uint32_t n, Float8) {
 inline Float8 gather(const float* base, const uint32_t* index, Float8) {
     return {_mm256_i32gather_ps(base, _mm256_loadu_si256(reinterpret_cast<const __m256i*>(index)), 4)};
 }
-// A table of at most 32 entries in four registers.
-struct Table8 {
-    __m256 part[4];
-};
-inline Table8 load_table32(const float* table, Float8) {
-    return {{_mm256_loadu_ps(table), _mm256_loadu_ps(table + 8), _mm256_loadu_ps(table + 16),
-             _mm256_loadu_ps(table + 24)}};
-}
-// table[index[k]] from registers: four vpermps and three blends instead of a gather (measured
-// several times slower here).
-inline Float8 lookup32(const Table8& table, const uint32_t* index, Float8) {
+// table[index[k]] with index[k] - index[0] in [0, 7]: one load of the eight entries from
+// table[index[0]] and one vpermps (a gather, or a lookup from registers over a whole coarse row,
+// measured slower).
+inline Float8 gather_near(const float* table, const uint32_t* index, Float8) {
     const __m256i i = _mm256_loadu_si256(reinterpret_cast<const __m256i*>(index));
-    const __m256 bit3 = _mm256_castsi256_ps(_mm256_slli_epi32(i, 28));  // blendv reads the sign bit
-    const __m256 bit4 = _mm256_castsi256_ps(_mm256_slli_epi32(i, 27));
-    const __m256 p0 = _mm256_permutevar8x32_ps(table.part[0], i);
-    const __m256 p1 = _mm256_permutevar8x32_ps(table.part[1], i);
-    const __m256 p2 = _mm256_permutevar8x32_ps(table.part[2], i);
-    const __m256 p3 = _mm256_permutevar8x32_ps(table.part[3], i);
-    return {_mm256_blendv_ps(_mm256_blendv_ps(p0, p1, bit3), _mm256_blendv_ps(p2, p3, bit3), bit4)};
+    const __m256i local = _mm256_sub_epi32(i, _mm256_set1_epi32(int(index[0])));
+    return {_mm256_permutevar8x32_ps(_mm256_loadu_ps(table + index[0]), local)};
 }
 inline Float8 splat(float s, Float8) { return {_mm256_set1_ps(s)}; }
 inline Float8 operator+(Float8 a, Float8 b) { return {_mm256_add_ps(a.v, b.v)}; }
