@@ -148,18 +148,13 @@ GLint uniform(GLuint program, const char* name) { return glGetUniformLocation(pr
 
 // ---- geometry ---------------------------------------------------------------------------------------
 
-struct Renderer::Mesh {
-    std::vector<Vec3> positions, normals;
+struct Renderer::Mesh : SurfaceMesh {
     std::vector<float> uv;  // empty: no checker
-    std::vector<uint32_t> indices;
     glm::vec3 front_colour{}, back_colour{};
     bool unlit = false;
 };
 
-namespace {
-
-// Smooth normals: each vertex gets the sum of its triangles' (area-weighted) normals.
-std::vector<Vec3> vertex_normals(const std::vector<Vec3>& positions, const std::vector<uint32_t>& triangles) {
+std::vector<Vec3> smooth_normals(const std::vector<Vec3>& positions, const std::vector<uint32_t>& triangles) {
     std::vector<glm::vec3> sum(positions.size(), glm::vec3(0.0f));
     for (size_t t = 0; t + 2 < triangles.size(); t += 3) {
         const glm::vec3 a = to_glm(positions[triangles[t]]), b = to_glm(positions[triangles[t + 1]]),
@@ -175,6 +170,8 @@ std::vector<Vec3> vertex_normals(const std::vector<Vec3>& positions, const std::
     return normals;
 }
 
+namespace {
+
 // A surface of revolution around the axis through `origin` along unit `axis`: each profile point
 // is a ring at `along` metres up the axis with `radius`, its normal `radial` outwards and `axial`
 // along the axis. Sphere, capsule and cylinder are all such surfaces.
@@ -183,7 +180,7 @@ struct ProfilePoint {
 };
 
 void add_lathe(const glm::vec3& origin, const glm::vec3& axis, const std::vector<ProfilePoint>& profile,
-               Renderer::Mesh* mesh) {
+               SurfaceMesh* mesh) {
     // u, v, axis right-handed, so that (around, up the profile) triangles face outwards.
     const glm::vec3 helper = std::abs(axis.y) < 0.9f ? glm::vec3(0.0f, 1.0f, 0.0f) : glm::vec3(1.0f, 0.0f, 0.0f);
     const glm::vec3 u = glm::normalize(glm::cross(axis, helper)), v = glm::cross(axis, u);
@@ -214,10 +211,10 @@ void add_arc(float along, float radius, float from, float to, std::vector<Profil
     }
 }
 
-// The collider's shape as the solver sees it without inflation (the inflation is a skin the cloth
-// keeps above it: seed figure 8).
-Renderer::Mesh collider_mesh(const ColliderDesc& c, const Box& scene) {
-    Renderer::Mesh mesh;
+}  // namespace
+
+SurfaceMesh collider_surface(const ColliderDesc& c, const Box& scene) {
+    SurfaceMesh mesh;
     constexpr float kHalfPi = 0.5f * std::numbers::pi_v<float>;
     const glm::vec3 p0 = to_glm(c.p0), p1 = to_glm(c.p1);
     std::vector<ProfilePoint> profile;
@@ -257,8 +254,6 @@ Renderer::Mesh collider_mesh(const ColliderDesc& c, const Box& scene) {
     return mesh;
 }
 
-}  // namespace
-
 Box cloth_bounds(const Snapshot& snapshot) {
     Box box;
     for (const ClothSurface& cloth : snapshot.cloths)
@@ -274,6 +269,16 @@ Box bounds(const Snapshot& snapshot) {
         box.add(to_glm(c.p0) - r);
         box.add(to_glm(c.p0) + r);
         if (c.shape != ColliderShape::sphere) box.add(to_glm(c.p1) - r), box.add(to_glm(c.p1) + r);
+    }
+    return box;
+}
+
+PixelBox projected_box(const Camera& camera, const std::vector<Vec3>& points, int width, int height) {
+    PixelBox box;
+    for (const Vec3& p : points) {
+        const glm::vec2 q = project_to_pixels(camera, to_glm(p), width, height);
+        box.min = glm::min(box.min, q);
+        box.max = glm::max(box.max, q);
     }
     return box;
 }
@@ -397,7 +402,8 @@ void Renderer::draw(const Snapshot& snapshot, const Camera& camera, int width, i
     glUniform3fv(uniform(mesh_program_, "u_eye"), 1, glm::value_ptr(camera.eye));
     const bool mask = look == Look::cloth_mask;
     for (const ColliderDesc& c : snapshot.colliders) {
-        Mesh mesh = collider_mesh(c, box);
+        Mesh mesh;
+        static_cast<SurfaceMesh&>(mesh) = collider_surface(c, box);
         mesh.front_colour = mesh.back_colour = mask ? kColliderMask : kCollider;
         mesh.unlit = mask;
         draw_mesh(mesh);
@@ -405,7 +411,7 @@ void Renderer::draw(const Snapshot& snapshot, const Camera& camera, int width, i
     for (const ClothSurface& cloth : snapshot.cloths) {
         Mesh mesh;
         mesh.positions = cloth.positions;
-        mesh.normals = vertex_normals(cloth.positions, cloth.triangles);
+        mesh.normals = smooth_normals(cloth.positions, cloth.triangles);
         mesh.indices = cloth.triangles;
         if (mask) {
             mesh.front_colour = mesh.back_colour = glm::vec3(kClothMaskRgb[0], kClothMaskRgb[1], kClothMaskRgb[2]) / 255.0f;
