@@ -211,6 +211,11 @@ void add_arc(float along, float radius, float from, float to, std::vector<Profil
     }
 }
 
+// A plane collider facing up: the ground the scene stands on.
+bool is_floor(const ColliderDesc& c) {
+    return c.shape == ColliderShape::plane && c.p1.y > 0.999f * glm::length(to_glm(c.p1));
+}
+
 }  // namespace
 
 SurfaceMesh collider_surface(const ColliderDesc& c, const Box& scene) {
@@ -262,10 +267,15 @@ Box cloth_bounds(const Snapshot& snapshot) {
 }
 
 Box bounds(const Snapshot& snapshot) {
-    Box box = cloth_bounds(snapshot);
+    const Box cloths = cloth_bounds(snapshot);
+    Box box = cloths;
     for (const ColliderDesc& c : snapshot.colliders) {
         const glm::vec3 r(c.radius_m);
-        if (c.shape == ColliderShape::plane) continue;
+        if (c.shape == ColliderShape::plane) {
+            // Planes are infinite; the floor's point under the cloths is in (where they will land).
+            if (is_floor(c) && !cloths.empty()) box.add({cloths.centre().x, c.p0.y, cloths.centre().z});
+            continue;
+        }
         box.add(to_glm(c.p0) - r);
         box.add(to_glm(c.p0) + r);
         if (c.shape != ColliderShape::sphere) box.add(to_glm(c.p1) - r), box.add(to_glm(c.p1) + r);
@@ -375,9 +385,12 @@ void Renderer::draw(const Snapshot& snapshot, const Camera& camera, int width, i
     glDepthMask(GL_TRUE);
     glEnable(GL_DEPTH_TEST);
 
-    // Ground: just under the lowest point of the scene, grid lines about a tenth of the scene apart.
+    // Ground: just under the lowest point of the scene, grid lines about a tenth of the scene apart;
+    // a plane collider facing up is the ground itself, drawn as the grid at its height.
+    const auto floor = std::find_if(snapshot.colliders.begin(), snapshot.colliders.end(), is_floor);
     {
-        const float ground_y = (box.empty() ? 0.0f : box.min.y) - 0.02f * size;
+        const float ground_y = floor != snapshot.colliders.end() ? floor->p0.y
+                                                                 : (box.empty() ? 0.0f : box.min.y) - 0.02f * size;
         const glm::vec3 centre = box.empty() ? glm::vec3(0.0f) : box.centre();
         const float half = 40.0f * size;
         const Vec3 corners[4] = {{centre.x - half, ground_y, centre.z - half}, {centre.x + half, ground_y, centre.z - half},
@@ -402,6 +415,7 @@ void Renderer::draw(const Snapshot& snapshot, const Camera& camera, int width, i
     glUniform3fv(uniform(mesh_program_, "u_eye"), 1, glm::value_ptr(camera.eye));
     const bool mask = look == Look::cloth_mask;
     for (const ColliderDesc& c : snapshot.colliders) {
+        if (is_floor(c)) continue;  // the ground grid
         Mesh mesh;
         static_cast<SurfaceMesh&>(mesh) = collider_surface(c, box);
         mesh.front_colour = mesh.back_colour = mask ? kColliderMask : kCollider;

@@ -27,7 +27,8 @@ struct Snapshot {
     std::vector<ColliderDesc> colliders;
 };
 
-// Box around the cloths and the bounded colliders (planes are infinite and left out).
+// Box around the cloths and the bounded colliders (planes are infinite: only a floor's point under
+// the cloths is in).
 Box bounds(const Snapshot& snapshot);
 // Box around the cloths only (the render test projects it).
 Box cloth_bounds(const Snapshot& snapshot);

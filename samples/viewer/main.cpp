@@ -322,7 +322,8 @@ int main(int argc, char** argv) {
             const viewer::StepReport& r = session.last();
             ImGui::Text("max strain %.2f%%   penetration %.1f mm", 100.0 * r.max_strain, 1000.0 * r.max_penetration_m);
             const std::vector<float> history(strain_history.begin(), strain_history.end());
-            ImGui::PlotLines("##strain", history.data(), int(history.size()), 0, "max strain %", 0.0f, FLT_MAX,
+            ImGui::TextDisabled("max strain, last %zu steps", history.size());
+            ImGui::PlotLines("##strain", history.data(), int(history.size()), 0, nullptr, 0.0f, FLT_MAX,
                              {ImGui::GetContentRegionAvail().x, 48.0f});
         }
         ImGui::TextDisabled("drag: orbit, right drag: pan, wheel: zoom\nspace: play, S: step, R: reset, F: frame");

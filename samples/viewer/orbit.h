@@ -18,10 +18,17 @@ struct Orbit {
     float distance_m = 1.0f;
 };
 
-// The view that frames `box` from the default angles (render::frame_box).
+// The view that frames `box` grown to a cube of its largest side (a cloth swings, falls and blows
+// out of its start plane: a flag's start box is flat) from the default angles (render::frame_box).
 inline Orbit frame_orbit(const render::Box& box, float aspect) {
     const render::CameraAngles angles;
-    const render::Camera camera = render::frame_box(box, angles, aspect);
+    render::Box cube = box;
+    if (!box.empty()) {
+        const glm::vec3 half(0.5f * std::max({box.max.x - box.min.x, box.max.y - box.min.y, box.max.z - box.min.z}));
+        cube.add(box.centre() - half);
+        cube.add(box.centre() + half);
+    }
+    const render::Camera camera = render::frame_box(cube, angles, aspect);
     return {camera.target, angles.azimuth_deg, angles.elevation_deg, glm::length(camera.eye - camera.target)};
 }
 

@@ -401,7 +401,7 @@ int run_sweep(const SweepOptions& o) {
                 std::fprintf(stderr, "weft-bench sweep: reference: %s\n", err.c_str());
                 return 1;
             }
-            bar.update(++done);
+            ++done;
             scenes::SeedWorld asset_world;  // the asset every configuration shares (for the strain)
             if (std::string err = scenes::make_seed_world(o.scene, physics, &asset_world); !err.empty()) {
                 bar.finish();
@@ -416,7 +416,7 @@ int run_sweep(const SweepOptions& o) {
                 Timing timing;
                 const std::string err = measure_row(
                     o, [&](Trajectory* out) { return run_trajectory(o.scene, so, o.sampling, out); }, &t, &timing);
-                bar.update(++done);
+                ++done;
                 if (!err.empty()) {
                     bar.finish();
                     std::fprintf(stderr, "weft-bench sweep: %s: %s\n", split_name(row).c_str(), err.c_str());
@@ -441,7 +441,7 @@ int run_sweep(const SweepOptions& o) {
                     const std::string err = measure_row(
                         o, [&](Trajectory* out) { return run_bullet(o.scene, physics, iterations, o.sampling, out); },
                         &t, &timing);
-                    bar.update(++done);
+                    ++done;
                     if (!err.empty()) {
                         bar.finish();
                         std::fprintf(stderr, "weft-bench sweep: bullet: %s\n", err.c_str());

@@ -151,7 +151,8 @@ std::string write_gltf(const std::string& path, const GltfRun& run,
     model.defaultScene = 0;
     // The renderer's colours (samples/render): brick-red cloth, grey colliders.
     const int cloth_material = add_material(&model, "cloth", {0.85, 0.36, 0.22, 1.0}, true);
-    const int collider_material = add_material(&model, "collider", {0.62, 0.64, 0.66, 1.0}, false);
+    const int collider_material =
+        run.stills.empty() ? -1 : add_material(&model, "collider", {0.62, 0.64, 0.66, 1.0}, false);
     model.materials[size_t(cloth_material)].pbrMetallicRoughness.baseColorTexture.index = add_checker_texture(&model);
 
     const size_t targets = run.frames.size() - 1;  // the first frame is the base shape

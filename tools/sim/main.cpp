@@ -2,7 +2,7 @@
 //
 //   weft-sim SCENE.json [--frames N] [--out DIR] [--json] [--simd automatic|scalar|avx2] [--assets DIR]
 //            [--png FILE [--frame N]] [--gif FILE | --mp4 FILE] [--gltf FILE.glb] [--every K]
-//            [--camera AZ,EL[,DIST]] [--size WxH] [--progress]
+//            [--camera AZ,EL[,DIST]] [--size WxH] [--progress-label TEXT]
 //
 // The world is created with exactly what the scene names (docs/scene-format.md). Every frame is one
 // step(dt); its wall time is measured around that call only. --out writes one OBJ per frame (all
@@ -11,7 +11,7 @@
 // failed (a step refused, or a position stopped being finite). --png, --gif and --mp4 draw the scene
 // (pictures.h) after the run, --gltf exports it (gltf_export.h); the step times do not include
 // either. On a terminal a progress bar on stderr shows the run and the exports (not with --json,
-// unless --progress asks for it).
+// unless --progress-label names it: samples/figures/make-figures does).
 #include <algorithm>
 #include <chrono>
 #include <cstdio>
@@ -112,8 +112,9 @@ int main(int argc, char** argv) {
     app.add_option("--gltf", pictures.gltf, "write the whole run as one glTF 2.0 binary (.glb): morph targets per frame");
     auto* every_option = app.add_option("--every", pictures.every, "the animation keeps every K-th frame (default 3; --gltf: 1)")
         ->check(CLI::Range(1u, 10000u));
-    bool force_progress = false;
-    app.add_flag("--progress", force_progress, "show the progress bar even with --json (it still needs stderr on a terminal)");
+    std::string progress_label;
+    app.add_option("--progress-label", progress_label,
+                   "label the progress bar with this, and show it even with --json (still only on a terminal)");
     app.add_option("--camera", camera, "AZIMUTH,ELEVATION[,DISTANCE]: degrees, degrees, metres (default 35,20 framing the scene)");
     app.add_option("--size", size, "picture size WxH (default 1280x720)");
     CLI11_PARSE(app, argc, argv);
@@ -165,8 +166,8 @@ int main(int argc, char** argv) {
                     scene_path.c_str(), sw.cloths.size(), particles, scene.colliders.size(),
                     simd_path_name(world_simd_path(sw.world)), double(scene.dt_s), scene.frames);
     sim::PictureRecorder recorder(pictures, scene.frames, scene.dt_s);
-    const bool show_progress = progress::wanted(json && !force_progress);
-    progress::Bar bar("weft-sim " + scene_path, scene.frames, show_progress);
+    const bool show_progress = progress::wanted(json && progress_label.empty());
+    progress::Bar bar(progress_label.empty() ? "weft-sim " + scene_path : progress_label, scene.frames, show_progress);
     if (pictures.wanted()) recorder.after_frame(0, sw);
     std::vector<double> us, max_strain;
     FrameReport last;
