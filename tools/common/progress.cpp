@@ -7,7 +7,9 @@
 
 namespace weft::progress {
 
-bool wanted(bool json) { return !json && isatty(STDERR_FILENO) == 1; }
+bool stderr_is_terminal() { return isatty(STDERR_FILENO) == 1; }
+
+bool wanted(bool json) { return !json && isatty(STDOUT_FILENO) == 1 && stderr_is_terminal(); }
 
 std::string format_duration(double seconds) {
     char text[32];

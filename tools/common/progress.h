@@ -1,6 +1,6 @@
 // Progress of a long command on a terminal: one line on stderr, redrawn in place, with a bar, a
-// count and an estimate of the time left. Quiet (draws nothing) when stderr is not a terminal or
-// the command was asked for --json, so logs, pipes and CI output stay clean. Shared by weft-bench
+// count and an estimate of the time left. Quiet (draws nothing) when stdout or stderr is not a
+// terminal or the command was asked for --json, so logs, pipes and CI output stay clean. Shared by weft-bench
 // sweep, weft-bake, weft-sim's exports and (through weft-sim) samples/figures/make-figures.
 #pragma once
 
@@ -11,8 +11,12 @@
 
 namespace weft::progress {
 
-// Whether a command should draw progress: stderr is a terminal and `json` output was not asked for.
+// Whether a command should draw progress: stdout and stderr are both terminals (so a log, a pipe
+// or a captured output never gets a bar) and `json` output was not asked for.
 bool wanted(bool json);
+// Whether stderr, where the bar is drawn, is a terminal (a caller that captures stdout and still
+// wants the bar: weft-sim --progress-label).
+bool stderr_is_terminal();
 
 class Bar {
 public:

@@ -114,7 +114,7 @@ int main(int argc, char** argv) {
         ->check(CLI::Range(1u, 10000u));
     std::string progress_label;
     app.add_option("--progress-label", progress_label,
-                   "label the progress bar with this, and show it even with --json (still only on a terminal)");
+                   "label the progress bar with this, and show it even with --json or stdout captured (stderr must be a terminal)");
     app.add_option("--camera", camera, "AZIMUTH,ELEVATION[,DISTANCE]: degrees, degrees, metres (default 35,20 framing the scene)");
     app.add_option("--size", size, "picture size WxH (default 1280x720)");
     CLI11_PARSE(app, argc, argv);
@@ -166,7 +166,7 @@ int main(int argc, char** argv) {
                     scene_path.c_str(), sw.cloths.size(), particles, scene.colliders.size(),
                     simd_path_name(world_simd_path(sw.world)), double(scene.dt_s), scene.frames);
     sim::PictureRecorder recorder(pictures, scene.frames, scene.dt_s);
-    const bool show_progress = progress::wanted(json && progress_label.empty());
+    const bool show_progress = progress_label.empty() ? progress::wanted(json) : progress::stderr_is_terminal();
     progress::Bar bar(progress_label.empty() ? "weft-sim " + scene_path : progress_label, scene.frames, show_progress);
     if (pictures.wanted()) recorder.after_frame(0, sw);
     std::vector<double> us, max_strain;
