@@ -1,9 +1,11 @@
 // The viewer's simulation side (samples/viewer/session.h), without a window: every control of the
-// panel changes the world it claims to change, and a baked asset opens above a floor.
+// panel changes the world it claims to change, a baked asset opens above a floor, and the camera
+// frames, pans, zooms and orbits as the mouse says.
 #include <doctest/doctest.h>
 
 #include <cmath>
 
+#include "orbit.h"
 #include "session.h"
 
 using namespace weft;
@@ -106,4 +108,35 @@ TEST_CASE("the viewer opens a baked asset above a floor it lands on") {
     for (const Vec3& p : positions(s)) REQUIRE(p.y > floor.p0.y - 0.01f);
     CHECK(s.open("no-such-asset.weft", {}) != "");
     CHECK(s.open(kScenes + "no-such-scene.json", {}) != "");
+}
+
+TEST_CASE("viewer camera: framing right of the panel, pan follows the mouse, zoom and orbit") {
+    render::Box box;
+    box.add({-1.0f, 0.0f, -1.0f});
+    box.add({1.0f, 0.5f, 1.0f});
+    constexpr int kWidth = 1600, kHeight = 900;
+    constexpr float kAspect = float(kWidth) / kHeight, kPanel = 0.3f;
+    viewer::Orbit orbit = viewer::frame_orbit(box, (1.0f - kPanel) * kAspect);
+    const render::Camera camera = viewer::orbit_camera(orbit, kAspect, kPanel);
+    for (int corner = 0; corner < 8; ++corner) {
+        const glm::vec3 p{corner & 1 ? box.max.x : box.min.x, corner & 2 ? box.max.y : box.min.y,
+                          corner & 4 ? box.max.z : box.min.z};
+        const glm::vec2 q = render::project_to_pixels(camera, p, kWidth, kHeight);
+        CHECK(q.x >= kPanel * kWidth);  // never under the panel
+        CHECK(q.x <= kWidth);
+        CHECK(q.y >= 0.0f);
+        CHECK(q.y <= kHeight);
+    }
+    // Dragging 100 pixels right and 50 down moves the scene with the mouse.
+    const glm::vec2 before = render::project_to_pixels(camera, orbit.target, kWidth, kHeight);
+    viewer::Orbit panned = orbit;
+    viewer::pan(&panned, camera, 100.0f, 50.0f, float(kHeight));
+    const glm::vec2 after = render::project_to_pixels(viewer::orbit_camera(panned, kAspect, kPanel), orbit.target, kWidth, kHeight);
+    CHECK(after.x - before.x == doctest::Approx(100.0f).epsilon(0.02));
+    CHECK(after.y - before.y == doctest::Approx(50.0f).epsilon(0.02));
+    viewer::Orbit zoomed = orbit;
+    viewer::zoom(&zoomed, 2.0f);  // two wheel steps in
+    CHECK(zoomed.distance_m == doctest::Approx(orbit.distance_m * 0.88f * 0.88f));
+    viewer::rotate(&zoomed, 0.0f, 1000.0f);  // dragging far down stops looking straight down
+    CHECK(zoomed.elevation_deg == 89.0f);
 }
