@@ -189,12 +189,17 @@ int main(int argc, char** argv) {
         return viewer::frame_orbit(render::bounds(session.snapshot()), free_aspect);
     };
     viewer::Orbit orbit = frame_scene();
+    double simulated_s = 0.0;  // simulated time owed to the wall clock while playing
+    const auto reset = [&] {
+        if (std::string e = session.reset(); !e.empty()) std::fprintf(stderr, "weft-viewer: reset: %s\n", e.c_str());
+        simulated_s = 0.0;
+    };
     Input input;
     bool playing = !paused || frames > 0, step_once = false;
     double budget_ms = 1.0;  // what a game might give its cloth out of a 16.7 ms frame
     double smoothed_ms[int(viewer::PassGroup::count)] = {}, smoothed_step_ms = 0.0;
     std::deque<float> strain_history;
-    double simulated_s = 0.0, wall_last = glfwGetTime();
+    double wall_last = glfwGetTime();
     uint32_t drawn = 0;
     int exit_code = 0;
 
@@ -227,7 +232,7 @@ int main(int argc, char** argv) {
         if (!io.WantCaptureKeyboard) {  // ImGui 1.86 indexes keys by the backend's (GLFW's) key codes
             if (ImGui::IsKeyPressed(GLFW_KEY_SPACE, false)) playing = !playing;
             if (ImGui::IsKeyPressed(GLFW_KEY_S) || ImGui::IsKeyPressed(GLFW_KEY_RIGHT)) step_once = true, playing = false;
-            if (ImGui::IsKeyPressed(GLFW_KEY_R, false)) session.reset(), simulated_s = 0.0;
+            if (ImGui::IsKeyPressed(GLFW_KEY_R, false)) reset();
             if (ImGui::IsKeyPressed(GLFW_KEY_F, false)) orbit = frame_scene();
         }
 
@@ -274,7 +279,7 @@ int main(int argc, char** argv) {
         ImGui::SameLine();
         if (ImGui::Button("Step")) step_once = true, playing = false;
         ImGui::SameLine();
-        if (ImGui::Button("Reset")) session.reset(), simulated_s = 0.0;
+        if (ImGui::Button("Reset")) reset();
         ImGui::SameLine();
         if (ImGui::Button("Frame")) orbit = frame_scene();
 
