@@ -14,3 +14,15 @@ if(WEFT_RENDER)
     message(STATUS "weft: renderer off (needs pkg-config epoxy and stb: libepoxy-dev, libstb-dev)")
   endif()
 endif()
+
+# The interactive viewer (samples/viewer) also needs a window and a panel: GLFW and Dear ImGui
+# (libglfw3-dev, libimgui-dev). Sets WEFT_HAVE_VIEWER.
+if(WEFT_HAVE_RENDER)
+  pkg_check_modules(GLFW IMPORTED_TARGET GLOBAL glfw3)
+  pkg_check_modules(IMGUI IMPORTED_TARGET GLOBAL imgui)
+endif()
+set(WEFT_HAVE_VIEWER ${WEFT_HAVE_RENDER})
+if(WEFT_HAVE_RENDER AND NOT (GLFW_FOUND AND IMGUI_FOUND))
+  set(WEFT_HAVE_VIEWER OFF)
+  message(STATUS "weft: viewer off (needs pkg-config glfw3 and imgui: libglfw3-dev, libimgui-dev)")
+endif()

@@ -14,7 +14,15 @@ packages=(
   libtinyobjloader-dev libtinygltf-dev          # tools/body: body meshes from OBJ and glTF
   libepoxy-dev libegl-dev libegl-mesa0          # samples/render: OpenGL loader, EGL (surfaceless)
   libgl1-mesa-dri libstb-dev ffmpeg             # llvmpipe, PNG writing, weft-sim --gif/--mp4, figures
+  libglfw3-dev libimgui-dev fonts-dejavu-core   # samples/viewer: window, panel, the panel's font
+  xvfb xauth                                    # the viewer's test: a real window on a virtual display
 )
+# The glTF test validates weft-sim --gltf with Khronos' validator (npm gltf-validator, installed by
+# the test itself into build/): it needs Node.js and npm. A machine that has them (from any source)
+# keeps its own; Debian's packages otherwise.
+if ! command -v npm >/dev/null || ! command -v node >/dev/null; then
+  packages+=(nodejs npm)
+fi
 
 missing=()
 for p in "${packages[@]}"; do

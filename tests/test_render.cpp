@@ -93,12 +93,8 @@ TEST_CASE("the sphere scene's picture: not blank, and the cloth inside its proje
     REQUIRE(shaded.rgb.size() == size_t(3 * kWidth * kHeight));
 
     // Where the particles project to.
-    float box_x0 = 1e9f, box_x1 = -1e9f, box_y0 = 1e9f, box_y1 = -1e9f;
-    for (const Vec3& p : snapshot.cloths[0].positions) {
-        const glm::vec2 q = render::project_to_pixels(camera, {p.x, p.y, p.z}, kWidth, kHeight);
-        box_x0 = std::min(box_x0, q.x), box_x1 = std::max(box_x1, q.x);
-        box_y0 = std::min(box_y0, q.y), box_y1 = std::max(box_y1, q.y);
-    }
+    const render::PixelBox box = render::projected_box(camera, snapshot.cloths[0].positions, kWidth, kHeight);
+    const float box_x0 = box.min.x, box_x1 = box.max.x, box_y0 = box.min.y, box_y1 = box.max.y;
     INFO("projected cloth box x " << box_x0 << ".." << box_x1 << ", y " << box_y0 << ".." << box_y1);
     REQUIRE(box_x1 - box_x0 > 40.0f);
     REQUIRE(box_y1 - box_y0 > 10.0f);

@@ -148,18 +148,13 @@ GLint uniform(GLuint program, const char* name) { return glGetUniformLocation(pr
 
 // ---- geometry ---------------------------------------------------------------------------------------
 
-struct Renderer::Mesh {
-    std::vector<Vec3> positions, normals;
+struct Renderer::Mesh : SurfaceMesh {
     std::vector<float> uv;  // empty: no checker
-    std::vector<uint32_t> indices;
     glm::vec3 front_colour{}, back_colour{};
     bool unlit = false;
 };
 
-namespace {
-
-// Smooth normals: each vertex gets the sum of its triangles' (area-weighted) normals.
-std::vector<Vec3> vertex_normals(const std::vector<Vec3>& positions, const std::vector<uint32_t>& triangles) {
+std::vector<Vec3> smooth_normals(const std::vector<Vec3>& positions, const std::vector<uint32_t>& triangles) {
     std::vector<glm::vec3> sum(positions.size(), glm::vec3(0.0f));
     for (size_t t = 0; t + 2 < triangles.size(); t += 3) {
         const glm::vec3 a = to_glm(positions[triangles[t]]), b = to_glm(positions[triangles[t + 1]]),
@@ -175,6 +170,8 @@ std::vector<Vec3> vertex_normals(const std::vector<Vec3>& positions, const std::
     return normals;
 }
 
+namespace {
+
 // A surface of revolution around the axis through `origin` along unit `axis`: each profile point
 // is a ring at `along` metres up the axis with `radius`, its normal `radial` outwards and `axial`
 // along the axis. Sphere, capsule and cylinder are all such surfaces.
@@ -183,7 +180,7 @@ struct ProfilePoint {
 };
 
 void add_lathe(const glm::vec3& origin, const glm::vec3& axis, const std::vector<ProfilePoint>& profile,
-               Renderer::Mesh* mesh) {
+               SurfaceMesh* mesh) {
     // u, v, axis right-handed, so that (around, up the profile) triangles face outwards.
     const glm::vec3 helper = std::abs(axis.y) < 0.9f ? glm::vec3(0.0f, 1.0f, 0.0f) : glm::vec3(1.0f, 0.0f, 0.0f);
     const glm::vec3 u = glm::normalize(glm::cross(axis, helper)), v = glm::cross(axis, u);
@@ -214,10 +211,15 @@ void add_arc(float along, float radius, float from, float to, std::vector<Profil
     }
 }
 
-// The collider's shape as the solver sees it without inflation (the inflation is a skin the cloth
-// keeps above it: seed figure 8).
-Renderer::Mesh collider_mesh(const ColliderDesc& c, const Box& scene) {
-    Renderer::Mesh mesh;
+// A plane collider facing up: the ground the scene stands on.
+bool is_floor(const ColliderDesc& c) {
+    return c.shape == ColliderShape::plane && c.p1.y > 0.999f * glm::length(to_glm(c.p1));
+}
+
+}  // namespace
+
+SurfaceMesh collider_surface(const ColliderDesc& c, const Box& scene) {
+    SurfaceMesh mesh;
     constexpr float kHalfPi = 0.5f * std::numbers::pi_v<float>;
     const glm::vec3 p0 = to_glm(c.p0), p1 = to_glm(c.p1);
     std::vector<ProfilePoint> profile;
@@ -257,8 +259,6 @@ Renderer::Mesh collider_mesh(const ColliderDesc& c, const Box& scene) {
     return mesh;
 }
 
-}  // namespace
-
 Box cloth_bounds(const Snapshot& snapshot) {
     Box box;
     for (const ClothSurface& cloth : snapshot.cloths)
@@ -267,13 +267,28 @@ Box cloth_bounds(const Snapshot& snapshot) {
 }
 
 Box bounds(const Snapshot& snapshot) {
-    Box box = cloth_bounds(snapshot);
+    const Box cloths = cloth_bounds(snapshot);
+    Box box = cloths;
     for (const ColliderDesc& c : snapshot.colliders) {
         const glm::vec3 r(c.radius_m);
-        if (c.shape == ColliderShape::plane) continue;
+        if (c.shape == ColliderShape::plane) {
+            // Planes are infinite; the floor's point under the cloths is in (where they will land).
+            if (is_floor(c) && !cloths.empty()) box.add({cloths.centre().x, c.p0.y, cloths.centre().z});
+            continue;
+        }
         box.add(to_glm(c.p0) - r);
         box.add(to_glm(c.p0) + r);
         if (c.shape != ColliderShape::sphere) box.add(to_glm(c.p1) - r), box.add(to_glm(c.p1) + r);
+    }
+    return box;
+}
+
+PixelBox projected_box(const Camera& camera, const std::vector<Vec3>& points, int width, int height) {
+    PixelBox box;
+    for (const Vec3& p : points) {
+        const glm::vec2 q = project_to_pixels(camera, to_glm(p), width, height);
+        box.min = glm::min(box.min, q);
+        box.max = glm::max(box.max, q);
     }
     return box;
 }
@@ -370,9 +385,12 @@ void Renderer::draw(const Snapshot& snapshot, const Camera& camera, int width, i
     glDepthMask(GL_TRUE);
     glEnable(GL_DEPTH_TEST);
 
-    // Ground: just under the lowest point of the scene, grid lines about a tenth of the scene apart.
+    // Ground: just under the lowest point of the scene, grid lines about a tenth of the scene apart;
+    // a plane collider facing up is the ground itself, drawn as the grid at its height.
+    const auto floor = std::find_if(snapshot.colliders.begin(), snapshot.colliders.end(), is_floor);
     {
-        const float ground_y = (box.empty() ? 0.0f : box.min.y) - 0.02f * size;
+        const float ground_y = floor != snapshot.colliders.end() ? floor->p0.y
+                                                                 : (box.empty() ? 0.0f : box.min.y) - 0.02f * size;
         const glm::vec3 centre = box.empty() ? glm::vec3(0.0f) : box.centre();
         const float half = 40.0f * size;
         const Vec3 corners[4] = {{centre.x - half, ground_y, centre.z - half}, {centre.x + half, ground_y, centre.z - half},
@@ -397,7 +415,9 @@ void Renderer::draw(const Snapshot& snapshot, const Camera& camera, int width, i
     glUniform3fv(uniform(mesh_program_, "u_eye"), 1, glm::value_ptr(camera.eye));
     const bool mask = look == Look::cloth_mask;
     for (const ColliderDesc& c : snapshot.colliders) {
-        Mesh mesh = collider_mesh(c, box);
+        if (is_floor(c)) continue;  // the ground grid
+        Mesh mesh;
+        static_cast<SurfaceMesh&>(mesh) = collider_surface(c, box);
         mesh.front_colour = mesh.back_colour = mask ? kColliderMask : kCollider;
         mesh.unlit = mask;
         draw_mesh(mesh);
@@ -405,7 +425,7 @@ void Renderer::draw(const Snapshot& snapshot, const Camera& camera, int width, i
     for (const ClothSurface& cloth : snapshot.cloths) {
         Mesh mesh;
         mesh.positions = cloth.positions;
-        mesh.normals = vertex_normals(cloth.positions, cloth.triangles);
+        mesh.normals = smooth_normals(cloth.positions, cloth.triangles);
         mesh.indices = cloth.triangles;
         if (mask) {
             mesh.front_colour = mesh.back_colour = glm::vec3(kClothMaskRgb[0], kClothMaskRgb[1], kClothMaskRgb[2]) / 255.0f;

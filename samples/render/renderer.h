@@ -27,10 +27,32 @@ struct Snapshot {
     std::vector<ColliderDesc> colliders;
 };
 
-// Box around the cloths and the bounded colliders (planes are infinite and left out).
+// Box around the cloths and the bounded colliders (planes are infinite: only a floor's point under
+// the cloths is in).
 Box bounds(const Snapshot& snapshot);
 // Box around the cloths only (the render test projects it).
 Box cloth_bounds(const Snapshot& snapshot);
+
+// Triangles with a normal per vertex, in metres: a collider's surface (collider_surface) or a cloth's.
+struct SurfaceMesh {
+    std::vector<Vec3> positions, normals;
+    std::vector<uint32_t> indices;  // 3 per triangle, counter-clockwise seen from outside
+};
+
+// The collider's shape as the solver sees it without the inflation (a skin the cloth keeps above it:
+// seed figure 8); a plane as a square three scene sizes wide around the point nearest `scene`'s
+// centre. Drawn by the renderer, exported by weft-sim --gltf.
+SurfaceMesh collider_surface(const ColliderDesc& collider, const Box& scene);
+
+// Smooth normals: each vertex gets the normalised sum of its triangles' area-weighted normals.
+std::vector<Vec3> smooth_normals(const std::vector<Vec3>& positions, const std::vector<uint32_t>& triangles);
+
+// The smallest pixel rectangle holding every point's projection (project_to_pixels): where a
+// cloth must appear in a width x height picture (the render and viewer tests check it).
+struct PixelBox {
+    glm::vec2 min{1e9f}, max{-1e9f};
+};
+PixelBox projected_box(const Camera& camera, const std::vector<Vec3>& points, int width, int height);
 
 // Texture coordinates for a cloth without any: its rest positions projected on the plane of their two
 // widest extents, so the checker is fixed to the cloth and follows it as it moves.

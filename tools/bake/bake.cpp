@@ -69,10 +69,17 @@ Result cook_garment(const ClothMeshDesc& mesh, const CookOptions& options, bool 
 }
 
 Status bake_pattern(std::string_view text, const BakeOptions& options, Baked* out) {
+    const auto stage = [&](const char* name, uint32_t index) {
+        if (options.on_stage) options.on_stage(name, index, 4);
+    };
+    stage("parsing", 0);
     if (Status s = parse_pattern(text, options.parse, &out->pattern); !s.ok()) return s;
+    stage("meshing", 1);
     if (Status s = mesh_garment(out->pattern, options.mesh, &out->garment); !s.ok()) return s;
     const GarmentInput input = garment_input(out->garment, out->pattern.fabric);
+    stage("cooking", 2);
     if (Result r = cook_garment(input.desc, options.cook, options.choose_runs, &out->cooked, &out->cook_options); !r.ok()) return {r.message};
+    stage("writing", 3);
     if (Result r = assets::write_asset(out->cooked.asset(), &out->bytes); !r.ok()) return {r.message};
     assets::LoadedAsset check;
     if (Result r = assets::load_asset_copy(out->bytes.data(), out->bytes.size(), &check); !r.ok())

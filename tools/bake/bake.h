@@ -7,6 +7,7 @@
 #pragma once
 
 #include <cstddef>
+#include <functional>
 #include <string_view>
 #include <vector>
 
@@ -23,6 +24,8 @@ struct BakeOptions {
     // Cook the garment with each of kRunChoices' (min_run_lanes, max_run_gap) as well as `cook`'s
     // own, and keep the one with the lowest estimated constraint pass (run_cost_ns); false: `cook` as given.
     bool choose_runs = true;
+    // Called before each stage with its name and number (weft-bake's progress bar); may be empty.
+    std::function<void(const char* stage, uint32_t index, uint32_t count)> on_stage;
 };
 
 // Run shapes the baker tries (BakeOptions::choose_runs): {min_run_lanes, max_run_gap}.

@@ -17,6 +17,7 @@
 
 #include "asset_writer.h"
 #include "bake.h"
+#include "progress.h"
 #include "run_report.h"
 
 namespace {
@@ -131,8 +132,13 @@ int main(int argc, char** argv) {
     for (size_t k = 0; k < offset.size(); ++k) options.parse.placement_offset_m[k] = offset[k];
     options.mesh.target_edge_m = target_edge;
     options.cook.simd_width = simd_width;
+    // On a terminal (and without --json) a bar names the stage; meshing and cooking a garment take seconds.
+    progress::Bar bar("weft-bake " + pattern_path, 4, progress::wanted(as_json));
+    options.on_stage = [&](const char* stage, uint32_t index, uint32_t) { bar.update(index, stage); };
     bake::Baked baked;
-    if (bake::Status s = bake::bake_pattern(text, options, &baked); !s.ok()) return fail(pattern_path + ": " + s.error);
+    const bake::Status baked_status = bake::bake_pattern(text, options, &baked);
+    bar.finish();
+    if (!baked_status.ok()) return fail(pattern_path + ": " + baked_status.error);
     const std::vector<std::byte>& bytes = baked.bytes;
     const bake::MeshedGarment& garment = baked.garment;
 

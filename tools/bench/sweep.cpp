@@ -9,6 +9,7 @@
 
 #include "bench_run.h"
 #include "peer_bullet.h"
+#include "progress.h"
 
 namespace weft::bench {
 namespace {
@@ -382,30 +383,42 @@ int run_sweep(const SweepOptions& o) {
     std::vector<Group> groups;
     bool ok = true;
     const std::vector<float> winds = o.scene == SeedScene::flag ? o.winds_m_s : std::vector<float>{0.0f};
+    // Progress on a terminal: one step per reference, Weft configuration and Bullet run.
+    const size_t weft_rows = options.paths.size() * o.long_range.size() * o.substeps.size() * o.iterations.size();
+    const size_t per_group = 1 + weft_rows + (peer ? o.peer_iterations.size() : 0);
+    progress::Bar bar("weft-bench sweep", o.sizes.size() * winds.size() * per_group, progress::wanted(o.json));
+    uint64_t done = 0;
     for (uint32_t n : o.sizes) {
         for (float wind : winds) {
             Group g;
             g.n = n;
             g.wind_m_s = wind;
             const scenes::SceneOptions physics = physics_of(o, n, wind);
+            bar.update(done, "n = " + std::to_string(n) + ": reference");
             if (std::string err = compute_reference(o.scene, physics, o.sampling, o.reference, &g.reference);
                 !err.empty()) {
+                bar.finish();
                 std::fprintf(stderr, "weft-bench sweep: reference: %s\n", err.c_str());
                 return 1;
             }
+            ++done;
             scenes::SeedWorld asset_world;  // the asset every configuration shares (for the strain)
             if (std::string err = scenes::make_seed_world(o.scene, physics, &asset_world); !err.empty()) {
+                bar.finish();
                 std::fprintf(stderr, "weft-bench sweep: %s\n", err.c_str());
                 return 1;
             }
             if (!g.reference.trajectory.frames.empty())
                 g.reference_strain = metrics::stretch_strain(asset_world.asset(), g.reference.trajectory.frames.back());
             for (auto& [row, so] : weft_grid(options, physics)) {
+                bar.update(done, "n = " + std::to_string(n) + ": " + split_name(row));
                 Trajectory t;
                 Timing timing;
                 const std::string err = measure_row(
                     o, [&](Trajectory* out) { return run_trajectory(o.scene, so, o.sampling, out); }, &t, &timing);
+                ++done;
                 if (!err.empty()) {
+                    bar.finish();
                     std::fprintf(stderr, "weft-bench sweep: %s: %s\n", split_name(row).c_str(), err.c_str());
                     ok = false;
                     continue;
@@ -422,12 +435,15 @@ int run_sweep(const SweepOptions& o) {
                     row.simd = "-";
                     row.n = n;
                     row.iterations = iterations;
+                    bar.update(done, "n = " + std::to_string(n) + ": bullet, " + std::to_string(iterations) + " iterations");
                     Trajectory t;
                     Timing timing;
                     const std::string err = measure_row(
                         o, [&](Trajectory* out) { return run_bullet(o.scene, physics, iterations, o.sampling, out); },
                         &t, &timing);
+                    ++done;
                     if (!err.empty()) {
+                        bar.finish();
                         std::fprintf(stderr, "weft-bench sweep: bullet: %s\n", err.c_str());
                         ok = false;
                         continue;
@@ -440,6 +456,7 @@ int run_sweep(const SweepOptions& o) {
             for (double budget : o.budgets_ms)
                 for (const char* solver : {"weft", "bullet"})
                     if (Row* best = best_within(g.rows, solver, budget)) best->best_within_ms.push_back(budget);
+            bar.finish();  // the group's tables start on a clean line; the next update redraws the bar
             if (o.json) {
                 for (const Row& r : g.rows) std::printf("%s\n", to_json(o, g, r).dump().c_str());
                 std::fflush(stdout);

@@ -148,6 +148,7 @@ std::string build_scene(const Scene& scene, SceneWorld* out, const std::vector<s
                 for (uint32_t k = 0; k < kConstraintKindCount; ++k) cd.compliance_m_per_n[k] = f.compliance_m_per_n[k];
             if (!spec.damping_given) cd.damping_per_s = f.damping_per_s;
         }
+        out->cloths[i].desc = cd;
         if (Result r = add_cloth(out->world, cd, &out->cloths[i].id); !r.ok())
             return "cloth '" + scene.cloths[i].name + "': " + r.message;
     }

@@ -81,6 +81,7 @@ struct SceneCloth {
     std::unique_ptr<assets::LoadedAsset> loaded;  // baked sources: the file's bytes and the asset in them
     const ClothAsset* asset = nullptr;
     ClothId id{};
+    ClothDesc desc;  // what add_cloth was given (the scene's settings, the baked fabric's stiffness)
 };
 
 struct SceneWorld {

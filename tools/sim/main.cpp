@@ -1,14 +1,17 @@
 // weft-sim: runs a scene file headless and reports every frame.
 //
 //   weft-sim SCENE.json [--frames N] [--out DIR] [--json] [--simd automatic|scalar|avx2] [--assets DIR]
-//            [--png FILE [--frame N]] [--gif FILE | --mp4 FILE] [--every K] [--camera AZ,EL[,DIST]] [--size WxH]
+//            [--png FILE [--frame N]] [--gif FILE | --mp4 FILE] [--gltf FILE.glb] [--every K]
+//            [--camera AZ,EL[,DIST]] [--size WxH] [--progress-label TEXT]
 //
 // The world is created with exactly what the scene names (docs/scene-format.md). Every frame is one
 // step(dt); its wall time is measured around that call only. --out writes one OBJ per frame (all
 // cloths, caller particle order); --json prints one JSON object per frame and a last one with
 // "summary": true and the medians. Exit codes: 0 done, 1 bad arguments or scene, 2 the simulation
 // failed (a step refused, or a position stopped being finite). --png, --gif and --mp4 draw the scene
-// (pictures.h) after the run; the step times do not include the drawing.
+// (pictures.h) after the run, --gltf exports it (gltf_export.h); the step times do not include
+// either. On a terminal a progress bar on stderr shows the run and the exports (not with --json,
+// unless --progress-label names it: samples/figures/make-figures does).
 #include <algorithm>
 #include <chrono>
 #include <cstdio>
@@ -22,6 +25,7 @@
 
 #include "metrics.h"
 #include "pictures.h"
+#include "progress.h"
 #include "scene_json.h"
 
 namespace {
@@ -105,12 +109,17 @@ int main(int argc, char** argv) {
         ->check(CLI::Range(1u, 10000000u));
     auto* gif_option = app.add_option("--gif", gif, "write the animation as a GIF (ffmpeg)");
     app.add_option("--mp4", mp4, "write the animation as an MP4 (ffmpeg, H.264)")->excludes(gif_option);
-    app.add_option("--every", pictures.every, "the animation keeps every K-th frame (default 3)")
+    app.add_option("--gltf", pictures.gltf, "write the whole run as one glTF 2.0 binary (.glb): morph targets per frame");
+    auto* every_option = app.add_option("--every", pictures.every, "the animation keeps every K-th frame (default 3; --gltf: 1)")
         ->check(CLI::Range(1u, 10000u));
+    std::string progress_label;
+    app.add_option("--progress-label", progress_label,
+                   "label the progress bar with this, and show it even with --json or stdout captured (stderr must be a terminal)");
     app.add_option("--camera", camera, "AZIMUTH,ELEVATION[,DISTANCE]: degrees, degrees, metres (default 35,20 framing the scene)");
     app.add_option("--size", size, "picture size WxH (default 1280x720)");
     CLI11_PARSE(app, argc, argv);
     pictures.animation = gif.empty() ? mp4 : gif;
+    if (every_option->count() > 0) pictures.gltf_every = pictures.every;
     for (std::string e : {camera.empty() ? std::string() : sim::parse_camera(camera, &pictures),
                           size.empty() ? std::string() : sim::parse_size(size, &pictures)}) {
         if (!e.empty()) {
@@ -119,7 +128,7 @@ int main(int argc, char** argv) {
         }
     }
     if (pictures.wanted() && !sim::renderer_built_in()) {
-        std::fprintf(stderr, "weft-sim: --png, --gif and --mp4 need the renderer, and this weft-sim was built without it\n");
+        std::fprintf(stderr, "weft-sim: --png, --gif, --mp4 and --gltf need the renderer, and this weft-sim was built without it\n");
         return 1;
     }
 
@@ -156,7 +165,9 @@ int main(int argc, char** argv) {
         std::printf("weft-sim %s: %zu cloth(s), %u particles, %zu collider(s), %s, dt %.4g s, %u frames\n",
                     scene_path.c_str(), sw.cloths.size(), particles, scene.colliders.size(),
                     simd_path_name(world_simd_path(sw.world)), double(scene.dt_s), scene.frames);
-    sim::PictureRecorder recorder(pictures, scene.frames);
+    sim::PictureRecorder recorder(pictures, scene.frames, scene.dt_s);
+    const bool show_progress = progress_label.empty() ? progress::wanted(json) : progress::stderr_is_terminal();
+    progress::Bar bar(progress_label.empty() ? "weft-sim " + scene_path : progress_label, scene.frames, show_progress);
     if (pictures.wanted()) recorder.after_frame(0, sw);
     std::vector<double> us, max_strain;
     FrameReport last;
@@ -166,6 +177,7 @@ int main(int argc, char** argv) {
         const Result r = step(sw.world, scene.dt_s);
         const auto t1 = std::chrono::steady_clock::now();
         if (!r.ok()) {
+            bar.finish();
             std::fprintf(stderr, "weft-sim: step %u refused: %s\n", f, r.message);
             return 2;
         }
@@ -187,16 +199,20 @@ int main(int argc, char** argv) {
             char name[32];
             std::snprintf(name, sizeof name, "frame_%05u.obj", f);
             if (!write_obj(std::filesystem::path(out_dir) / name, sw, scene)) {
+                bar.finish();
                 std::fprintf(stderr, "weft-sim: cannot write %s/%s\n", out_dir.c_str(), name);
                 return 1;
             }
         }
         if (!last.finite) {
+            bar.finish();
             std::fprintf(stderr, "weft-sim: frame %u: a position is no longer finite\n", f);
             return 2;
         }
         if (pictures.wanted()) recorder.after_frame(f, sw);
+        bar.update(f);
     }
+    bar.finish();
     const double us_median = median(us), strain_median = median(max_strain);
     if (json) {
         const nlohmann::json j = {{"summary", true},
@@ -219,13 +235,14 @@ int main(int argc, char** argv) {
     }
     if (pictures.wanted()) {
         std::fflush(stdout);  // the report first, then any error from drawing
-        if (std::string e = recorder.write(scene, sw); !e.empty()) {
+        if (std::string e = recorder.write(scene, sw, show_progress); !e.empty()) {
             std::fprintf(stderr, "weft-sim: %s\n", e.c_str());
             return 1;
         }
         if (!json) {
             if (!pictures.png.empty()) std::printf("picture: %s\n", pictures.png.c_str());
             if (!pictures.animation.empty()) std::printf("animation: %s\n", pictures.animation.c_str());
+            if (!pictures.gltf.empty()) std::printf("glTF: %s\n", pictures.gltf.c_str());
         }
     }
     return 0;

@@ -1,6 +1,7 @@
-// weft-sim's pictures: --png (one frame), --gif / --mp4 (the animation). While the scene runs the
-// recorder keeps the positions of the frames it needs; at the end it renders them with
-// samples/render. Built without the renderer (its libraries missing), `write` only says so.
+// weft-sim's pictures and exports: --png (one frame), --gif / --mp4 (the animation), --gltf (the
+// run as one glTF binary, gltf_export.h). While the scene runs the recorder keeps the positions of
+// the frames it needs; at the end it renders or exports them with samples/render's geometry.
+// Built without the renderer (its libraries missing), `write` only says so.
 #pragma once
 
 #include <string>
@@ -15,10 +16,12 @@ struct PictureOptions {
     uint32_t png_frame = 0;          // --frame N: the state after N frames; 0 = after the last
     std::string animation;           // --gif FILE or --mp4 FILE
     uint32_t every = 3;              // --every K: the animation keeps every K-th frame
+    std::string gltf;                // --gltf FILE.glb
+    uint32_t gltf_every = 1;         // the glTF keeps every frame unless --every says otherwise
     float azimuth_deg = 35.0f, elevation_deg = 20.0f;
     float distance_m = 0.0f;         // 0 = frame the scene
     int width = 1280, height = 720;  // --size WxH
-    bool wanted() const { return !png.empty() || !animation.empty(); }
+    bool wanted() const { return !png.empty() || !animation.empty() || !gltf.empty(); }
 };
 
 // Parses --camera AZIMUTH,ELEVATION[,DISTANCE] (degrees, degrees, metres) and --size WxH into
@@ -31,11 +34,12 @@ bool renderer_built_in();
 
 class PictureRecorder {
 public:
-    PictureRecorder(const PictureOptions& options, uint32_t scene_frames);
+    PictureRecorder(const PictureOptions& options, uint32_t scene_frames, float dt_s);
     // Call with frame 0 before the first step, then after every step.
     void after_frame(uint32_t frame, const scenes::SceneWorld& world);
-    // Renders and writes the files; returns the error (empty when written).
-    std::string write(const scenes::Scene& scene, const scenes::SceneWorld& world) const;
+    // Renders and writes the files, with a progress bar when `show_progress`; returns the error
+    // (empty when written).
+    std::string write(const scenes::Scene& scene, const scenes::SceneWorld& world, bool show_progress) const;
 
 private:
     using Positions = std::vector<std::vector<Vec3>>;  // per cloth, caller order
@@ -43,6 +47,9 @@ private:
     uint32_t png_frame_ = 0;
     Positions png_positions_;
     std::vector<Positions> animation_frames_;
+    std::vector<Positions> gltf_frames_;
+    std::vector<float> gltf_times_s_;
+    float dt_s_ = 0.0f;
 };
 
 }  // namespace weft::sim

@@ -5,7 +5,7 @@ namespace weft::sim {
 
 bool renderer_built_in() { return false; }
 
-std::string PictureRecorder::write(const scenes::Scene&, const scenes::SceneWorld&) const {
+std::string PictureRecorder::write(const scenes::Scene&, const scenes::SceneWorld&, bool) const {
     return "this weft-sim was built without the renderer (install libepoxy-dev and libstb-dev, then reconfigure)";
 }
 

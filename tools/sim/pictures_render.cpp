@@ -1,14 +1,49 @@
-// weft-sim's pictures drawn by samples/render on a headless OpenGL context.
+// weft-sim's pictures drawn by samples/render on a headless OpenGL context, and the glTF export
+// built from the same geometry (cloth surfaces, texture coordinates, collider meshes).
+#include "gltf_export.h"
 #include "headless.h"
 #include "pictures.h"
+#include "progress.h"
 #include "renderer.h"
 #include "scene_snapshot.h"
 
 namespace weft::sim {
 
+namespace {
+
+std::string export_gltf(const std::string& path, const scenes::Scene& scene, const render::Snapshot& snapshot,
+                        const std::vector<std::vector<std::vector<Vec3>>>& frames, const std::vector<float>& times_s,
+                        bool show_progress) {
+    GltfRun run;
+    run.frames = frames;
+    run.times_s = times_s;
+    render::Box box;  // around every recorded frame: a plane collider's square is sized by it
+    for (size_t i = 0; i < snapshot.cloths.size(); ++i) {
+        run.cloths.push_back({scene.cloths[i].name, snapshot.cloths[i].triangles, snapshot.cloths[i].uv});
+        for (const auto& frame : frames)
+            for (const Vec3& p : frame[i]) box.add({p.x, p.y, p.z});
+    }
+    for (size_t i = 0; i < snapshot.colliders.size(); ++i) {
+        render::SurfaceMesh m = render::collider_surface(snapshot.colliders[i], box);
+        run.stills.push_back({"collider " + std::to_string(i), std::move(m.positions), std::move(m.normals),
+                              std::move(m.indices)});
+    }
+    progress::Bar bar("weft-sim: writing " + path, run.cloths.size() * frames.size(), show_progress);
+    return write_gltf(path, run, [&](size_t done, size_t) { bar.update(done); });
+}
+
+}  // namespace
+
 bool renderer_built_in() { return true; }
 
-std::string PictureRecorder::write(const scenes::Scene& scene, const scenes::SceneWorld& world) const {
+std::string PictureRecorder::write(const scenes::Scene& scene, const scenes::SceneWorld& world, bool show_progress) const {
+    render::Snapshot snapshot = render::snapshot_of_scene(scene, world);
+    if (!options_.gltf.empty())
+        if (std::string e = export_gltf(options_.gltf, scene, snapshot, gltf_frames_, gltf_times_s_, show_progress);
+            !e.empty())
+            return e;
+    if (options_.png.empty() && options_.animation.empty()) return {};
+
     const int width = options_.width, height = options_.height;
     std::string error;
     const std::unique_ptr<render::HeadlessContext> context = render::HeadlessContext::create(width, height, &error);
@@ -16,7 +51,6 @@ std::string PictureRecorder::write(const scenes::Scene& scene, const scenes::Sce
     const std::unique_ptr<render::Renderer> renderer = render::Renderer::create(&error);
     if (!renderer) return error;
 
-    render::Snapshot snapshot = render::snapshot_of_scene(scene, world);
     const auto show = [&](const Positions& positions) {
         for (size_t i = 0; i < positions.size(); ++i) snapshot.cloths[i].positions = positions[i];
     };
@@ -45,10 +79,13 @@ std::string PictureRecorder::write(const scenes::Scene& scene, const scenes::Sce
         std::unique_ptr<render::AnimationWriter> writer =
             render::AnimationWriter::open(options_.animation, width, height, frames_per_second, &error);
         if (!writer) return error;
-        for (const Positions& frame : animation_frames_) {
-            show(frame);
+        progress::Bar bar("weft-sim: drawing " + options_.animation, animation_frames_.size(), show_progress);
+        for (size_t f = 0; f < animation_frames_.size(); ++f) {
+            show(animation_frames_[f]);
             if (!writer->add_frame(draw(camera))) break;  // close() reports why
+            bar.update(f + 1);
         }
+        bar.finish();
         if (!writer->close(&error)) return options_.animation + ": " + error;
     }
     return {};
