@@ -68,11 +68,41 @@ Result cook_garment(const ClothMeshDesc& mesh, const CookOptions& options, bool 
     return {};
 }
 
+Result cook_packings(const ClothMeshDesc& mesh, const MeshedGarment& g, const CookOptions& options, bool choose_runs,
+                     CookedCloth* out, CookOptions* chosen, size_t* winner) {
+    *winner = 0;
+    ClothMeshDesc desc = mesh;
+    desc.lattice = g.lattice.data();
+    desc.lattice_plane_stride = g.lattice_plane_stride;
+    if (Result r = cook_garment(desc, options, choose_runs, out, chosen); !r.ok()) return r;
+    double best = run_cost_ns(out->asset());
+    for (size_t k = 0; k < g.lattice_alternatives.size(); ++k) {
+        desc.lattice = g.lattice_alternatives[k].lattice.data();
+        desc.lattice_plane_stride = g.lattice_alternatives[k].plane_stride;
+        CookedCloth trial;
+        CookOptions trial_options;
+        if (Result r = cook_garment(desc, options, choose_runs, &trial, &trial_options); !r.ok()) return r;
+        if (const double cost = run_cost_ns(trial.asset()); cost < best) {
+            best = cost, *winner = k + 1, *out = std::move(trial);
+            if (chosen != nullptr) *chosen = trial_options;
+        }
+    }
+    return {};
+}
+
 Status bake_pattern(std::string_view text, const BakeOptions& options, Baked* out) {
     if (Status s = parse_pattern(text, options.parse, &out->pattern); !s.ok()) return s;
     if (Status s = mesh_garment(out->pattern, options.mesh, &out->garment); !s.ok()) return s;
     const GarmentInput input = garment_input(out->garment, out->pattern.fabric);
-    if (Result r = cook_garment(input.desc, options.cook, options.choose_runs, &out->cooked, &out->cook_options); !r.ok()) return {r.message};
+    MeshedGarment& g = out->garment;
+    size_t winner = 0;
+    if (Result r = cook_packings(input.desc, g, options.cook, options.choose_runs, &out->cooked, &out->cook_options, &winner);
+        !r.ok())
+        return {r.message};
+    if (winner > 0) {  // the winner becomes the garment's lattice
+        std::swap(g.lattice, g.lattice_alternatives[winner - 1].lattice);
+        std::swap(g.lattice_plane_stride, g.lattice_alternatives[winner - 1].plane_stride);
+    }
     if (Result r = assets::write_asset(out->cooked.asset(), &out->bytes); !r.ok()) return {r.message};
     assets::LoadedAsset check;
     if (Result r = assets::load_asset_copy(out->bytes.data(), out->bytes.size(), &check); !r.ok())
@@ -81,3 +111,4 @@ Status bake_pattern(std::string_view text, const BakeOptions& options, Baked* ou
 }
 
 }  // namespace weft::bake
+
