@@ -46,14 +46,15 @@ Meshed bake_text(const std::string& text, const ParseOptions& parse = {}, const 
     return b;
 }
 
-// The garment cooked as weft-bake cooks it (cook_garment: the cheapest of the run shapes it tries).
+// The garment cooked as weft-bake cooks it (cook_packings: the cheapest of the packings and run shapes it tries).
 struct RunFigures {
     double contiguous_fraction = 0.0;  // constraints on SIMD runs / all constraints (the runtime's measure)
     double padding_ratio = 0.0;        // lane_padding
 };
 RunFigures run_figures(const MeshedGarment& g) {
     CookedCloth cooked;
-    const Result r = cook_garment(cloth_mesh_desc(g), CookOptions{}, true, &cooked);
+    size_t winner = 0;
+    const Result r = cook_packings(cloth_mesh_desc(g), g, CookOptions{}, true, &cooked, nullptr, &winner);
     REQUIRE_MESSAGE(r.ok(), r.message);
     return {double(cooked.asset().constraints_on_runs) / double(cooked.asset().total_constraints()),
             lane_padding(cooked.asset()).ratio()};
@@ -144,18 +145,19 @@ void report(const std::string& name, const Meshed& b, double reference_cm2 = 0.0
 }
 
 // The acceptance at the default resolution: contiguous_fraction >= 0.90 (met by every
-// sample and GarmentCode pattern: 0.917-0.999, docs/pattern-format.md) and padding waste under 10%
-// (met by one-panel cloths, 0.015-0.035; not by garments, 0.17-0.31: every panel boundary and row
-// end inside a run costs padding lanes), so for garments the padding bound warns and guards
-// against regressions only.
-void check_contiguous(const std::string& name, const MeshedGarment& g) {
+// sample and GarmentCode pattern: 0.91-0.999, docs/pattern-format.md) and padding waste under 10%,
+// met by the samples (sheet, flag, skirt 0.051, tee 0.094; tests/test_pipeline.cpp checks what
+// weft-bake writes); the GarmentCode garments stay at 0.07-0.18
+// (more panels, each boundary costs padding lanes), so for them the bound warns and guards against
+// regressions only.
+void check_contiguous(const std::string& name, const MeshedGarment& g, bool sample) {
     const RunFigures runs = run_figures(g);
     CHECK_MESSAGE(runs.contiguous_fraction >= 0.90, name);
-    if (g.panel_names.size() == 1) {
+    if (sample) {
         CHECK_MESSAGE(runs.padding_ratio < 0.10, name);
     } else {
         WARN_MESSAGE(runs.padding_ratio < 0.10, name << ": padding_ratio " << runs.padding_ratio << " above the 0.10 target");
-        CHECK_MESSAGE(runs.padding_ratio < 0.33, name);
+        CHECK_MESSAGE(runs.padding_ratio < 0.25, name);
     }
 }
 
@@ -170,7 +172,7 @@ TEST_CASE("bake: the sample patterns mesh, sew and cook") {
         const Meshed b = bake_text(read_text(kSamples / (std::string(name) + ".json")));
         check_garment(b);
         report(name, b);
-        check_contiguous(name, b.garment);
+        check_contiguous(name, b.garment, true);
     }
 }
 
@@ -197,6 +199,6 @@ TEST_CASE("bake: the GarmentCode patterns match the reference areas") {
         report(c.file, b, c.area_cm2);
         CHECK(std::fabs(b.garment.quality.overall.outline_area_m2 * 1e4 - c.area_cm2) <= 0.005 * c.area_cm2);
         CHECK(std::fabs(b.garment.area_m2 * 1e4 - c.area_cm2) <= 0.005 * c.area_cm2);
-        check_contiguous(c.file, b.garment);
+        check_contiguous(c.file, b.garment, false);
     }
 }

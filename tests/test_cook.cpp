@@ -206,3 +206,28 @@ TEST_CASE("slot permutation maps both ways and padding slots are pinned") {
         CHECK(tethered[s] == (a.inverse_mass[s] > 0.0f ? 1 : 0));
     }
 }
+
+// ClothMeshDesc::lattice_plane_stride: plane rows at a stride other than the lattice's width
+// (weft-bake's helix). The plane width itself is the default layout; a wider stride leaves holes
+// that runs bridge; a narrower one makes nodes meet at one slot, and those go after the planes:
+// every stride gives a valid asset with every spring, each particle in its own slot.
+TEST_CASE("cook: lattice_plane_stride lays the parity planes' rows at any stride") {
+    const uint32_t n = 20;  // plane rows of 10 columns
+    const scenes::GridMesh grid = scenes::make_grid(n, 2.0f, 2.0f, false, 2.0f);
+    ClothMeshDesc desc = grid.desc();
+    REQUIRE(desc.lattice != nullptr);
+    const CookedCloth box = cook(desc);
+    for (const uint32_t stride : {10u, 13u, 7u, 1u}) {
+        CAPTURE(stride);
+        desc.lattice_plane_stride = stride;
+        const CookedCloth cooked = cook(desc);  // validated inside cook_cloth
+        const ClothAsset& a = cooked.asset();
+        CHECK(a.total_constraints() == box.asset().total_constraints());
+        std::set<uint32_t> slots(cooked.slot_of_particle.begin(), cooked.slot_of_particle.end());
+        CHECK(slots.size() == n * n);
+        const double contiguous = double(a.constraints_on_runs) / double(a.total_constraints());
+        if (stride == 10) CHECK(cooked.slot_of_particle == box.slot_of_particle);
+        if (stride == 13) CHECK(contiguous > 0.95);  // holes of 3 slots between rows, mostly bridged
+        if (stride == 13) CHECK(lane_padding(a).constraints.ratio() > lane_padding(box.asset()).constraints.ratio());
+    }
+}

@@ -170,7 +170,7 @@ TEST_CASE("simd_width other than 8 or 16 is refused") {
     CHECK(validate_asset(cooked.asset()).code == ErrorCode::corrupt_asset);
 }
 
-TEST_CASE("lane_padding counts the weight-0 constraint lanes, +inf tether lanes and weight-0 wind lanes") {
+TEST_CASE("lane_padding counts every batched pass: constraints, coarse level, tethers and wind") {
     scenes::GridMesh grid = scenes::make_grid(20, 2.0f, 2.0f, false, 2.0f);
     grid.masses[grid.index(0, 0)] = 0.0f;
     grid.masses[grid.index(0, 19)] = 0.0f;
@@ -181,10 +181,21 @@ TEST_CASE("lane_padding counts the weight-0 constraint lanes, +inf tether lanes 
         const ClothAsset& a = cooked.asset();
         const LanePadding p = lane_padding(a);
         CAPTURE(width);
-        CHECK(p.all_lanes == uint64_t(a.lane_count) + a.tether_lane_count + a.wind_lane_count);
-        // Every lane is real or padding: the real ones are the constraints, tethers and run triangles.
-        CHECK(p.all_lanes - p.padding_lanes == uint64_t(a.total_constraints()) + a.tethered_particles +
-                                                    a.wind_run_triangles);
+        REQUIRE(a.coarse_lane_count > 0);
+        CHECK(p.constraints.all_lanes == a.lane_count);
+        CHECK(p.coarse.all_lanes == a.coarse_lane_count);
+        CHECK(p.tethers.all_lanes == a.tether_lane_count);
+        // The wind's lanes: its runs' lanes and the triangles it gathers or takes one at a time.
+        CHECK(p.wind.all_lanes == uint64_t(a.wind_lane_count) + (a.triangle_count - a.wind_run_triangles));
+        CHECK(p.all_lanes == p.constraints.all_lanes + p.coarse.all_lanes + p.tethers.all_lanes + p.wind.all_lanes);
+        CHECK(p.padding_lanes ==
+              p.constraints.padding_lanes + p.coarse.padding_lanes + p.tethers.padding_lanes + p.wind.padding_lanes);
+        // Every lane is real or padding: the real ones are the constraints, coarse constraints,
+        // tethers and triangles.
+        CHECK(p.all_lanes - p.padding_lanes == uint64_t(a.total_constraints()) + a.coarse_constraint_count +
+                                                    a.tethered_particles + a.triangle_count);
+        // Wind runs are whole SIMD groups of real triangles.
+        CHECK(p.wind.padding_lanes == 0);
         CHECK(p.ratio() >= 0.0);
         CHECK(p.ratio() < 0.5);
     }

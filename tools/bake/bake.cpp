@@ -1,5 +1,7 @@
 #include "bake.h"
 
+#include <cmath>
+
 #include "asset_writer.h"
 
 namespace weft::bake {
@@ -68,6 +70,34 @@ Result cook_garment(const ClothMeshDesc& mesh, const CookOptions& options, bool 
     return {};
 }
 
+Result cook_packings(const ClothMeshDesc& mesh, const MeshedGarment& g, const CookOptions& options, bool choose_runs,
+                     CookedCloth* out, CookOptions* chosen, size_t* winner) {
+    // Packings and run shapes are scored without the coarse level and tethers, which run_cost_ns
+    // does not count (the coarse level's setup was most of the bake time at 48 000 particles);
+    // the winner is then cooked once with everything.
+    CookOptions scoring = options;
+    scoring.coarse_spacing_m = 0.0f;
+    scoring.tethers_per_particle = 0;
+    CookOptions best_options = options;
+    double best = HUGE_VAL;
+    *winner = 0;
+    ClothMeshDesc desc = mesh;
+    for (size_t k = 0; k <= g.lattice_alternatives.size(); ++k) {
+        desc.lattice = k == 0 ? g.lattice.data() : g.lattice_alternatives[k - 1].lattice.data();
+        desc.lattice_plane_stride = k == 0 ? g.lattice_plane_stride : g.lattice_alternatives[k - 1].plane_stride;
+        CookedCloth trial;
+        CookOptions trial_options;
+        if (Result r = cook_garment(desc, scoring, choose_runs, &trial, &trial_options); !r.ok()) return r;
+        if (const double cost = run_cost_ns(trial.asset()); cost < best) best = cost, *winner = k, best_options = trial_options;
+    }
+    best_options.coarse_spacing_m = options.coarse_spacing_m;
+    best_options.tethers_per_particle = options.tethers_per_particle;
+    desc.lattice = *winner == 0 ? g.lattice.data() : g.lattice_alternatives[*winner - 1].lattice.data();
+    desc.lattice_plane_stride = *winner == 0 ? g.lattice_plane_stride : g.lattice_alternatives[*winner - 1].plane_stride;
+    if (chosen != nullptr) *chosen = best_options;
+    return cook_cloth(desc, best_options, out);
+}
+
 Status bake_pattern(std::string_view text, const BakeOptions& options, Baked* out) {
     const auto stage = [&](const char* name, uint32_t index) {
         if (options.on_stage) options.on_stage(name, index, 4);
@@ -78,7 +108,15 @@ Status bake_pattern(std::string_view text, const BakeOptions& options, Baked* ou
     if (Status s = mesh_garment(out->pattern, options.mesh, &out->garment); !s.ok()) return s;
     const GarmentInput input = garment_input(out->garment, out->pattern.fabric);
     stage("cooking", 2);
-    if (Result r = cook_garment(input.desc, options.cook, options.choose_runs, &out->cooked, &out->cook_options); !r.ok()) return {r.message};
+    MeshedGarment& g = out->garment;
+    size_t winner = 0;
+    if (Result r = cook_packings(input.desc, g, options.cook, options.choose_runs, &out->cooked, &out->cook_options, &winner);
+        !r.ok())
+        return {r.message};
+    if (winner > 0) {  // the winner becomes the garment's lattice
+        std::swap(g.lattice, g.lattice_alternatives[winner - 1].lattice);
+        std::swap(g.lattice_plane_stride, g.lattice_alternatives[winner - 1].plane_stride);
+    }
     stage("writing", 3);
     if (Result r = assets::write_asset(out->cooked.asset(), &out->bytes); !r.ok()) return {r.message};
     assets::LoadedAsset check;
@@ -88,3 +126,4 @@ Status bake_pattern(std::string_view text, const BakeOptions& options, Baked* ou
 }
 
 }  // namespace weft::bake
+

@@ -38,9 +38,15 @@ inline constexpr double kRunLaneNs = 0.71, kIndexedLaneNs = 5.4;
 double run_cost_ns(const ClothAsset& asset);
 
 // cook_cloth(mesh, cook), and with `choose_runs` also each of kRunChoices' run shapes: the cheapest
-// by run_cost_ns is kept (the first on ties), its options in *chosen (optional). bake_pattern's cook step.
+// by run_cost_ns is kept (the first on ties), its options in *chosen (optional).
 Result cook_garment(const ClothMeshDesc& mesh, const CookOptions& cook, bool choose_runs, CookedCloth* out,
                     CookOptions* chosen = nullptr);
+
+// cook_garment over each lattice packing of `g` (MeshedGarment::lattice, then lattice_alternatives,
+// each with its plane stride) in `mesh`: the cheapest by run_cost_ns is kept (the first on ties);
+// *winner is 0 for g.lattice, k + 1 for alternative k. bake_pattern's cook step.
+Result cook_packings(const ClothMeshDesc& mesh, const MeshedGarment& g, const CookOptions& cook, bool choose_runs,
+                     CookedCloth* out, CookOptions* chosen, size_t* winner);
 
 struct Baked {
     Pattern pattern;

@@ -282,12 +282,17 @@ std::vector<uint8_t> near_pins(const Pattern& pattern, size_t p, const PanelWork
     return near;
 }
 
-// A panel's lattice nodes, normalised to >= 0, upright or turned by 180 degrees, with the rows
-// and columns each occupies.
+// A panel's lattice nodes, normalised to >= 0 (even shifts keep every node in its parity plane),
+// upright or turned by 180 degrees (which keeps the grid's diagonal family), and per parity plane
+// the intervals of plane columns each of its plane rows holds.
 struct Footprint {
-    int32_t rows = 0, cols = 0;
-    std::vector<std::pair<int32_t, int32_t>> cells;  // normalised to >= 0
-    std::vector<int32_t> lo, hi;                     // per row: first and last column, lo > hi when empty
+    std::vector<std::pair<int32_t, int32_t>> cells;  // lattice (i, j), in the order given
+    struct Span {
+        int32_t row, lo, hi;  // plane row, first and last plane column
+    };
+    std::vector<Span> spans[4];  // per parity plane (i & 1) * 2 + (j & 1)
+    int32_t cols = 0;            // plane columns spanned
+    size_t nodes() const { return cells.size(); }
 };
 Footprint footprint(const std::vector<std::pair<int32_t, int32_t>>& in, bool turned) {
     auto even_up = [](int32_t v) { return (v + 1) & ~1; };
@@ -298,125 +303,198 @@ Footprint footprint(const std::vector<std::pair<int32_t, int32_t>>& in, bool tur
     const int32_t R = even_up(r1 - r0), C = even_up(c1 - c0);
     for (const auto& [r, c] : in)
         f.cells.push_back(turned ? std::pair{R - (r - r0), C - (c - c0)} : std::pair{r - r0, c - c0});
-    for (const auto& [r, c] : f.cells) f.rows = std::max(f.rows, r + 1), f.cols = std::max(f.cols, c + 1);
-    f.lo.assign(f.rows, INT32_MAX);
-    f.hi.assign(f.rows, INT32_MIN);
-    for (const auto& [r, c] : f.cells) f.lo[r] = std::min(f.lo[r], c), f.hi[r] = std::max(f.hi[r], c);
+    std::vector<std::pair<int32_t, int32_t>> plane[4];
+    for (const auto& [i, j] : f.cells) plane[(i & 1) * 2 + (j & 1)].push_back({i >> 1, j >> 1});
+    for (int q = 0; q < 4; ++q) {
+        std::sort(plane[q].begin(), plane[q].end());
+        for (size_t k = 0; k < plane[q].size(); ++k) {
+            const auto [r, c] = plane[q][k];
+            f.cols = std::max(f.cols, c + 1);
+            if (k > 0 && plane[q][k - 1].first == r && plane[q][k - 1].second + 1 >= c) f.spans[q].back().hi = c;
+            else f.spans[q].push_back({r, c, c});
+        }
+    }
     return f;
 }
 
-// Packs the panels' lattice nodes into one coordinate space (i: rows, j: columns), largest panel
-// first, each upright or turned by 180 degrees, at the lowest then leftmost free place with `gap`
-// empty rows and columns to every placed panel, row by row (so slanted sides nest: a trapezoid
-// beside its upside-down twin). The runtime's runs follow j along each parity plane's rows, so
-// panels that share rows closely continue each other's runs; several lattice widths are tried and
-// the one that puts the most nodes on long runs wins, within the runtime's density limit.
-// Offsets are even, so parity planes stay as they were. Returns per panel the placed (i, j) of
-// each of its lattice nodes (in the order given).
-std::vector<std::vector<std::pair<int32_t, int32_t>>> pack_lattice(
-    const std::vector<std::vector<std::pair<int32_t, int32_t>>>& nodes, int32_t gap) {
-    auto even_up = [](int32_t v) { return (v + 1) & ~1; };
+// Parity planes laid out as a helix (ClothMeshDesc::lattice_plane_stride): plane node (r, c) at
+// position r * stride + c. A panel placed at offset o (o = R * stride + C: the panel moved by
+// (2R, 2C) lattice nodes) covers o + r * stride + [lo, hi] for each of its spans, in all four
+// planes alike.
+class Helix {
+public:
+    explicit Helix(int32_t stride) : stride_(stride) {}
+
+    // Whether the footprint alone maps its nodes to distinct positions.
+    bool holds(const Footprint& f) const {
+        for (int q = 0; q < 4; ++q) {
+            std::vector<std::pair<int64_t, int64_t>> at;
+            for (const Footprint::Span& s : f.spans[q]) at.push_back({int64_t(s.row) * stride_ + s.lo, int64_t(s.row) * stride_ + s.hi});
+            std::sort(at.begin(), at.end());
+            for (size_t k = 1; k < at.size(); ++k)
+                if (at[k].first <= at[k - 1].second) return false;
+        }
+        return true;
+    }
+    // How many nodes of f at offset o meet placed nodes (stops counting past `limit`).
+    uint32_t collisions(const Footprint& f, int64_t o, uint32_t limit) const {
+        uint32_t met = 0;
+        for (int q = 0; q < 4; ++q)
+            for (const Footprint::Span& s : f.spans[q]) {
+                const int64_t a = o + int64_t(s.row) * stride_ + s.lo, b = std::min(o + int64_t(s.row) * stride_ + s.hi, end_ - 1);
+                if (a <= b && (met += filled_[q][size_t(b + 1)] - filled_[q][size_t(a)]) > limit) return met;
+            }
+        return met;
+    }
+    // The lowest offset >= 0 where f meets at most `limit` placed nodes (there is always one: past
+    // the last placed node).
+    int64_t first_fit(const Footprint& f, uint32_t limit) const {
+        int64_t o = 0;
+        while (collisions(f, o, limit) > limit) ++o;
+        return o;
+    }
+    // Places f at o; its nodes that meet placed ones stay off the lattice: *dropped[k] = 1 for cell k.
+    void place(const Footprint& f, int64_t o, uint32_t panel, std::vector<uint8_t>* dropped) {
+        int64_t end = end_;
+        for (int q = 0; q < 4; ++q)
+            for (const Footprint::Span& s : f.spans[q]) end = std::max(end, o + int64_t(s.row) * stride_ + s.hi + 1);
+        for (int q = 0; q < 4; ++q) owner_[q].resize(size_t(end), 0);
+        dropped->assign(f.cells.size(), 0);
+        for (size_t k = 0; k < f.cells.size(); ++k) {
+            const auto [i, j] = f.cells[k];
+            uint32_t& owner = owner_[(i & 1) * 2 + (j & 1)][size_t(o + int64_t(i >> 1) * stride_ + (j >> 1))];
+            if (owner != 0) (*dropped)[k] = 1, ++dropped_;
+            else owner = panel + 1;
+        }
+        for (int q = 0; q < 4; ++q) {
+            filled_[q].assign(size_t(end) + 1, 0);
+            for (size_t k = 0; k < size_t(end); ++k) filled_[q][k + 1] = filled_[q][k] + (owner_[q][k] != 0);
+        }
+        end_ = end;
+    }
+    // The padding lanes this layout costs the runtime's runs, estimated from the nodes alone
+    // (measured with weft-bake --runs on the sample tee): along each plane, a hole of up to
+    // kBridged slots between two nodes is bridged by a padding lane in every family that passes
+    // over it (about 12 lanes per hole slot); a longer one ends those runs (about 12 tails of half a
+    // SIMD width); two neighbours from different panels miss the springs between them (about 1
+    // lane). A node left off the lattice sends its springs (about 6) to the indexed path, 7.6 run
+    // lanes each: about 46 lanes' worth of time.
+    double waste() const {
+        constexpr int64_t kBridged = 4;
+        constexpr double kHoleSlot = 12.0, kRunEnd = 42.0, kPanelBoundary = 1.0, kDroppedNode = 46.0;
+        double waste = kDroppedNode * double(dropped_);
+        for (int q = 0; q < 4; ++q) {
+            int64_t last = -1;
+            for (int64_t k = 0; k < end_; ++k) {
+                if (owner_[q][size_t(k)] == 0) continue;
+                if (last >= 0) {
+                    const int64_t hole = k - last - 1;
+                    waste += hole > kBridged ? kRunEnd : kHoleSlot * double(hole);
+                    if (hole <= kBridged && owner_[q][size_t(k)] != owner_[q][size_t(last)]) waste += kPanelBoundary;
+                }
+                last = k;
+            }
+        }
+        return waste;
+    }
+    int64_t end() const { return end_; }
+    int32_t stride() const { return stride_; }
+
+private:
+    int32_t stride_;
+    int64_t end_ = 0;
+    uint32_t dropped_ = 0;  // nodes left off the lattice where panels met
+    std::vector<uint32_t> owner_[4];  // panel + 1 per position, 0 where free
+    std::vector<uint32_t> filled_[4];  // prefix sums of occupied positions
+};
+
+struct PackedLattice {
+    std::vector<std::vector<std::pair<int32_t, int32_t>>> nodes;  // per panel: placed (i, j) of each node
+    uint32_t plane_stride = 0;                                    // ClothMeshDesc::lattice_plane_stride
+};
+
+// Packs the panels' lattice nodes into one coordinate space for the runtime's parity planes laid out
+// as a helix: a plane row runs on into the next, so two slanted panels side by side (a skirt's
+// front beside its back turned by 180 degrees: a parallelogram) fill their rows end to end with
+// no holes at the row ends, where a box of the widest row would leave a triangle of holes on each
+// side. Largest panel first, upright or turned, at the lowest free offset (panels touch: no spring
+// joins two panels, so runs go on from one into the next); every stride from the narrowest a panel
+// allows to all panels side by side is tried and the least estimated waste (Helix::waste) wins.
+std::vector<PackedLattice> pack_lattice(const std::vector<std::vector<std::pair<int32_t, int32_t>>>& nodes, size_t keep) {
     std::vector<size_t> order;
-    int32_t widest = 0, total_cols = 0;
     std::vector<Footprint> upright(nodes.size()), turned(nodes.size());
+    int32_t total_cols = 1;
     for (size_t p = 0; p < nodes.size(); ++p) {
         if (nodes[p].empty()) continue;
         order.push_back(p);
         upright[p] = footprint(nodes[p], false);
         turned[p] = footprint(nodes[p], true);
-        widest = std::max(widest, upright[p].cols);
-        total_cols += upright[p].cols + gap;
+        total_cols += upright[p].cols + 1;
     }
     std::stable_sort(order.begin(), order.end(), [&](size_t a, size_t b) { return nodes[a].size() > nodes[b].size(); });
-
-    struct Placement {
+    struct Choice {
         bool turned = false;
-        int32_t i = 0, j = 0;
+        int64_t offset = 0;
+        std::vector<uint8_t> dropped;  // per cell: left off the lattice
     };
-    auto pack = [&](int32_t width, std::vector<Placement>& placed) -> void {
-        std::vector<std::vector<std::pair<int32_t, int32_t>>> taken;  // per lattice row: occupied column intervals
-        int32_t height = 0;
-        placed.assign(nodes.size(), {});
+    struct Packing {
+        double waste;
+        int64_t end;
+        int32_t stride;
+        std::vector<Choice> choices;
+    };
+    std::vector<Packing> packings;
+    std::vector<Choice> trial(nodes.size());
+    for (int32_t stride = 1; stride <= total_cols; ++stride) {
+        Helix helix(stride);
+        bool ok = true;
         for (size_t p : order) {
-            int32_t best_top = INT32_MAX, best_j = INT32_MAX;
+            const bool up = helix.holds(upright[p]), down = helix.holds(turned[p]);
+            if (!up && !down) {
+                ok = false;
+                break;
+            }
+            // Each orientation at its lowest offset meeting at most `limit` placed nodes (a node
+            // sticking out of an outline would otherwise keep a whole column of holes between two
+            // panels); the one that leaves the least waste.
+            double pick_waste = HUGE_VAL;
+            Helix picked(stride);
             for (const bool turn : {false, true}) {
+                if (!(turn ? down : up)) continue;
                 const Footprint& f = turn ? turned[p] : upright[p];
-                if (f.cols > width) continue;
-                for (int32_t i = 0; i <= height + gap + 2; i += 2) {  // above `height` + gap all is free
-                    if (i + f.rows > best_top) break;
-                    // Columns j where row r of the panel would come within `gap` of a placed panel.
-                    std::vector<std::pair<int32_t, int32_t>> forbidden;
-                    for (int32_t r = 0; r < f.rows; ++r) {
-                        if (f.lo[r] > f.hi[r]) continue;
-                        for (int32_t q = std::max(0, i + r - gap); q <= i + r + gap && q < int32_t(taken.size()); ++q)
-                            for (const auto& [a, b] : taken[q]) forbidden.push_back({a - gap - f.hi[r], b + gap - f.lo[r]});
-                    }
-                    std::sort(forbidden.begin(), forbidden.end());
-                    int32_t j = 0;
-                    for (const auto& [a, b] : forbidden)
-                        if (a <= j && j <= b) j = even_up(b + 1);
-                    if (j + f.cols > width) continue;
-                    const int32_t top = i + f.rows;
-                    if (top < best_top || (top == best_top && j < best_j)) best_top = top, best_j = j, placed[p] = {turn, i, j};
-                    break;  // the lowest free place for this orientation
+                for (const uint32_t limit : {0u, 2u, 4u, 8u, 16u}) {
+                    Helix with = helix;
+                    Choice c{turn, with.first_fit(f, limit), {}};
+                    with.place(f, c.offset, uint32_t(p), &c.dropped);
+                    if (const double w = with.waste(); w < pick_waste)
+                        pick_waste = w, trial[p] = std::move(c), picked = std::move(with);
                 }
             }
-            const Footprint& f = placed[p].turned ? turned[p] : upright[p];
-            if (int32_t(taken.size()) < placed[p].i + f.rows) taken.resize(size_t(placed[p].i + f.rows));
-            for (int32_t r = 0; r < f.rows; ++r)
-                if (f.lo[r] <= f.hi[r]) taken[size_t(placed[p].i + r)].push_back({placed[p].j + f.lo[r], placed[p].j + f.hi[r]});
-            height = std::max(height, placed[p].i + f.rows);
+            helix = std::move(picked);
         }
-    };
-    // How many nodes a packing puts on long runs: the runtime orders each parity plane row-major
-    // and cuts runs where consecutive occupied slots are more than 5 apart; runs shorter than
-    // 16 lanes go to the one-at-a-time path (CookOptions' defaults).
-    auto nodes_on_runs = [&](const std::vector<Placement>& placed, int32_t width) {
-        int32_t rows = 0;
-        for (size_t p : order) rows = std::max(rows, placed[p].i + (placed[p].turned ? turned[p] : upright[p]).rows);
-        std::vector<uint8_t> occupied(size_t(rows) * width, 0);
-        for (size_t p : order)
-            for (const auto& [r, c] : (placed[p].turned ? turned[p] : upright[p]).cells)
-                occupied[size_t(placed[p].i + r) * width + size_t(placed[p].j + c)] = 1;
-        size_t on_runs = 0;
-        for (int32_t pi = 0; pi < 2; ++pi)
-            for (int32_t pj = 0; pj < 2; ++pj) {
-                int64_t last = INT64_MIN / 2, slot = 0;
-                size_t piece = 0;
-                for (int32_t r = pi; r < rows; r += 2)
-                    for (int32_t c = pj; c < width; c += 2, ++slot) {
-                        if (!occupied[size_t(r) * width + size_t(c)]) continue;
-                        if (slot - last > 5) {
-                            if (piece >= 16) on_runs += piece;
-                            piece = 0;
-                        }
-                        ++piece;
-                        last = slot;
-                    }
-                if (piece >= 16) on_runs += piece;
-            }
-        return std::pair{on_runs, double(rows) * width};
-    };
-    size_t node_count = 0;
-    for (size_t p : order) node_count += nodes[p].size();
-    std::vector<Placement> best, trial;
-    size_t best_on_runs = 0;
-    double best_area = HUGE_VAL;
-    for (int k = 0; k <= 16; ++k) {  // widths from the widest panel to all panels in one row
-        const int32_t width = even_up(widest + (total_cols - widest) * k / 16);
-        pack(width, trial);
-        const auto [on_runs, area] = nodes_on_runs(trial, width);
-        // The runtime refuses boxes past 2 nodes per particle: stay clear of it (1.8 per node).
-        const bool fits = area <= 1.8 * double(node_count) + 64.0;
-        const bool best_fits = best_area <= 1.8 * double(node_count) + 64.0;
-        if (best.empty() || (fits && !best_fits) ||
-            (fits == best_fits && (on_runs > best_on_runs || (on_runs == best_on_runs && area < best_area))))
-            best = trial, best_on_runs = on_runs, best_area = area;
+        if (!ok) continue;
+        const double waste = helix.waste();
+        packings.push_back({waste, helix.end(), stride, trial});
     }
-    std::vector<std::vector<std::pair<int32_t, int32_t>>> result(nodes.size());
-    for (size_t p : order) {
-        const Footprint& f = best[p].turned ? turned[p] : upright[p];
-        for (const auto& [r, c] : f.cells) result[p].push_back({best[p].i + r, best[p].j + c});
+    std::stable_sort(packings.begin(), packings.end(), [](const Packing& a, const Packing& b) {
+        return a.waste != b.waste ? a.waste < b.waste : a.end < b.end;
+    });
+    packings.resize(std::min(packings.size(), std::max<size_t>(keep, 1)));
+    std::vector<PackedLattice> result;
+    for (const Packing& best : packings) {
+        PackedLattice packed;
+        packed.nodes.resize(nodes.size());
+        packed.plane_stride = uint32_t(best.stride);
+        for (size_t p : order) {
+            const Choice& c = best.choices[p];
+            const Footprint& f = c.turned ? turned[p] : upright[p];
+            const int64_t rows = c.offset / best.stride, cols = c.offset % best.stride;
+            for (size_t k = 0; k < f.cells.size(); ++k)
+                packed.nodes[p].push_back(c.dropped[k] ? std::pair{-1, -1}
+                                                       : std::pair{f.cells[k].first + int32_t(2 * rows),
+                                                                   f.cells[k].second + int32_t(2 * cols)});
+        }
+        result.push_back(std::move(packed));
     }
     return result;
 }
@@ -447,7 +525,8 @@ MeshedGarment assemble(const Pattern& pattern, const MeshOptions& options, doubl
         for (size_t k = 0; k < l.size(); k += 2)
             if (l[k] != -1 || l[k + 1] != -1) nodes[p].push_back({l[k], l[k + 1]});
     }
-    const auto packed = pack_lattice(nodes, int32_t(options.lattice_gap));
+    const std::vector<PackedLattice> packed = pack_lattice(nodes, options.lattice_candidates);
+    std::vector<std::pair<uint32_t, int64_t>> node_of;  // per particle: (panel, its lattice node) or (panel, -1)
 
     double table_x = 0.0;  // the cutting table: panels side by side along x, 5 cm apart
     std::vector<uint32_t> base(panels + 1, 0);
@@ -479,12 +558,8 @@ MeshedGarment assemble(const Pattern& pattern, const MeshOptions& options, doubl
             g.masses.push_back(float(mass[k]));
             g.uv.insert(g.uv.end(), {float(q.x), float(q.y)});
             g.panel.push_back(uint32_t(p));
-            if (mesh.lattice[2 * k] == -1 && mesh.lattice[2 * k + 1] == -1) {
-                g.lattice.insert(g.lattice.end(), {-1, -1});
-            } else {
-                const auto [i, j] = packed[p][next_node++];
-                g.lattice.insert(g.lattice.end(), {i, j});
-            }
+            const bool on_lattice = mesh.lattice[2 * k] != -1 || mesh.lattice[2 * k + 1] != -1;
+            node_of.push_back({uint32_t(p), on_lattice ? int64_t(next_node++) : -1});
         }
         table_x += (max_x - min_x) + 0.05;
         g.edge_particles.emplace_back();
@@ -497,6 +572,15 @@ MeshedGarment assemble(const Pattern& pattern, const MeshOptions& options, doubl
         g.quality.panels.push_back(panel_quality(panel.name, mesh, work[p].outline, h, work[p].area_m2 > 0.0, work[p].area_m2));
     }
     base[panels] = uint32_t(g.positions.size());
+    for (size_t c = 0; c < packed.size(); ++c) {
+        std::vector<int32_t> lattice;
+        for (const auto& [p, node] : node_of) {
+            const auto [i, j] = node < 0 ? std::pair{-1, -1} : packed[c].nodes[p][size_t(node)];
+            lattice.insert(lattice.end(), {i, j});
+        }
+        if (c == 0) g.lattice = std::move(lattice), g.lattice_plane_stride = packed[c].plane_stride;
+        else g.lattice_alternatives.push_back({std::move(lattice), packed[c].plane_stride});
+    }
 
     // Seams: the k-th points of a seam's sides are one seam point; chains through corners merge.
     UnionFind sets(g.positions.size());
@@ -574,6 +658,7 @@ ClothMeshDesc cloth_mesh_desc(const MeshedGarment& garment) {
     desc.triangles = garment.triangles.data();
     desc.masses = garment.masses.data();
     desc.lattice = garment.lattice.data();
+    desc.lattice_plane_stride = garment.lattice_plane_stride;
     return desc;
 }
 

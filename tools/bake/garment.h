@@ -31,10 +31,9 @@ struct MeshOptions {
     double min_angle_deg = 20.0;  // the strip mesher's bound (Delaunay refinement terminates up to 20.7)
     uint32_t max_particles = 2'000'000;  // refuse patterns that would mesh into more
     uint32_t max_rounds = 16;            // remeshing rounds after the mesher split a constraint
-    // Empty lattice rows/columns between two panels' nodes. No spring joins two panels, so panels
-    // may touch: 0 lets the runtime's runs continue from one panel into the next with the fewest
-    // padding lanes (measured with weft-bake --runs: the sample tee 0.77 -> 0.89 on runs from 4 to 0).
-    uint32_t lattice_gap = 0;
+    // Lattice packings kept (the best by the packer's estimate first): bake_pattern cooks each and
+    // keeps the fastest by run_cost_ns, since the estimate misjudges some garments.
+    uint32_t lattice_candidates = 4;
 };
 
 struct PanelQuality {
@@ -68,6 +67,12 @@ struct MeshedGarment {
     std::vector<Vec3> rest_positions;  // flat: each panel's 2-D frame side by side along x, z = 0
     std::vector<float> masses;         // kg, seed eq. (9): rho * sum of adjacent triangle areas / 3
     std::vector<int32_t> lattice;      // 2 per particle: (i, j) for grid particles, (-1, -1) otherwise
+    uint32_t lattice_plane_stride = 0; // ClothMeshDesc::lattice_plane_stride the panels were packed for
+    struct Lattice {
+        std::vector<int32_t> lattice;
+        uint32_t plane_stride = 0;
+    };
+    std::vector<Lattice> lattice_alternatives;  // other packings (MeshOptions::lattice_candidates)
     std::vector<float> uv;             // 2 per particle: the panel's own 2-D coordinates, metres
     std::vector<uint32_t> panel;       // panel index per particle
     std::vector<uint32_t> triangles;   // 3 per triangle, wound like the panel outline (front side)

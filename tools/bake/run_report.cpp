@@ -37,7 +37,16 @@ RunReport run_report(const MeshedGarment& g, const ClothAsset& a, const CookOpti
             i0 = std::min(i0, g.lattice[k]), i1 = std::max(i1, g.lattice[k]), j0 = std::min(j0, g.lattice[k + 1]),
             j1 = std::max(j1, g.lattice[k + 1]);
     i0 &= ~1, j0 &= ~1;
-    const uint64_t box = i1 < 0 ? 0 : uint64_t((i1 - i0) / 2 + 1) * uint64_t((j1 - j0) / 2 + 1) * 4;
+    uint64_t box = i1 < 0 ? 0 : uint64_t((i1 - i0) / 2 + 1) * uint64_t((j1 - j0) / 2 + 1) * 4;
+    if (const uint64_t stride = g.lattice_plane_stride; i1 >= 0 && stride != 0 && stride != uint64_t((j1 - j0) / 2 + 1)) {
+        uint64_t first = ~uint64_t(0), last = 0;  // the helix, as assign_slots lays it out
+        for (size_t k = 0; k < g.lattice.size(); k += 2)
+            if (g.lattice[k] >= 0 && g.lattice[k + 1] >= 0) {
+                const uint64_t at = uint64_t(g.lattice[k] - i0) / 2 * stride + uint64_t(g.lattice[k + 1] - j0) / 2;
+                first = std::min(first, at), last = std::max(last, at);
+            }
+        box = (last - first + 1) * 4;
+    }
     const bool lattice_used = box > 0 && box <= uint64_t(a.particle_count) * 8 + 64;  // assign_slots' density check
     r.lattice_box = box;
     r.lattice_used = lattice_used;
@@ -104,6 +113,8 @@ RunReport run_report(const MeshedGarment& g, const ClothAsset& a, const CookOpti
     r.wind_single_triangles = a.triangle_count - a.wind_run_triangles;
     r.wind_lanes = a.wind_lane_count;
     for (uint32_t l = 0; l < a.wind_lane_count; ++l) r.wind_padding_lanes += a.wind_lane_weight[l] == 0.0f;
+    r.coarse_lanes = a.coarse_lane_count;
+    for (uint32_t l = 0; l < a.coarse_lane_count; ++l) r.coarse_padding_lanes += a.coarse_lane_weight[l] == 0.0f;
     r.tether_lanes = a.tether_lane_count;
     for (uint32_t l = 0; l < a.tether_lane_count; ++l)
         r.tether_padding_lanes += std::isinf(a.tether_rest[0][l]) && std::isinf(a.tether_rest[1][l]);
@@ -150,18 +161,20 @@ std::string format_run_report(const RunReport& r) {
         s += line;
     }
     const uint64_t lanes = r.run_lanes + r.gap_lanes + r.tail_lanes + r.indexed_lanes;
-    const uint64_t all = lanes + r.wind_lanes + r.tether_lanes;
-    const uint64_t padding = r.gap_lanes + r.tail_lanes + r.wind_padding_lanes + r.tether_padding_lanes;
+    const uint64_t wind = r.wind_lanes + r.wind_single_triangles;
+    const uint64_t all = lanes + r.coarse_lanes + r.tether_lanes + wind;
+    const uint64_t padding = r.gap_lanes + r.tail_lanes + r.coarse_padding_lanes + r.tether_padding_lanes + r.wind_padding_lanes;
     std::snprintf(line, sizeof line,
-                  "\nlanes %llu (constraints %llu, wind %llu, tethers %llu), padding %llu (%.3f): run gaps %llu, run tails "
-                  "%llu, wind %llu, tethers %llu; %llu runs\n",
-                  (unsigned long long)all, (unsigned long long)lanes, (unsigned long long)r.wind_lanes,
-                  (unsigned long long)r.tether_lanes, (unsigned long long)padding, all ? double(padding) / double(all) : 0.0,
-                  (unsigned long long)r.gap_lanes, (unsigned long long)r.tail_lanes,
-                  (unsigned long long)r.wind_padding_lanes, (unsigned long long)r.tether_padding_lanes,
+                  "\nlanes %llu (constraints %llu, coarse %llu, tethers %llu, wind %llu), padding %llu (%.3f): run gaps %llu, "
+                  "run tails %llu, coarse %llu, tethers %llu, wind %llu; %llu runs\n",
+                  (unsigned long long)all, (unsigned long long)lanes, (unsigned long long)r.coarse_lanes,
+                  (unsigned long long)r.tether_lanes, (unsigned long long)wind, (unsigned long long)padding,
+                  all ? double(padding) / double(all) : 0.0, (unsigned long long)r.gap_lanes,
+                  (unsigned long long)r.tail_lanes, (unsigned long long)r.coarse_padding_lanes,
+                  (unsigned long long)r.tether_padding_lanes, (unsigned long long)r.wind_padding_lanes,
                   (unsigned long long)r.runs);
     s += line;
-    std::snprintf(line, sizeof line, "wind triangles on runs %llu, one at a time %llu\n",
+    std::snprintf(line, sizeof line, "wind triangles on runs %llu, gathered or one at a time %llu\n",
                   (unsigned long long)r.wind_run_triangles, (unsigned long long)r.wind_single_triangles);
     s += line;
     return s;

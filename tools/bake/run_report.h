@@ -30,7 +30,8 @@ struct RunReport {
     std::map<uint32_t, uint64_t> gaps_inside_panels, gaps_between_panels;
     std::map<std::string, uint64_t> odd_families;    // "kind(di,dj)" -> constraints
     std::map<uint32_t, uint64_t> short_run_lengths;  // length of the maximal sequence -> constraints
-    // Wind: triangles on runs / one at a time, and the runs' padding lanes.
+    uint64_t coarse_lanes = 0, coarse_padding_lanes = 0;
+    // Wind: triangles on runs / gathered or one at a time, and the runs' padding lanes.
     uint64_t wind_run_triangles = 0, wind_single_triangles = 0, wind_padding_lanes = 0, wind_lanes = 0;
     uint64_t tether_lanes = 0, tether_padding_lanes = 0;
     uint64_t lattice_box = 0;  // slots of the four parity planes

@@ -215,6 +215,12 @@ struct ClothMeshDesc {
     // Particles on a lattice are ordered in four parity planes so that every spring family of the
     // lattice becomes contiguous runs (docs/architecture.md). Without it the caller order is kept.
     const int32_t* lattice = nullptr;
+    // Optional slot stride of a parity plane's rows (lattice rows 2r and 2r + 1 share plane row r):
+    // plane node (r, c) goes to slot r * stride + c of its plane. 0: the lattice's own width in
+    // plane columns (a box). A narrower stride lets each plane row run on into the next (a helix):
+    // weft-bake packs garment panels for one so that slanted sides leave no holes at row ends
+    // (docs/pattern-format.md). Coordinates that meet at one slot go last, like duplicates.
+    uint32_t lattice_plane_stride = 0;
 
     // Optional garment data, copied into the asset as given (ClothAsset documents each).
     const float* uv = nullptr;  // [2 * particle_count]
@@ -306,12 +312,21 @@ Result cook_cloth(const ClothMeshDesc& mesh, const CookOptions& options, CookedC
 // particle-disjoint, finite rest lengths, ...). The world calls it before it uses an asset.
 Result validate_asset(const ClothAsset& asset);
 
-// Padding lanes: lanes that project nothing, there so that every run is a whole number of SIMD
-// batches. Counted over the constraint lanes (weight 0: run gaps and run tails), the tether lanes
-// (both lengths +inf) and the wind lanes (weight 0); padding slots are not lanes and not counted.
+// Padding: SIMD lanes that do nothing, there so that every run is a whole number of SIMD groups.
+// padding_ratio = padding lanes / all lanes executed, over one sweep of every batched pass the step
+// runs for this asset (docs/asset-format.md): the constraint batches (lane_count lanes: run lanes,
+// padding included, and indexed lanes; padding = weight 0), the coarse level (coarse_lane_count,
+// weight 0), the tethers (tether_lane_count, both lengths +inf) and the wind (its run lanes plus
+// the triangles it gathers or takes one at a time; padding = weight-0 run lanes). Padding slots
+// are not lanes. A step of k iterations runs the constraint lanes k times per substep and the other
+// passes once: `constraints` alone is the ratio for large k.
 struct LanePadding {
-    uint64_t padding_lanes = 0;
-    uint64_t all_lanes = 0;  // lane_count + tether_lane_count + wind_lane_count
+    struct Pass {
+        uint64_t padding_lanes = 0, all_lanes = 0;
+        double ratio() const { return all_lanes > 0 ? double(padding_lanes) / double(all_lanes) : 0.0; }
+    };
+    Pass constraints, coarse, tethers, wind;
+    uint64_t padding_lanes = 0, all_lanes = 0;  // the four passes together
     double ratio() const { return all_lanes > 0 ? double(padding_lanes) / double(all_lanes) : 0.0; }
 };
 LanePadding lane_padding(const ClothAsset& asset);

@@ -3,9 +3,10 @@
 // accelerations. Runs only in worlds created with the wind feature.
 //
 // Triangles on runs (a lattice cloth's quads: corners at constant slot offsets) go eight at a time
-// with plain vector loads; the rest one at a time through the same arithmetic, so the scalar and
-// SIMD paths agree bit for bit (each run touches a vertex at most once, so every vertex sums its
-// triangles in the same order on both paths).
+// with plain vector loads; the rest eight at a time with gathered corners and the last few one at a
+// time, all through the same arithmetic, so the scalar and SIMD paths agree bit for bit (each run
+// touches a vertex at most once, and the gathered lanes add their forces in triangle order, so
+// every vertex sums its triangles in the same order on both paths).
 #pragma once
 
 #include <cstring>
@@ -108,6 +109,34 @@ inline void wind_lanes(const Particles& p, const uint32_t (&corner)[3], F weight
     accumulate_wind(p, corner, ax, ay, az);
 }
 
+// F::width triangles (3 slots each at `triangle`) with gathered corners. The accelerations are
+// added lane by lane, corner by corner, in triangle order: the order the one-at-a-time path adds
+// them in, so both give the same sums bit for bit (lanes may share a vertex).
+template <class F>
+inline void wind_gathered(const Particles& p, const uint32_t* triangle, const float* rest_area, const WindArgs& args) {
+    using namespace simd;
+    constexpr uint32_t W = F::width;
+    uint32_t corner[3][W];
+    for (uint32_t l = 0; l < W; ++l)
+        for (int k = 0; k < 3; ++k) corner[k][l] = triangle[3 * l + uint32_t(k)];
+    F x[3], y[3], z[3], px[3], py[3], pz[3], w[3], ax[3], ay[3], az[3];
+    for (int k = 0; k < 3; ++k) {
+        x[k] = gather(p.x, corner[k], F{}), y[k] = gather(p.y, corner[k], F{}), z[k] = gather(p.z, corner[k], F{});
+        px[k] = gather(p.previous_x, corner[k], F{}), py[k] = gather(p.previous_y, corner[k], F{});
+        pz[k] = gather(p.previous_z, corner[k], F{}), w[k] = gather(p.inverse_mass, corner[k], F{});
+    }
+    triangle_wind(x, y, z, px, py, pz, w, splat(1.0f, F{}), load(rest_area, F{}), args, ax, ay, az);
+    float fx[3][W], fy[3][W], fz[3][W];
+    for (int k = 0; k < 3; ++k) store(fx[k], ax[k]), store(fy[k], ay[k]), store(fz[k], az[k]);
+    for (uint32_t l = 0; l < W; ++l)
+        for (int k = 0; k < 3; ++k) {
+            const uint32_t i = corner[k][l];
+            p.wind_x[i] += fx[k][l];
+            p.wind_y[i] += fy[k][l];
+            p.wind_z[i] += fz[k][l];
+        }
+}
+
 // Fills p.wind_{x,y,z} for every slot (zero where no triangle pushes).
 template <class F>
 void apply_wind(const Particles& p, const ClothAsset& a, const WindArgs& args) {
@@ -124,10 +153,14 @@ void apply_wind(const Particles& p, const ClothAsset& a, const WindArgs& args) {
                           args);
         }
     }
-    for (uint32_t t = a.wind_run_triangles; t < a.triangle_count; ++t) {
+    // The rest F::width at a time with gathered corners, then the last few one at a time.
+    const float* const rest_area = a.wind_rest_area + a.wind_lane_count - a.wind_run_triangles;  // by triangle
+    uint32_t t = a.wind_run_triangles;
+    if constexpr (F::width > 1)
+        for (; t + F::width <= a.triangle_count; t += F::width) wind_gathered<F>(p, a.triangles + 3 * t, rest_area + t, args);
+    for (; t < a.triangle_count; ++t) {
         const uint32_t corner[3] = {a.triangles[3 * t], a.triangles[3 * t + 1], a.triangles[3 * t + 2]};
-        const float rest_area = a.wind_rest_area[a.wind_lane_count + (t - a.wind_run_triangles)];
-        wind_lanes<simd::Float1>(p, corner, simd::Float1{1.0f}, simd::Float1{rest_area}, args);
+        wind_lanes<simd::Float1>(p, corner, simd::Float1{1.0f}, simd::Float1{rest_area[t]}, args);
     }
 }
 

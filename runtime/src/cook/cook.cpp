@@ -248,15 +248,32 @@ LatticeLayout assign_slots(const ClothMeshDesc& mesh, std::vector<uint32_t>& slo
             // is harmless, but an even shift keeps slots predictable for tests).
             min_i &= ~1, min_j &= ~1;
             const uint64_t rows = uint64_t(max_i - min_i) / 2 + 1, cols = uint64_t(max_j - min_j) / 2 + 1;
-            const uint64_t plane = rows * cols;
-            if (plane * 4 <= uint64_t(n) * 8 + 64) {  // a sparse lattice would waste more than it gains
+            // Plane node (r, c) sits at r * stride + c - first of its plane. The stride is the
+            // plane's width (a box) unless the mesh gives a narrower one: then a plane row runs on
+            // into the next (a helix), so slanted panels packed side by side leave no holes at the
+            // row ends (docs/pattern-format.md); every lattice family still joins two planes at one
+            // constant slot offset.
+            const uint64_t stride = mesh.lattice_plane_stride != 0 ? mesh.lattice_plane_stride : cols;
+            uint64_t first = 0, plane = rows * cols;
+            if (stride != cols) {
+                first = ~uint64_t(0);
+                uint64_t last = 0;
+                for (uint32_t p = 0; p < n; ++p) {
+                    const int32_t i = mesh.lattice[2 * p], j = mesh.lattice[2 * p + 1];
+                    if (i < 0 || j < 0) continue;
+                    const uint64_t at = uint64_t(i - min_i) / 2 * stride + uint64_t(j - min_j) / 2;
+                    first = std::min(first, at), last = std::max(last, at);
+                }
+                plane = last - first + 1;
+            }
+            if (plane <= uint64_t(n) * 2 + 16) {  // a sparse lattice would waste more than it gains
                 std::vector<uint8_t> taken(plane * 4, 0);
                 uint32_t placed = 0;
                 for (uint32_t p = 0; p < n; ++p) {
                     const int32_t i = mesh.lattice[2 * p], j = mesh.lattice[2 * p + 1];
                     if (i < 0 || j < 0) continue;
                     const uint32_t li = uint32_t(i - min_i), lj = uint32_t(j - min_j);
-                    const uint64_t slot = ((li & 1) * 2 + (lj & 1)) * plane + (li >> 1) * cols + (lj >> 1);
+                    const uint64_t slot = ((li & 1) * 2 + (lj & 1)) * plane + (li >> 1) * stride + (lj >> 1) - first;
                     if (taken[slot]) continue;  // a duplicate coordinate: this particle goes last
                     taken[slot] = 1;
                     slot_of_particle[p] = uint32_t(slot);
@@ -267,7 +284,8 @@ LatticeLayout assign_slots(const ClothMeshDesc& mesh, std::vector<uint32_t>& slo
                 layout.plane_cols = uint32_t(cols);
                 layout.fine_rows = uint32_t(max_i - min_i + 1);
                 layout.fine_cols = uint32_t(max_j - min_j + 1);
-                layout.full = placed == n && uint64_t(placed) == uint64_t(layout.fine_rows) * layout.fine_cols;
+                layout.full = stride == cols && placed == n &&
+                              uint64_t(placed) == uint64_t(layout.fine_rows) * layout.fine_cols;
             }
         }
     }
@@ -487,11 +505,11 @@ Result build_tethers(const ClothMeshDesc& mesh, const std::vector<uint32_t>& slo
     return {};
 }
 
-// Triangles in slots for the wind pass (and rendering): first the runs, triangles with the same
-// corner offsets (b - a, c - a) and consecutive a, padded like the spring runs, so the SIMD pass
-// loads their corners as vectors; then the rest, grouped by first-fit colour so that consecutive
-// triangles share no vertex (the pass adds each triangle's force to its three vertices and would
-// otherwise wait for the store of the triangle before).
+// Triangles in slots for the wind pass (and rendering): first the runs, whole SIMD groups of
+// triangles with the same corner offsets (b - a, c - a) and consecutive a (no padding lanes), so
+// the SIMD pass loads their corners as vectors; then the rest (gathered by the SIMD pass), grouped
+// by first-fit colour so that consecutive triangles share no vertex (the pass adds each triangle's
+// force to its three vertices and would otherwise wait for the store of the triangle before).
 void order_triangles(const ClothMeshDesc& mesh, const std::vector<uint32_t>& slot_of_particle, uint32_t slot_count,
                      const CookOptions& options, CookedCloth& out) {
     struct Tri {
@@ -504,6 +522,9 @@ void order_triangles(const ClothMeshDesc& mesh, const std::vector<uint32_t>& slo
         const uint32_t* v = mesh.triangles + 3 * t;
         tris[t] = {slot_of_particle[v[0]], slot_of_particle[v[1]], slot_of_particle[v[2]],
                    triangle_area(rest[v[0]], rest[v[1]], rest[v[2]])};
+        // The lowest slot first (winding kept): a lattice triangle of one shape then has the same
+        // corner offsets whichever corner the mesh lists first, so all of them share one run.
+        while (tris[t].a > tris[t].b || tris[t].a > tris[t].c) tris[t] = {tris[t].b, tris[t].c, tris[t].a, tris[t].rest_area_m2};
     }
     auto offsets = [](const Tri& t) { return std::pair<int64_t, int64_t>{int64_t(t.b) - t.a, int64_t(t.c) - t.a}; };
     std::sort(tris.begin(), tris.end(), [&](const Tri& l, const Tri& r) {
@@ -524,28 +545,26 @@ void order_triangles(const ClothMeshDesc& mesh, const std::vector<uint32_t>& slo
     out.wind_run_triangles = 0;
     for (size_t i = 0; i < tris.size();) {
         size_t j = i + 1;
-        while (j < tris.size() && offsets(tris[j]) == offsets(tris[i]) &&
-               tris[j].a - tris[j - 1].a <= options.max_run_gap + 1 &&
-               fits(tris[i], round_up(tris[j].a - tris[i].a + 1, options.simd_width)))
+        while (j < tris.size() && offsets(tris[j]) == offsets(tris[i]) && tris[j].a == tris[j - 1].a + 1 &&
+               fits(tris[i], uint32_t(j + 1 - i)))
             ++j;
-        const uint32_t lanes = round_up(tris[j - 1].a - tris[i].a + 1, options.simd_width);
-        if (j - i >= options.min_run_lanes && fits(tris[i], lanes)) {
+        // Whole SIMD groups of consecutive triangles only, so a run has no padding lanes; the rest
+        // go to the gathered path, which packs them densely.
+        const uint32_t lanes = uint32_t(j - i) / options.simd_width * options.simd_width;
+        if (lanes > 0) {
             TriangleRun run;
             run.first_lane = uint32_t(out.wind_lane_weight.size());
             run.lane_count = lanes;
             run.a0 = tris[i].a, run.b0 = tris[i].b, run.c0 = tris[i].c;
-            out.wind_lane_weight.resize(run.first_lane + lanes, 0.0f);
-            out.wind_rest_area.resize(run.first_lane + lanes, 0.0f);
-            for (size_t k = i; k < j; ++k) {
-                out.wind_lane_weight[run.first_lane + (tris[k].a - run.a0)] = 1.0f;
-                out.wind_rest_area[run.first_lane + (tris[k].a - run.a0)] = tris[k].rest_area_m2;
+            for (size_t k = i; k < i + lanes; ++k) {
+                out.wind_lane_weight.push_back(1.0f);
+                out.wind_rest_area.push_back(tris[k].rest_area_m2);
                 out.triangles.insert(out.triangles.end(), {tris[k].a, tris[k].b, tris[k].c});
             }
-            out.wind_run_triangles += uint32_t(j - i);
+            out.wind_run_triangles += lanes;
             out.wind_runs.push_back(run);
-        } else {
-            singles.insert(singles.end(), tris.begin() + i, tris.begin() + j);
         }
+        singles.insert(singles.end(), tris.begin() + i + lanes, tris.begin() + j);
         i = j;
     }
     std::vector<uint64_t> used(slot_count, 0);
@@ -631,11 +650,17 @@ Result cook_cloth(const ClothMeshDesc& mesh, const CookOptions& options, CookedC
 
 LanePadding lane_padding(const ClothAsset& a) {
     LanePadding p;
-    p.all_lanes = uint64_t(a.lane_count) + a.tether_lane_count + a.wind_lane_count;
-    for (uint32_t l = 0; l < a.lane_count; ++l) p.padding_lanes += a.lane_weight[l] == 0.0f;
+    p.constraints.all_lanes = a.lane_count;
+    for (uint32_t l = 0; l < a.lane_count; ++l) p.constraints.padding_lanes += a.lane_weight[l] == 0.0f;
+    p.coarse.all_lanes = a.coarse_lane_count;
+    for (uint32_t l = 0; l < a.coarse_lane_count; ++l) p.coarse.padding_lanes += a.coarse_lane_weight[l] == 0.0f;
+    p.tethers.all_lanes = a.tether_lane_count;
     for (uint32_t l = 0; l < a.tether_lane_count; ++l)
-        p.padding_lanes += std::isinf(a.tether_rest[0][l]) && std::isinf(a.tether_rest[1][l]);
-    for (uint32_t l = 0; l < a.wind_lane_count; ++l) p.padding_lanes += a.wind_lane_weight[l] == 0.0f;
+        p.tethers.padding_lanes += std::isinf(a.tether_rest[0][l]) && std::isinf(a.tether_rest[1][l]);
+    p.wind.all_lanes = uint64_t(a.wind_lane_count) + (a.triangle_count - a.wind_run_triangles);
+    for (uint32_t l = 0; l < a.wind_lane_count; ++l) p.wind.padding_lanes += a.wind_lane_weight[l] == 0.0f;
+    for (const LanePadding::Pass* pass : {&p.constraints, &p.coarse, &p.tethers, &p.wind})
+        p.padding_lanes += pass->padding_lanes, p.all_lanes += pass->all_lanes;
     return p;
 }
 
