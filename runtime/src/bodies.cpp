@@ -69,7 +69,6 @@ void refit_embree(World& world, BodyState& body) {
     rtcUpdateGeometryBuffer(body.geometry, RTC_BUFFER_TYPE_VERTEX, 0);
     rtcCommitGeometry(body.geometry);
     commit_body(world, body);
-    body.embree_stale = false;
     world.stats.body_embree_refits += 1;
 }
 

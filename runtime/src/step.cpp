@@ -135,11 +135,10 @@ void collide(World& world, ClothInstance& cloth, uint32_t substeps) {
     }
 }
 
-// Bodies the game moved since the last step: refit their BVH over the new offset hull (computed by
+// Bodies the game moved since the last step: refit Weft's hierarchy (or, for the plain reference
+// pass, BodyDesc::reference_queries, Embree's BVH) over the new offset hull (computed by
 // set_body_vertices). A body that stopped gets its previous hull equal to its hull again, so the
 // surface velocity friction sees is zero; a body that stays still costs nothing.
-// Embree's BVH is refitted here only for the plain reference pass (BodyDesc::reference_queries);
-// otherwise when a step first casts a ray (collide_bodies).
 void move_bodies(World& world) {
     if (world.body_count == 0) return;
     PassTimer timer(world, Pass::body);
@@ -149,7 +148,6 @@ void move_bodies(World& world) {
     for (uint32_t i = 0; i < world.body_count; ++i) {
         BodyState& body = world.bodies[i];
         if (body.refit_pending) {
-            body.embree_stale = true;
             if (body.desc.reference_queries) {
                 refit_embree(world, body);
             } else {
@@ -174,17 +172,8 @@ void collide_bodies(World& world, ClothInstance& cloth, uint32_t substeps) {
     if (world.body_count == 0) return;
     PassTimer timer(world, Pass::body);
     BodyPassCounts counts;
-    for (uint32_t i = 0; i < world.body_count; ++i) {
-        BodyState& body = world.bodies[i];
-        if (body.embree_stale && body_needs_rays(cloth.particles, body)) {
-            const auto start = world.desc.profile ? std::chrono::steady_clock::now() : std::chrono::steady_clock::time_point{};
-            refit_embree(world, body);
-            if (world.desc.profile)
-                world.stats.body_refit_ns += uint64_t(std::chrono::duration_cast<std::chrono::nanoseconds>(
-                                                          std::chrono::steady_clock::now() - start).count());
-        }
-        collide_body(cloth.particles, body, substeps, world.kernels->path, counts);
-    }
+    for (uint32_t i = 0; i < world.body_count; ++i)
+        collide_body(cloth.particles, world.bodies[i], substeps, world.kernels->path, counts);
     world.stats.body_contacts += counts.contacts;
     world.stats.body_rays += counts.rays;
     world.stats.body_queried += counts.queried;

@@ -1,5 +1,6 @@
-// Body colliders: the offset hull, Embree's closest-point query, the tunnelling ray, the response.
-// One particle at a time (Embree's queries are single; rtcPointQuery4/8 loop over single queries).
+// Body colliders: the offset hull, the closest-point search (Weft's hierarchy, or Embree's
+// rtcPointQuery for the reference pass), the tunnelling ray (Embree), the response, and the
+// hierarchy's creation and refit (the SIMD templates are in collide/body_query.h).
 #include "collide/body.h"
 
 #include <algorithm>
@@ -284,10 +285,11 @@ float base_reach(const BodyState& body) { return body.desc.thickness_m + body.de
 
 }  // namespace
 
-// The step's pass: tunnelling rays through Embree for the particles that moved further than the
-// thickness, then the hierarchy's closest-point search per cluster of kClusterSlots slots for the
-// rest, then the response (projection along the interpolated hull normal, friction against the
-// surface's motion: colliders.h's resolve_contact).
+// The step's pass, per cluster of kClusterSlots slots: one walk of the hierarchy serves the
+// tunnelling rays of the particles that moved further than the thickness and the closest-point
+// search of all; an entering ray hit wins, else the closest triangle; then the response
+// (projection along the interpolated hull normal, friction against the surface's motion:
+// colliders.h's resolve_contact).
 void collide_body(const Particles& particles, const BodyState& body, uint32_t substeps, SimdPath path,
                   BodyPassCounts& counts) {
     using F = simd::Float1;
@@ -296,71 +298,73 @@ void collide_body(const Particles& particles, const BodyState& body, uint32_t su
     const float share = 1.0f / float(substeps);
     if (body.desc.reference_queries) return collide_body_reference(p, body, share, counts);
     const SearchCluster search = path_for(path).search;
-    const float thickness2 = body.desc.thickness_m * body.desc.thickness_m;
+    const float thickness = body.desc.thickness_m;
     const float reach = base_reach(body);
     ColliderKernelArgs args{};
     args.friction = body.desc.friction;
     Candidates candidates;  // on the stack (about 14 kB): nothing allocates
-    Best best[kClusterSlots];
-    float points[kClusterSlots][3];
-    // Contacts the rays found, per cluster slot: they skip the point search.
-    uint32_t ray_triangle[kClusterSlots];
-    Barycentric ray_w[kClusterSlots];
-    float ray_penetration[kClusterSlots], ray_normal[kClusterSlots][3];
+    Cluster q;
     for (uint32_t c0 = 0; c0 < p.slot_count; c0 += kClusterSlots) {
         const uint32_t n = p.slot_count - c0 < kClusterSlots ? p.slot_count - c0 : kClusterSlots;
-        uint32_t search_bits = 0, ray_bits = 0;
+        q.active = q.rays = 0;
         for (uint32_t k = 0; k < n; ++k) {
             const uint32_t i = c0 + k;
             if (!(p.inverse_mass[i] > 0.0f)) continue;  // pinned and padding slots
             const float x[3] = {p.x[i], p.y[i], p.z[i]};
-            points[k][0] = x[0], points[k][1] = x[1], points[k][2] = x[2];
             const float previous[3] = {p.previous_x[i], p.previous_y[i], p.previous_z[i]};
+            q.point[k][0] = x[0], q.point[k][1] = x[1], q.point[k][2] = x[2];
+            q.active |= 1u << k;
             float moved[3];
             sub3(x, previous, moved);
-            if (dot3(moved, moved) > thickness2) {
-                // Further than the thickness in one substep: the point search alone could miss a crossing.
-                counts.rays += 1;
-                float hit[3];
-                if (trace_entry(body, previous, x, body.desc.thickness_m, &ray_triangle[k], &ray_w[k], hit)) {
-                    float unused[3], to_hit[3];
-                    interpolate(body, ray_triangle[k], ray_w[k], unused, ray_normal[k]);
-                    sub3(hit, x, to_hit);
-                    ray_penetration[k] = dot3(to_hit, ray_normal[k]);
-                    if (ray_penetration[k] > 0.0f) {
-                        ray_bits |= 1u << k;
-                        continue;
-                    }
-                }
+            const float length2 = dot3(moved, moved);
+            if (!(length2 > thickness * thickness)) continue;
+            // Further than the thickness in one substep: the point search alone could miss a
+            // crossing. The ray starts one thickness behind the previous position: a particle
+            // projected onto the hull may sit a rounding error inside it, and a ray from there would
+            // first meet the hull from within (a leaving hit) and miss the entry.
+            const float lead = thickness / std::sqrt(length2);
+            for (int a = 0; a < 3; ++a) {
+                q.origin[k][a] = previous[a] - lead * moved[a];
+                q.dir[k][a] = moved[a];
             }
-            search_bits |= 1u << k;
+            q.t_far[k] = 1.0f + lead;  // to the new position: dir is the whole displacement
+            q.rays |= 1u << k;
+            counts.rays += 1;
         }
-        if ((search_bits | ray_bits) == 0) continue;
-        const uint32_t met = search(body.hierarchy, reach, points, search_bits, best, candidates);
+        if (q.active == 0) continue;
+        const uint32_t met = search(body.hierarchy, reach, q, candidates);
         counts.queried += uint64_t(__builtin_popcount(met));
         for (uint32_t k = 0; k < n; ++k) {
+            if (!(q.active >> k & 1u)) continue;
             const uint32_t i = c0 + k;
-            uint32_t triangle;
-            Barycentric w;
-            float normal[3], penetration;
-            if (ray_bits >> k & 1u) {
-                triangle = ray_triangle[k];
-                w = ray_w[k];
-                normal[0] = ray_normal[k][0], normal[1] = ray_normal[k][1], normal[2] = ray_normal[k][2];
-                penetration = ray_penetration[k];
-            } else {
-                if (!(search_bits >> k & 1u) || !(best[k].distance2 < std::numeric_limits<float>::infinity())) continue;
-                triangle = best[k].triangle;
-                w = {1.0f - best[k].v - best[k].w, best[k].v, best[k].w};
+            const float* x = q.point[k];
+            uint32_t triangle = kNoTriangle;
+            Barycentric w{};
+            float normal[3], penetration = 0.0f;
+            const RayHit& hit = q.hit[k];
+            if (hit.triangle != kNoTriangle && hit.entering) {
+                w = {1.0f - hit.u - hit.v, hit.u, hit.v};
+                float unused[3], at[3], to_hit[3];
+                interpolate(body, hit.triangle, w, unused, normal);
+                for (int a = 0; a < 3; ++a) at[a] = q.origin[k][a] + hit.t * q.dir[k][a];
+                sub3(at, x, to_hit);
+                penetration = dot3(to_hit, normal);
+                if (penetration > 0.0f) triangle = hit.triangle;
+            }
+            if (triangle == kNoTriangle) {
+                const Best& best = q.best[k];
+                if (!(best.distance2 < std::numeric_limits<float>::infinity())) continue;
+                w = {1.0f - best.v - best.w, best.v, best.w};
                 float hull_point[3], to_hull[3];
-                interpolate(body, triangle, w, hull_point, normal);
-                sub3(hull_point, points[k], to_hull);
+                interpolate(body, best.triangle, w, hull_point, normal);
+                sub3(hull_point, x, to_hull);
                 penetration = dot3(to_hull, normal);
                 if (!(penetration > 0.0f)) continue;
+                triangle = best.triangle;
             }
             counts.contacts += 1;
             args.motion = surface_motion(body, triangle, w, share);
-            const Vec3W<F> xw{{points[k][0]}, {points[k][1]}, {points[k][2]}};
+            const Vec3W<F> xw{{x[0]}, {x[1]}, {x[2]}};
             const Vec3W<F> nw{{normal[0]}, {normal[1]}, {normal[2]}};
             resolve_contact(p, i, xw, nw, F{penetration}, simd::Mask1{true}, args);
         }
@@ -371,30 +375,22 @@ BodyContact closest_hull_point_hierarchy(const BodyState& body, const float* poi
     using namespace body_query;
     BodyContact contact;
     Candidates candidates;
-    Best best[kClusterSlots];
-    float points[kClusterSlots][3] = {};
-    points[0][0] = point[0], points[0][1] = point[1], points[0][2] = point[2];
-    path_for(path).search(body.hierarchy, base_reach(body), points, 1u, best, candidates);
-    if (!(best[0].distance2 < std::numeric_limits<float>::infinity())) return contact;
-    const Barycentric w{1.0f - best[0].v - best[0].w, best[0].v, best[0].w};
+    Cluster q;
+    q.point[0][0] = point[0], q.point[0][1] = point[1], q.point[0][2] = point[2];
+    q.active = 1u;
+    path_for(path).search(body.hierarchy, base_reach(body), q, candidates);
+    const Best& best = q.best[0];
+    if (!(best.distance2 < std::numeric_limits<float>::infinity())) return contact;
+    const Barycentric w{1.0f - best.v - best.w, best.v, best.w};
     float hull_point[3], normal[3], to_hull[3];
-    interpolate(body, best[0].triangle, w, hull_point, normal);
+    interpolate(body, best.triangle, w, hull_point, normal);
     sub3(hull_point, point, to_hull);
     contact.found = true;
     contact.penetration_m = dot3(to_hull, normal);
     contact.hull_point = {hull_point[0], hull_point[1], hull_point[2]};
     contact.normal = {normal[0], normal[1], normal[2]};
-    contact.triangle = best[0].triangle;
+    contact.triangle = best.triangle;
     return contact;
-}
-
-bool body_needs_rays(const Particles& p, const BodyState& body) {
-    const float thickness2 = body.desc.thickness_m * body.desc.thickness_m;
-    for (uint32_t i = 0; i < p.slot_count; ++i) {
-        const float dx = p.x[i] - p.previous_x[i], dy = p.y[i] - p.previous_y[i], dz = p.z[i] - p.previous_z[i];
-        if (dx * dx + dy * dy + dz * dz > thickness2 && p.inverse_mass[i] > 0.0f) return true;
-    }
-    return false;
 }
 
 // --- the hierarchy: creation and refit ----------------------------------------------------------
@@ -402,14 +398,16 @@ bool body_needs_rays(const Particles& p, const BodyState& body) {
 namespace {
 
 struct HierarchySizes {
-    uint32_t leaves, groups, padded_leaves, padded_groups;
+    uint32_t leaves, groups, roots, padded_leaves, padded_groups, padded_roots;
 };
 HierarchySizes hierarchy_sizes(uint32_t triangles) {
     HierarchySizes s;
     s.leaves = (triangles + kLeafTriangles - 1) / kLeafTriangles;
     s.groups = (s.leaves + kGroupLeaves - 1) / kGroupLeaves;
     s.padded_leaves = s.groups * kGroupLeaves;
-    s.padded_groups = (s.groups + 7) / 8 * 8;
+    s.roots = (s.groups + kRootGroups - 1) / kRootGroups;
+    s.padded_groups = s.roots * kRootGroups;
+    s.padded_roots = (s.roots + 7) / 8 * 8;
     return s;
 }
 
@@ -426,7 +424,7 @@ bool carve_boxes(Arena& arena, uint32_t count, Boxes* b) {
     return true;
 }
 
-// Orders `count` triangles so that every run of a group's (then a leaf's) triangles is a compact
+// Orders `count` triangles so that every run of a root's, a group's, a leaf's triangles is a compact
 // patch: split at a multiple of the unit nearest the middle along the centroids' longest axis
 // (std::nth_element works in place: nothing allocates; depth about log2(triangles / 8)).
 void split_triangles(uint32_t* first, uint32_t count, const float* centroid) {
@@ -441,7 +439,8 @@ void split_triangles(uint32_t* first, uint32_t count, const float* centroid) {
     int axis = 0;
     for (int a = 1; a < 3; ++a)
         if (hi[a] - lo[a] > hi[axis] - lo[axis]) axis = a;
-    const uint32_t unit = count > kGroupLeaves * kLeafTriangles ? kGroupLeaves * kLeafTriangles : kLeafTriangles;
+    constexpr uint32_t group = kGroupLeaves * kLeafTriangles, root = kRootGroups * group;
+    const uint32_t unit = count > root ? root : count > group ? group : kLeafTriangles;
     const uint32_t units = (count + unit - 1) / unit;
     const uint32_t half = std::max(1u, units / 2) * unit;
     std::nth_element(first, first + half, first + count, [&](uint32_t a, uint32_t b) {
@@ -458,9 +457,10 @@ size_t body_hierarchy_bytes(uint32_t vertices, uint32_t triangles, uint32_t bodi
     // Every body rounds its leaves and groups up; bound the sums, plus a cache line per array.
     const size_t leaves = size_t(triangles) / kLeafTriangles + bodies;
     const size_t padded_leaves = leaves + size_t(kGroupLeaves) * bodies;
-    const size_t padded_groups = padded_leaves / kGroupLeaves + 8 * size_t(bodies);
-    const size_t floats = kLeafCorners * leaves + leaves + 6 * padded_leaves + 6 * padded_groups;
-    return sizeof(float) * floats + sizeof(uint32_t) * 4 * kLeafTriangles * leaves + 17 * kCacheLine * size_t(bodies);
+    const size_t padded_groups = padded_leaves / kGroupLeaves + kRootGroups * size_t(bodies);
+    const size_t padded_roots = padded_groups / kRootGroups + 8 * size_t(bodies);
+    const size_t floats = kLeafCorners * leaves + leaves + 6 * (padded_leaves + padded_groups + padded_roots);
+    return sizeof(float) * floats + sizeof(uint32_t) * 4 * kLeafTriangles * leaves + 23 * kCacheLine * size_t(bodies);
 }
 
 bool build_body_hierarchy(BodyState& body, Arena& arena, SimdPath path) {
@@ -468,13 +468,14 @@ bool build_body_hierarchy(BodyState& body, Arena& arena, SimdPath path) {
     const HierarchySizes s = hierarchy_sizes(body.triangle_count);
     h.leaf_count = s.leaves;
     h.group_count = s.groups;
+    h.root_count = s.roots;
     h.leaf_triangle = arena.allocate_array<uint32_t>(size_t(kLeafTriangles) * s.leaves);
     h.leaf_vertex = arena.allocate_array<uint32_t>(3 * size_t(kLeafTriangles) * s.leaves);
     h.leaf_corners = arena.allocate_array<float>(size_t(kLeafCorners) * s.leaves);
     h.leaf_sweep = arena.allocate_array<float>(s.leaves);
     if (h.leaf_triangle == nullptr || h.leaf_vertex == nullptr || h.leaf_corners == nullptr ||
         h.leaf_sweep == nullptr || !carve_boxes(arena, s.padded_leaves, &h.leaves) ||
-        !carve_boxes(arena, s.padded_groups, &h.groups))
+        !carve_boxes(arena, s.padded_groups, &h.groups) || !carve_boxes(arena, s.padded_roots, &h.roots))
         return false;
     // Triangles ordered by recursive median splits of their centroids along the longest axis, at
     // multiples of a group (then of a leaf) near the middle: each leaf is a compact patch and each

@@ -1,15 +1,18 @@
 // Stage 4 of the seed's step against body colliders (seed section 4.2): particles against the
-// offset hull of a triangle mesh, through Embree's BVH.
+// offset hull of a triangle mesh.
 //
-// Detection: one rtcPointQuery per particle, radius thickness + margin, whose callback keeps the
-// closest hull triangle (closest point on a triangle: Ericson, Real-Time Collision Detection,
-// 5.1.5). The barycentric coordinates of that point interpolate the hull's vertex normals into the
+// Detection: the closest hull triangle within thickness + margin (+ the motion of its vertices
+// this step) through Weft's own box hierarchy (BodyHierarchy, collide/body_query.h: one walk per
+// cluster of neighbouring slots, eight triangles at a time per particle; closest point on a
+// triangle: Ericson, Real-Time Collision Detection, 5.1.5), or, for the plain reference pass
+// (BodyDesc::reference_queries), one Embree rtcPointQuery per particle. The barycentric coordinates of that point interpolate the hull's vertex normals into the
 // contact normal; the particle is inside when it lies behind the hull along that normal.
 // Response: the same projection and friction as the analytic colliders (colliders.h:
 // resolve_contact), with the surface's own motion, interpolated from the hull's per-vertex
 // displacement, as the collider motion.
 // Tunnelling: a particle that moved further than the thickness this substep is also traced by a
-// ray from its previous to its new position (rtcIntersect1); entering the hull stops it there.
+// ray from its previous to its new position (rtcIntersect1; Embree's BVH is refitted at the first
+// such ray of a step after the body moved); entering the hull stops it there.
 #pragma once
 
 #include <embree3/rtcore.h>
@@ -21,12 +24,13 @@
 
 namespace weft {
 
-// The step's own two-level box hierarchy over the offset hull (issue 13, point 3): triangles in
-// Morton order of their rest-pose centroids, kLeafTriangles to a leaf, kGroupLeaves leaves to a
-// group. Refitted without allocation whenever the body moves; boxes are widened by their vertices'
+// The step's own box hierarchy over the offset hull (issue 13, point 3): triangles ordered by
+// median splits of their rest-pose centroids, kLeafTriangles to a leaf, kGroupLeaves leaves to a
+// group, kRootGroups groups to a root box. Refitted without allocation whenever the body moves; boxes are widened by their vertices'
 // motion this step (a moving surface sweeps over resting cloth) and by kBoxSlack_m for rounding.
 inline constexpr uint32_t kLeafTriangles = 8;
 inline constexpr uint32_t kGroupLeaves = 16;
+inline constexpr uint32_t kRootGroups = 8;
 inline constexpr float kBoxSlack_m = 1e-5f;
 
 // Axis-aligned boxes, structure of arrays (SIMD tests eight at a time), padded to a multiple of 8
@@ -41,7 +45,7 @@ struct Boxes {
 };
 
 struct BodyHierarchy {
-    uint32_t leaf_count = 0, group_count = 0;
+    uint32_t leaf_count = 0, group_count = 0, root_count = 0;
     uint32_t* leaf_triangle = nullptr;  // [kLeafTriangles * leaf_count]: body triangle per leaf lane
     uint32_t* leaf_vertex = nullptr;    // [3 * kLeafTriangles * leaf_count]: per leaf a[8], b[8], c[8] as 4 * vertex
     // [kLeafCorners * leaf_count]: per leaf the corner a, edges ab, ac, normal ab x ac (not
@@ -50,7 +54,8 @@ struct BodyHierarchy {
     float* leaf_corners = nullptr;
     float* leaf_sweep = nullptr;  // [leaf_count]: the largest motion of the leaf's vertices this step
     Boxes leaves;                 // [leaf_count rounded up to groups * kGroupLeaves]
-    Boxes groups;                 // [group_count rounded up to 8]
+    Boxes groups;                 // [root_count * kRootGroups]
+    Boxes roots;                  // [root_count rounded up to 8]
 };
 inline constexpr uint32_t kLeafCorners = 13 * kLeafTriangles;
 
@@ -70,7 +75,6 @@ struct BodyState {
     RTCGeometry geometry = nullptr;
     BodyHierarchy hierarchy;
     bool refit_pending = false;  // new vertices since the last step
-    bool embree_stale = false;   // Embree's BVH lags the hull (refitted only when a ray needs it)
     bool moving = false;         // hull and previous_hull differ (the body moved at the last step)
 };
 
@@ -110,8 +114,5 @@ void collide_body(const Particles& particles, const BodyState& body, uint32_t su
 // the pass sees.
 BodyContact closest_hull_point_hierarchy(const BodyState& body, const float* point, SimdPath path);
 
-// Whether any particle moved further than the thickness (the pass then traces rays through Embree,
-// whose BVH must be current).
-bool body_needs_rays(const Particles& particles, const BodyState& body);
 
 }  // namespace weft
