@@ -159,7 +159,8 @@ void move_bodies(World& world) {
         } else if (body.moving) {
             for (uint32_t v = 0; v < body.vertex_count; ++v) body.hull[4 * v + 3] = 0.0f;  // no motion
             std::memcpy(body.previous_hull, body.hull, sizeof(float) * 4 * size_t(body.vertex_count));
-            refit_body_hierarchy(body, world.kernels->path);  // boxes no longer widened by the motion
+            if (!body.desc.reference_queries)
+                refit_body_hierarchy(body, world.kernels->path);  // boxes no longer widened by the motion
             body.moving = false;
         }
     }

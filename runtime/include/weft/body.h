@@ -75,7 +75,7 @@ Result query_body(const World* world, BodyId body, Vec3 point, BodyContact* out)
 // The offset hull as the step sees it, for tests, debugging views and brute-force references.
 struct BodyView {
     uint32_t vertex_count = 0, triangle_count = 0;
-    const float* hull = nullptr;     // [4 * vertex_count]: x, y, z, unused (Embree's vertex layout)
+    const float* hull = nullptr;     // [4 * vertex_count]: x, y, z, the vertex's motion this step (m)
     const float* normals = nullptr;  // [3 * vertex_count]: unit area-weighted vertex normals
     const uint32_t* triangles = nullptr;
     float thickness_m = 0, margin_m = 0;

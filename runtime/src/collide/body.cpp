@@ -453,7 +453,7 @@ void split_triangles(uint32_t* first, uint32_t count, const float* centroid) {
 
 }  // namespace
 
-size_t body_hierarchy_bytes(uint32_t vertices, uint32_t triangles, uint32_t bodies) {
+size_t body_hierarchy_bytes(uint32_t triangles, uint32_t bodies) {
     // Every body rounds its leaves and groups up; bound the sums, plus a cache line per array.
     const size_t leaves = size_t(triangles) / kLeafTriangles + bodies;
     const size_t padded_leaves = leaves + size_t(kGroupLeaves) * bodies;

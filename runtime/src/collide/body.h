@@ -92,8 +92,8 @@ void compute_offset_hull(BodyState& body, const Vec3* positions);
 // BodyDesc::reference_queries).
 BodyContact closest_hull_point(const BodyState& body, const float* point);
 
-// Arena bytes for the hierarchy and motion arrays of bodies with these totals (world sizing).
-size_t body_hierarchy_bytes(uint32_t vertices, uint32_t triangles, uint32_t bodies);
+// Arena bytes for the hierarchies of bodies with these totals (world sizing).
+size_t body_hierarchy_bytes(uint32_t triangles, uint32_t bodies);
 // Carves the hierarchy from `arena` and orders the triangles (at add_body); false when out of memory.
 struct Arena;
 bool build_body_hierarchy(BodyState& body, Arena& arena, SimdPath path);
