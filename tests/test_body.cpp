@@ -5,6 +5,7 @@
 #include "test_support.h"
 
 #include <algorithm>
+#include <cstring>
 #include <fstream>
 
 #include "body_mesh.h"
@@ -145,6 +146,13 @@ struct BodyWorld {
 bool have_shared_body() {
     return std::ifstream(body::shared_body_path("mean_all.obj")).good() &&
            std::ifstream(body::shared_body_path("mean_all_tpose.obj")).good();
+}
+
+// True (with a message) when ../shared/data is missing: the test is skipped.
+bool skip_without_shared_body() {
+    if (have_shared_body()) return false;
+    MESSAGE("skipped: ", body::shared_body_path("mean_all.obj"), " not found");
+    return true;
 }
 
 // mean_all in A-pose and T-pose, loaded once.
@@ -301,14 +309,13 @@ TEST_CASE("body: closest-point contacts match a brute-force search (icosphere, m
 }
 
 TEST_CASE("body: contacts on the animated mean_all body match a brute-force search over every triangle") {
-    if (!have_shared_body()) {
-        MESSAGE("skipped: ", body::shared_body_path("mean_all.obj"), " not found");
-        return;
-    }
+    if (skip_without_shared_body()) return;
     const BodyMesh& a = *shared_pose(false);
     const BodyMesh& t = *shared_pose(true);
     Points pts({{0.0f, 3.0f, 0.0f}});
-    BodyWorld w(pts.cooked.asset(), a, BodyDesc{});
+    for (SimdPath path : available_paths()) {
+    CAPTURE(simd_path_name(path));
+    BodyWorld w(pts.cooked.asset(), a, BodyDesc{}, path);
     std::vector<Vec3> pose;
     uint32_t checked = 0, missed = 0, deep = 0;
     uint32_t seed = 12345;
@@ -337,16 +344,15 @@ TEST_CASE("body: contacts on the animated mean_all body match a brute-force sear
             }
         }
     }
-    MESSAGE(checked, " points on 4 poses, ", deep, " deeper than 0.1 mm by brute force, ", missed, " missed");
+    MESSAGE(std::string(simd_path_name(path)), ": ", checked, " points on 4 poses, ", deep, " deeper than 0.1 mm by brute force, ",
+            missed, " missed");
     CHECK(deep > 100);
     CHECK(missed == 0);
+    }
 }
 
 TEST_CASE("body: the animated mean_all (A-pose to T-pose) carries particles on its upper arms, outside") {
-    if (!have_shared_body()) {
-        MESSAGE("skipped: ", body::shared_body_path("mean_all.obj"), " not found");
-        return;
-    }
+    if (skip_without_shared_body()) return;
     const BodyMesh& a = *shared_pose(false);
     const BodyMesh& t = *shared_pose(true);
     // Particles 1 mm outside the offset hull where the skin faces the way it moves from A to T by
@@ -410,6 +416,107 @@ TEST_CASE("body: the animated mean_all (A-pose to T-pose) carries particles on i
     // off the arm and falls (measured: followed -1100%). Kept as a warning until the contact
     // response limits the normal velocity to the surface's (or the pose is interpolated per substep).
     WARN(followed > 0.7);
+}
+
+// Points near the skin of mean_all (every `stride`-th vertex, offsets along the normal from
+// `deepest` to `highest` metres off the hull, a lateral jitter), in the order of the vertices.
+std::vector<Vec3> points_near_skin(const BodyView& v, uint32_t stride, float deepest, float highest, uint32_t seed) {
+    auto uniform = [&] {
+        seed = seed * 1664525u + 1013904223u;
+        return float(seed >> 8) / float(1u << 24);
+    };
+    std::vector<Vec3> out;
+    for (uint32_t i = 0; i < v.vertex_count; i += stride) {
+        const float offset = deepest + (highest - deepest) * uniform();
+        out.push_back({v.hull[4 * i] + offset * v.normals[3 * i] + 0.004f * (uniform() - 0.5f),
+                       v.hull[4 * i + 1] + offset * v.normals[3 * i + 1] + 0.004f * (uniform() - 0.5f),
+                       v.hull[4 * i + 2] + offset * v.normals[3 * i + 2] + 0.004f * (uniform() - 0.5f)});
+    }
+    return out;
+}
+
+TEST_CASE("body: one step pushes particles placed inside the moving mean_all out (every SIMD path)") {
+    if (skip_without_shared_body()) return;
+    const BodyMesh& a = *shared_pose(false);
+    const BodyMesh& t = *shared_pose(true);
+    uint32_t count = 0;
+    {
+        Points probe_points({{0.0f, 3.0f, 0.0f}});
+        BodyWorld probe(probe_points.cooked.asset(), a, BodyDesc{});
+        count = uint32_t(points_near_skin(probe.view(), 41, 0.0f, 0.0f, 1).size());
+    }
+    Points pts(std::vector<Vec3>(count, Vec3{0.0f, 3.0f, 0.0f}));
+    for (SimdPath path : available_paths()) {
+        CAPTURE(simd_path_name(path));
+        BodyWorld w(pts.cooked.asset(), a, BodyDesc{}, path);
+        REQUIRE(set_gravity(w.owned.world, {0, 0, 0}).ok());
+        std::vector<Vec3> pose;
+        uint32_t deep_before = 0;
+        double worst_after = 0.0;
+        uint32_t seed = 99;
+        for (float blend : {0.2f, 0.25f, 0.6f}) {  // moving: the arms move up to 1.5 cm between the first two
+            body::blend(a, t, blend, &pose);
+            REQUIRE(set_body_vertices(w.owned.world, w.body, pose.data(), uint32_t(pose.size())).ok());
+            // Placed on this pose's hull (set_body_vertices has computed it), up to 6 mm inside.
+            const std::vector<Vec3> placed = points_near_skin(w.view(), 41, -0.006f, 0.002f, seed++);
+            for (uint32_t k = 0; k < count; ++k)
+                REQUIRE(set_particle(w.owned.world, w.cloth, k, placed[k], 100.0f).ok());
+            w.step_once();
+            const BodyView v = w.view();
+            for (const Vec3& p : placed) {
+                const BruteContact c = brute_force(v, p);
+                deep_before += c.found && c.penetration > 1e-4;
+            }
+            worst_after = std::max(worst_after, w.max_penetration());
+        }
+        MESSAGE(std::string(simd_path_name(path)), ": ", deep_before, " of ", 3 * count,
+                " placements deeper than 0.1 mm; deepest after the step ", worst_after * 1e3, " mm");
+        CHECK(deep_before > 100);
+        CHECK(worst_after <= 1e-3);
+    }
+}
+
+TEST_CASE("body: the scalar and AVX2 body passes give the same bits on the animated mean_all") {
+    if (skip_without_shared_body()) return;
+    if (!simd_path_available(SimdPath::avx2)) {
+        MESSAGE("skipped: no AVX2 on this machine or build");
+        return;
+    }
+    const BodyMesh& a = *shared_pose(false);
+    const BodyMesh& t = *shared_pose(true);
+    std::vector<Vec3> start;
+    {
+        Points probe_points({{0.0f, 3.0f, 0.0f}});
+        BodyWorld probe(probe_points.cooked.asset(), a, BodyDesc{});
+        start = points_near_skin(probe.view(), 7, -0.006f, 0.02f, 5);
+    }
+    Points pts(start);
+    BodyWorld scalar(pts.cooked.asset(), a, BodyDesc{}, SimdPath::scalar);
+    BodyWorld avx2(pts.cooked.asset(), a, BodyDesc{}, SimdPath::avx2);
+    std::vector<Vec3> pose;
+    uint64_t contacts = 0, rays = 0;
+    bool same = true;
+    for (int frame = 1; frame <= 12; ++frame) {  // falling under gravity while the arms rise: rays too
+        body::blend(a, t, float(frame) / 12.0f, &pose);
+        for (BodyWorld* w : {&scalar, &avx2}) {
+            REQUIRE(set_body_vertices(w->owned.world, w->body, pose.data(), uint32_t(pose.size())).ok());
+            w->step_once();
+        }
+        contacts += world_stats(avx2.owned.world).body_contacts;
+        rays += world_stats(avx2.owned.world).body_rays;
+        same = same && same_bits(scalar.positions(), avx2.positions());
+        for (size_t k = 0; k < start.size(); k += 13) {
+            BodyContact cs, ca;
+            REQUIRE(query_body(scalar.owned.world, scalar.body, start[k], &cs).ok());
+            REQUIRE(query_body(avx2.owned.world, avx2.body, start[k], &ca).ok());
+            same = same && cs.found == ca.found && cs.triangle == ca.triangle &&
+                   std::memcmp(&cs.penetration_m, &ca.penetration_m, sizeof(float)) == 0;
+        }
+    }
+    MESSAGE(start.size(), " particles, 12 frames: ", contacts, " contacts, ", rays, " rays");
+    CHECK(contacts > 1000);
+    CHECK(rays > 100);
+    CHECK(same);
 }
 
 TEST_CASE("body: the same inputs give the same bits") {

@@ -65,6 +65,13 @@ void commit_body(World& world, BodyState& body) {
     if (world.commit_hook != nullptr) world.commit_hook(world.commit_hook_user, false);
 }
 
+void refit_embree(World& world, BodyState& body) {
+    rtcUpdateGeometryBuffer(body.geometry, RTC_BUFFER_TYPE_VERTEX, 0);
+    rtcCommitGeometry(body.geometry);
+    commit_body(world, body);
+    world.stats.body_embree_refits += 1;
+}
+
 Result add_body(World* world, const BodyDesc& desc, BodyId* out_body) {
     if (world == nullptr || out_body == nullptr)
         return make_error(ErrorCode::invalid_argument, "world or out_body is null");
@@ -98,6 +105,11 @@ Result add_body(World* world, const BodyDesc& desc, BodyId* out_body) {
     std::memset(hull + 4 * size_t(v), 0, sizeof(float) * 4);
     compute_offset_hull(body, desc.positions);
     std::memcpy(previous, hull, sizeof(float) * 4 * size_t(v));
+    if (!build_body_hierarchy(body, world->arena, world->kernels->path)) {
+        body = BodyState();
+        world->arena = saved;
+        return make_error(ErrorCode::capacity_exceeded, "world memory exhausted");
+    }
 
     // Refit, not rebuild, when the body moves: only this combination refits in Embree 3.13.5 (any
     // other rebuilds from scratch on every commit: 11 ms and 5.4 MB for 47 500 triangles).
@@ -138,14 +150,12 @@ Result set_body_vertices(World* world, BodyId id, const Vec3* positions, uint32_
     // The previous hull is the one the last step used: keep it across several calls before a step.
     if (!body.refit_pending) std::memcpy(body.previous_hull, body.hull, sizeof(float) * 4 * size_t(count));
     compute_offset_hull(body, positions);
-    float sweep2 = 0.0f;
     for (uint32_t v = 0; v < count; ++v) {
         const float* h = body.hull + 4 * v;
         const float* q = body.previous_hull + 4 * v;
         const float d2 = (h[0] - q[0]) * (h[0] - q[0]) + (h[1] - q[1]) * (h[1] - q[1]) + (h[2] - q[2]) * (h[2] - q[2]);
-        sweep2 = d2 > sweep2 ? d2 : sweep2;
+        body.hull[4 * v + 3] = std::sqrt(d2);  // the vertex's motion: widens its leaves (BodyHierarchy)
     }
-    body.sweep_m = std::sqrt(sweep2);
     body.refit_pending = true;
     return {};
 }
@@ -158,7 +168,8 @@ Result query_body(const World* world, BodyId id, Vec3 point, BodyContact* out) {
     if (body.refit_pending)
         return make_error(ErrorCode::invalid_argument, "body moved since the last step: step first");
     const float p[3] = {point.x, point.y, point.z};
-    *out = closest_hull_point(body, p);
+    *out = body.desc.reference_queries ? closest_hull_point(body, p)
+                                       : closest_hull_point_hierarchy(body, p, world->kernels->path);
     return {};
 }
 

@@ -135,37 +135,49 @@ void collide(World& world, ClothInstance& cloth, uint32_t substeps) {
     }
 }
 
-// Bodies the game moved since the last step: refit their BVH over the new offset hull (computed by
+// Bodies the game moved since the last step: refit Weft's hierarchy (or, for the plain reference
+// pass, BodyDesc::reference_queries, Embree's BVH) over the new offset hull (computed by
 // set_body_vertices). A body that stopped gets its previous hull equal to its hull again, so the
 // surface velocity friction sees is zero; a body that stays still costs nothing.
 void move_bodies(World& world) {
     if (world.body_count == 0) return;
     PassTimer timer(world, Pass::body);
+    const auto start = world.desc.profile ? std::chrono::steady_clock::now() : std::chrono::steady_clock::time_point{};
     world.stats.body_refits = 0;
+    world.stats.body_embree_refits = 0;
     for (uint32_t i = 0; i < world.body_count; ++i) {
         BodyState& body = world.bodies[i];
         if (body.refit_pending) {
-            rtcUpdateGeometryBuffer(body.geometry, RTC_BUFFER_TYPE_VERTEX, 0);
-            rtcCommitGeometry(body.geometry);
-            commit_body(world, body);
+            if (body.desc.reference_queries) {
+                refit_embree(world, body);
+            } else {
+                refit_body_hierarchy(body, world.kernels->path);
+            }
             body.refit_pending = false;
             body.moving = true;
             world.stats.body_refits += 1;
         } else if (body.moving) {
+            for (uint32_t v = 0; v < body.vertex_count; ++v) body.hull[4 * v + 3] = 0.0f;  // no motion
             std::memcpy(body.previous_hull, body.hull, sizeof(float) * 4 * size_t(body.vertex_count));
+            if (!body.desc.reference_queries)
+                refit_body_hierarchy(body, world.kernels->path);  // boxes no longer widened by the motion
             body.moving = false;
-            body.sweep_m = 0.0f;
         }
     }
+    if (world.desc.profile)
+        world.stats.body_refit_ns += uint64_t(
+            std::chrono::duration_cast<std::chrono::nanoseconds>(std::chrono::steady_clock::now() - start).count());
 }
 
 void collide_bodies(World& world, ClothInstance& cloth, uint32_t substeps) {
     if (world.body_count == 0) return;
     PassTimer timer(world, Pass::body);
     BodyPassCounts counts;
-    for (uint32_t i = 0; i < world.body_count; ++i) collide_body(cloth.particles, world.bodies[i], substeps, counts);
+    for (uint32_t i = 0; i < world.body_count; ++i)
+        collide_body(cloth.particles, world.bodies[i], substeps, world.kernels->path, counts);
     world.stats.body_contacts += counts.contacts;
     world.stats.body_rays += counts.rays;
+    world.stats.body_queried += counts.queried;
 }
 
 void step_cloth(World& world, ClothInstance& cloth, float dt) {
@@ -205,6 +217,7 @@ Result step(World* world, float dt_s) {
         return make_error(ErrorCode::out_of_range, "dt %g s outside (0, 1]", double(dt_s));
     world->stats.body_contacts = 0;
     world->stats.body_rays = 0;
+    world->stats.body_queried = 0;
     move_bodies(*world);                                       // 0. the game's new body pose
     for (uint32_t i = 0; i < world->cloth_count; ++i) step_cloth(*world, world->cloths[i], dt_s);
     for (uint32_t i = 0; i < world->collider_count; ++i) world->colliders[i].motion_m = {};

@@ -83,6 +83,7 @@ ArenaSizer size_world(const WorldDesc& desc) {
     sizer.add(sizeof(BodyState) * desc.max_bodies);
     sizer.add(sizeof(float) * 11 * size_t(desc.max_body_vertices) + sizeof(uint32_t) * 3 * size_t(desc.max_body_triangles) +
               4 * (kCacheLine + 16) * size_t(desc.max_bodies));
+    sizer.add(body_hierarchy_bytes(desc.max_body_triangles, desc.max_bodies));
     sizer.bytes += kCacheLine;  // the caller's block may start anywhere on a cache line
     return sizer;
 }

@@ -52,6 +52,8 @@ struct World {
 
 // Commits a body's scene (a refit once built), telling the diagnostics hook.
 void commit_body(World& world, BodyState& body);
+// Refits a body's Embree BVH to its current hull (a commit).
+void refit_embree(World& world, BodyState& body);
 
 // Checks a finite vector (no NaN or infinity).
 bool is_finite(Vec3 v);

@@ -5,6 +5,14 @@
 
 namespace weft::bench {
 
-int run_body(uint32_t frames, uint32_t point_count, float thickness_m);
+struct BodyBenchOptions {
+    uint32_t frames = 60, points = 10000;
+    float thickness_m = 0.005f;
+    float fall_m_s2 = 0.0f;      // gravity on the points: > 5.4 m/s^2 moves every point past 5 mm a step (rays)
+    bool random_order = false;   // points in random order instead of neighbours next to each other
+    bool scalar = false;         // the scalar path instead of AVX2
+    bool json = false;           // one JSON object instead of the table
+};
+int run_body(const BodyBenchOptions& options);
 
 }  // namespace weft::bench

@@ -548,15 +548,18 @@ int main(int argc, char** argv) {
     sweep->add_flag("--quick", sweep_quick, "a tiny grid (tests): 2 x 2 configurations, one Bullet budget, reference capped at 4 substeps");
     CLI::App* baked = bench::add_baked_subcommand(app);
 
-    uint32_t body_frames = 60, body_points = 10000;
-    float body_thickness = 0.005f;
+    bench::BodyBenchOptions body_o;
     CLI::App* body = app.add_subcommand("body", "body collision pass on the shared mean_all body, A-pose <-> T-pose");
-    body->add_option("--frames", body_frames, "frames measured")->capture_default_str();
-    body->add_option("--points", body_points, "particles near the torso, hips and upper arms")->capture_default_str();
-    body->add_option("--thickness", body_thickness, "offset hull thickness, m")->capture_default_str();
+    body->add_option("--frames", body_o.frames, "frames measured")->capture_default_str();
+    body->add_option("--points", body_o.points, "particles near the torso, hips and upper arms")->capture_default_str();
+    body->add_option("--thickness", body_o.thickness_m, "offset hull thickness, m")->capture_default_str();
+    body->add_option("--fall", body_o.fall_m_s2, "gravity on the points, m/s^2 (> 5.4: every point moves past 5 mm a step, so every point casts a ray)")->capture_default_str();
+    body->add_flag("--random-order", body_o.random_order, "points in random order (no neighbours next to each other)");
+    body->add_flag("--scalar", body_o.scalar, "the scalar path instead of AVX2");
+    body->add_flag("--json", body_o.json, "one JSON object");
 
     CLI11_PARSE(app, argc, argv);
-    if (body->parsed()) return bench::run_body(body_frames, body_points, body_thickness);
+    if (body->parsed()) return bench::run_body(body_o);
 
     if (baked->parsed()) return bench::run_baked();
     if (drape->parsed()) return run({SeedScene::drape}, drape_o, true);

@@ -9,17 +9,20 @@
 //
 // The collision surface is the seed's offset hull: every body vertex pushed out along its
 // area-weighted normal by `thickness_m`, recomputed whenever the vertices move. Each substep every
-// particle asks Embree (rtcPointQuery) for the closest hull point within thickness + margin + the
-// largest vertex motion of the body at this step (a moving arm sweeps over resting cloth); a
+// particle looks for the closest hull point within thickness + margin + the motion of the nearby
+// body vertices at this step (a moving arm sweeps over resting cloth), through a box hierarchy of
+// Weft's own over the hull (refitted when the body moves, docs/architecture.md); a
 // particle inside the hull is projected back onto it along the contact normal, with friction
 // relative to the moving surface. A particle that moved further than the thickness in one substep
 // is also checked by a ray from its old to its new position, so it cannot cross a thin limb.
 //
-// Memory: Weft's part (the hull, its normals, the previous pose, the triangles) is carved from the
-// world's block; Embree's device is created by create_world (only when max_bodies > 0) and each
-// body's BVH by add_body. Moving a body refits its BVH in place (Embree's dynamic scene, refit
-// quality): no memory of Weft's, and inside Embree 3.13.5 at most one small transient heap
-// allocation per moved body per step (tests/test_allocation.cpp). A still body costs no refit.
+// The rays go through Embree, whose BVH is refitted only at a step that casts one.
+//
+// Memory: Weft's part (the hull, its normals, the previous pose, the triangles, the hierarchy) is
+// carved from the world's block; Embree's device is created by create_world (only when
+// max_bodies > 0) and each body's BVH by add_body. Refitting Embree's BVH (dynamic scene, refit
+// quality) takes no memory of Weft's, and inside Embree 3.13.5 at most one small transient heap
+// allocation per commit (tests/test_allocation.cpp). A still body costs no refit.
 #pragma once
 
 #include "weft/types.h"
@@ -40,6 +43,10 @@ struct BodyDesc {
     float thickness_m = 0.005f;  // offset of the hull from the skin: the cloth's thickness
     float margin_m = 0.002f;     // query reach beyond the thickness (deeper particles go by the ray)
     float friction = 0.5f;       // Coulomb coefficient against the moving surface; 0 = frictionless
+    // Diagnostics and benchmarks: the plain pass, one Embree rtcPointQuery per particle (radius
+    // thickness + margin + the body's largest vertex motion) and an Embree refit every moving step,
+    // instead of the step's own hierarchy (docs/architecture.md, body colliders).
+    bool reference_queries = false;
 };
 
 struct BodyId {
@@ -54,7 +61,7 @@ Result add_body(World* world, const BodyDesc& desc, BodyId* out_body);
 // friction. Refuses non-finite or absurd positions without changing anything.
 Result set_body_vertices(World* world, BodyId body, const Vec3* positions, uint32_t count);
 
-// The closest offset-hull point to `point` within thickness + margin (+ how far the body's
+// The closest offset-hull point to `point` within thickness + margin (+ how far the nearby body
 // vertices moved at the last step): what the step's query sees.
 struct BodyContact {
     bool found = false;       // a hull triangle lies within reach
@@ -68,7 +75,7 @@ Result query_body(const World* world, BodyId body, Vec3 point, BodyContact* out)
 // The offset hull as the step sees it, for tests, debugging views and brute-force references.
 struct BodyView {
     uint32_t vertex_count = 0, triangle_count = 0;
-    const float* hull = nullptr;     // [4 * vertex_count]: x, y, z, unused (Embree's vertex layout)
+    const float* hull = nullptr;     // [4 * vertex_count]: x, y, z, the vertex's motion this step (m)
     const float* normals = nullptr;  // [3 * vertex_count]: unit area-weighted vertex normals
     const uint32_t* triangles = nullptr;
     float thickness_m = 0, margin_m = 0;

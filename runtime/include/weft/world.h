@@ -129,6 +129,14 @@ struct WorldStats {
     uint64_t body_contacts = 0;
     uint64_t body_rays = 0;
     uint64_t body_refits = 0;
+    // Last step: particles whose reach met a box of the body's hierarchy (needed triangle tests;
+    // with BodyDesc::reference_queries, every particle queried), and Embree refits (made only for
+    // the reference pass).
+    uint64_t body_queried = 0;
+    uint64_t body_embree_refits = 0;
+    // Nanoseconds (all steps, with WorldDesc::profile) of pass_ns[body] spent refitting moved
+    // bodies (Weft's hierarchy, or Embree's BVH for the reference pass).
+    uint64_t body_refit_ns = 0;
     // Embree's heap as its memory monitor reports it (rtcSetDeviceMemoryMonitorFunction): bytes
     // held now, and how many times it grew since creation.
     int64_t embree_bytes = 0;

@@ -1,15 +1,18 @@
 // Stage 4 of the seed's step against body colliders (seed section 4.2): particles against the
-// offset hull of a triangle mesh, through Embree's BVH.
+// offset hull of a triangle mesh.
 //
-// Detection: one rtcPointQuery per particle, radius thickness + margin, whose callback keeps the
-// closest hull triangle (closest point on a triangle: Ericson, Real-Time Collision Detection,
-// 5.1.5). The barycentric coordinates of that point interpolate the hull's vertex normals into the
+// Detection: the closest hull triangle within thickness + margin (+ the motion of its vertices
+// this step) through Weft's own box hierarchy (BodyHierarchy, collide/body_query.h: one walk per
+// cluster of neighbouring slots, eight triangles at a time per particle; closest point on a
+// triangle: Ericson, Real-Time Collision Detection, 5.1.5), or, for the plain reference pass
+// (BodyDesc::reference_queries), one Embree rtcPointQuery per particle. The barycentric coordinates of that point interpolate the hull's vertex normals into the
 // contact normal; the particle is inside when it lies behind the hull along that normal.
 // Response: the same projection and friction as the analytic colliders (colliders.h:
 // resolve_contact), with the surface's own motion, interpolated from the hull's per-vertex
 // displacement, as the collider motion.
 // Tunnelling: a particle that moved further than the thickness this substep is also traced by a
-// ray from its previous to its new position (rtcIntersect1); entering the hull stops it there.
+// ray from its previous to its new position (rtcIntersect1; Embree's BVH is refitted at the first
+// such ray of a step after the body moved); entering the hull stops it there.
 #pragma once
 
 #include <embree3/rtcore.h>
@@ -21,18 +24,56 @@
 
 namespace weft {
 
+// The step's own box hierarchy over the offset hull (issue 13, point 3): triangles ordered by
+// median splits of their rest-pose centroids, kLeafTriangles to a leaf, kGroupLeaves leaves to a
+// group, kRootGroups groups to a root box. Refitted without allocation whenever the body moves; boxes are widened by their vertices'
+// motion this step (a moving surface sweeps over resting cloth) and by kBoxSlack_m for rounding.
+inline constexpr uint32_t kLeafTriangles = 8;
+inline constexpr uint32_t kGroupLeaves = 16;
+inline constexpr uint32_t kRootGroups = 8;
+inline constexpr float kBoxSlack_m = 1e-5f;
+
+// Axis-aligned boxes, structure of arrays (SIMD tests eight at a time), padded to a multiple of 8
+// with empty boxes (min > max).
+struct Boxes {
+    float* min_x = nullptr;
+    float* min_y = nullptr;
+    float* min_z = nullptr;
+    float* max_x = nullptr;
+    float* max_y = nullptr;
+    float* max_z = nullptr;
+};
+
+struct BodyHierarchy {
+    uint32_t leaf_count = 0, group_count = 0, root_count = 0;
+    uint32_t* leaf_triangle = nullptr;  // [kLeafTriangles * leaf_count]: body triangle per leaf lane
+    uint32_t* leaf_vertex = nullptr;    // [3 * kLeafTriangles * leaf_count]: per leaf a[8], b[8], c[8] as 4 * vertex
+    // [kLeafCorners * leaf_count]: per leaf the corner a, edges ab, ac, normal ab x ac (not
+    // normalised) and radius max(|ab|, |ac|) of its triangles, each component an array of
+    // kLeafTriangles floats (ax[8], ay[8], az[8], abx[8], ... nz[8], radius[8]).
+    float* leaf_corners = nullptr;
+    float* leaf_sweep = nullptr;  // [leaf_count]: the largest motion of the leaf's vertices this step
+    Boxes leaves;                 // [leaf_count rounded up to groups * kGroupLeaves]
+    Boxes groups;                 // [root_count * kRootGroups]
+    Boxes roots;                  // [root_count rounded up to 8]
+};
+inline constexpr uint32_t kLeafCorners = 13 * kLeafTriangles;
+
 struct BodyState {
     BodyDesc desc;  // thickness, margin, friction (the array pointers are not kept)
     uint32_t vertex_count = 0, triangle_count = 0;
-    float* hull = nullptr;           // [4 * vertex_count + 4]: the offset hull, Embree's shared vertex buffer
+    // [4 * vertex_count + 4]: the offset hull, Embree's shared vertex buffer: x, y, z and, where
+    // Embree does not look, |hull - previous_hull| of the vertex this step (metres). A particle the
+    // surface swept over lies up to that much deeper, so the hierarchy widens each leaf's box and
+    // reach by its vertices' largest motion (arms move up to 15 mm a frame; widening every query by
+    // the whole body's largest motion, the hands', made the first cut's pass 16 ms).
+    float* hull = nullptr;
     float* previous_hull = nullptr;  // [4 * vertex_count]: the hull the previous step used
     float* normals = nullptr;        // [3 * vertex_count]: unit area-weighted vertex normals
     uint32_t* triangles = nullptr;   // [3 * triangle_count + 4]: Embree's shared index buffer
     RTCScene scene = nullptr;
     RTCGeometry geometry = nullptr;
-    // How far any hull vertex moved at this step: a particle the surface swept over lies up to this
-    // much deeper, so the query reaches thickness + margin + sweep (arms move up to 15 mm a frame).
-    float sweep_m = 0.0f;
+    BodyHierarchy hierarchy;
     bool refit_pending = false;  // new vertices since the last step
     bool moving = false;         // hull and previous_hull differ (the body moved at the last step)
 };
@@ -46,15 +87,32 @@ Barycentric closest_on_triangle(const float* p, const float* a, const float* b, 
 // Offset hull of `positions`: area-weighted vertex normals, hull = position + thickness * normal.
 void compute_offset_hull(BodyState& body, const Vec3* positions);
 
-// The closest hull point within thickness + margin (BodyContact::found false when none is).
+// The closest hull point within thickness + margin (BodyContact::found false when none is), by
+// Embree's rtcPointQuery (the reference; the step uses its own hierarchy unless
+// BodyDesc::reference_queries).
 BodyContact closest_hull_point(const BodyState& body, const float* point);
+
+// Arena bytes for the hierarchies of bodies with these totals (world sizing).
+size_t body_hierarchy_bytes(uint32_t triangles, uint32_t bodies);
+// Carves the hierarchy from `arena` and orders the triangles (at add_body); false when out of memory.
+struct Arena;
+bool build_body_hierarchy(BodyState& body, Arena& arena, SimdPath path);
+// Refits the hierarchy to the current hull and its vertices' motion (every step after the body moved).
+void refit_body_hierarchy(BodyState& body, SimdPath path);
 
 // Counts of the pass's work for WorldStats.
 struct BodyPassCounts {
     uint64_t contacts = 0, rays = 0;
+    uint64_t queried = 0;  // particles whose cluster met at least one leaf (needed a closer look)
 };
 
 // One cloth's particles against one body, for one of `substeps` substeps of the step.
-void collide_body(const Particles& particles, const BodyState& body, uint32_t substeps, BodyPassCounts& counts);
+void collide_body(const Particles& particles, const BodyState& body, uint32_t substeps, SimdPath path,
+                  BodyPassCounts& counts);
+
+// The step's contact query for one point through the hierarchy (query_body): the same result as
+// the pass sees.
+BodyContact closest_hull_point_hierarchy(const BodyState& body, const float* point, SimdPath path);
+
 
 }  // namespace weft

@@ -1,0 +1,441 @@
+// The body pass through the step's own two-level hierarchy (collide/body.h: BodyHierarchy), as a
+// template over the wide float type, instantiated for the scalar and the AVX2 path
+// (body_kernels_scalar.cpp, body_kernels_avx2.cpp). Both paths test the same leaves in the same
+// order with the same operations and pick the closest triangle by the same scalar rule, so they give
+// bit-identical results (tested).
+//
+// Per cluster of kClusterSlots consecutive slots (a cloth's slots run along lattice rows, so they
+// are neighbours): one walk of the hierarchy with the cluster's box widened by the reach collects
+// every leaf whose (motion-widened) box the reach of any of its particles can meet; then each
+// particle tests those leaves' boxes eight at a time, and the eight triangles of every leaf its
+// reach meets at once (Ericson's closest point on a triangle, Real-Time Collision Detection 5.1.5,
+// written branch-free). Conservative: a leaf is skipped only when its box lies beyond the reach.
+#pragma once
+
+#include <cmath>
+#include <cstdint>
+#include <limits>
+
+#include "collide/body.h"
+#include "collide/colliders.h"
+#include "simd/float_w.h"
+
+namespace weft {
+namespace body_query {
+
+inline constexpr uint32_t kClusterSlots = 16;
+inline constexpr uint32_t kMaxCandidates = 512;  // leaves per batch of a cluster (more: several batches)
+
+inline uint32_t lane_bits(simd::Mask1 m) { return m.v ? 1u : 0u; }
+#if WEFT_HAVE_AVX2
+inline uint32_t lane_bits(simd::Mask8 m) { return uint32_t(_mm256_movemask_ps(m.v)); }
+#endif
+
+// Closest points of `p` on a leaf's eight triangles: squared distance (infinity beyond `limit2`)
+// and the weights v (of b) and w (of c); returns the bits of the lanes within `limit2`. Triangles
+// whose plane lies at `limit2` or further are skipped first (most of a cluster's far particles).
+// Ericson's regions, each a mask, applied from the lowest to the highest priority so the highest
+// wins, as his early returns do.
+template <class F>
+inline uint32_t closest_in_leaf(const float* corners, const float* p, float limit2, float* d2_out, float* v_out,
+                                float* w_out) {
+    const float limit_m = std::sqrt(limit2);
+    using namespace simd;
+    const F zero = splat(0.0f, F{}), one = splat(1.0f, F{});
+    const F px = splat(p[0], F{}), py = splat(p[1], F{}), pz = splat(p[2], F{});
+    const F limit = splat(limit2, F{}), far = splat(std::numeric_limits<float>::infinity(), F{});
+    uint32_t within = 0;
+    for (uint32_t k = 0; k < kLeafTriangles; k += F::width) {
+        const float* c = corners + k;
+        const Vec3W<F> ap{px - load(c, F{}), py - load(c + 8, F{}), pz - load(c + 16, F{})};
+        // Plane test with the unnormalised normal n = ab x ac: (n.ap)^2 < limit2 |n|^2. A degenerate
+        // triangle (n = 0) never passes; its neighbours' edges cover it.
+        // And a ball test: the triangle lies within `radius` (the longer of ab, ac) of a, so it is out
+        // of reach when |ap| >= sqrt(limit2) + radius.
+        const Vec3W<F> n{load(c + 72, F{}), load(c + 80, F{}), load(c + 88, F{})};
+        const F plane = dot(n, ap);
+        const F ball = splat(limit_m, F{}) + load(c + 96, F{});
+        const auto near = (plane * plane < limit * dot(n, n)) & (dot(ap, ap) < ball * ball);
+        if (!any(near)) {
+            store(d2_out + k, far);
+            continue;
+        }
+        const Vec3W<F> ab{load(c + 24, F{}), load(c + 32, F{}), load(c + 40, F{})};
+        const Vec3W<F> ac{load(c + 48, F{}), load(c + 56, F{}), load(c + 64, F{})};
+        const F d1 = dot(ab, ap), d2 = dot(ac, ap);
+        const F ab_ab = dot(ab, ab), ab_ac = dot(ab, ac), ac_ac = dot(ac, ac);
+        const F d3 = d1 - ab_ab, d4 = d2 - ab_ac;  // ab.bp, ac.bp with bp = ap - ab
+        const F d5 = d1 - ab_ac, d6 = d2 - ac_ac;  // ab.cp, ac.cp with cp = ap - ac
+        const F vc = neg_mul_add(d3, d2, d1 * d4);
+        const F vb = neg_mul_add(d1, d6, d5 * d2);
+        const F va = neg_mul_add(d5, d4, d3 * d6);
+        // The weights as numerators over one denominator per region, so one division serves all
+        // regions: face (vb, vc) / sum, a degenerate triangle (sum <= 0) falling back to corner a.
+        const F sum = va + vb + vc;
+        const auto face = sum > zero;
+        F v_num = keep_if(face, vb), w_num = keep_if(face, vc), den = select(face, sum, one);
+        // Each region in turn, lowest priority first, where the point is not `outside` it.
+        auto region = [&](auto outside, F v_region, F w_region, F den_region) {
+            v_num = select(outside, v_num, v_region);
+            w_num = select(outside, w_num, w_region);
+            den = select(outside, den, den_region);
+        };
+        const F e43 = d4 - d3, e56 = d5 - d6;
+        region((va > zero) | (e43 < zero) | (e56 < zero), e56, e43, e43 + e56);  // edge bc
+        region((vb > zero) | (d2 < zero) | (d6 > zero), zero, d2, d2 - d6);     // edge ac
+        region((d6 < zero) | (d5 > d6), zero, one, one);                        // corner c
+        region((vc > zero) | (d1 < zero) | (d3 > zero), d1, zero, d1 - d3);     // edge ab
+        region((d3 < zero) | (d4 > d3), one, zero, one);                        // corner b
+        region((d1 > zero) | (d2 > zero), zero, zero, one);                     // corner a
+        const F inverse = one / den;
+        const F v = v_num * inverse, w = w_num * inverse;
+        // p - closest = ap - v ab - w ac.
+        const Vec3W<F> r{neg_mul_add(w, ac.x, neg_mul_add(v, ab.x, ap.x)), neg_mul_add(w, ac.y, neg_mul_add(v, ab.y, ap.y)),
+                         neg_mul_add(w, ac.z, neg_mul_add(v, ab.z, ap.z))};
+        const F distance2 = dot(r, r);
+        const auto accepted = near & (distance2 < limit);  // NaN (degenerate) never passes
+        store(d2_out + k, select(accepted, distance2, far));
+        store(v_out + k, v);
+        store(w_out + k, w);
+        within |= lane_bits(accepted) << k;
+    }
+    return within;
+}
+
+// The best triangle a particle has found so far.
+struct Best {
+    float distance2;
+    uint32_t triangle;
+    float v, w;
+};
+
+// The first hull triangle a particle's tunnelling ray meets (any side), kNoTriangle when none.
+inline constexpr uint32_t kNoTriangle = 0xffffffffu;
+struct RayHit {
+    float t;  // along the ray's direction (the whole displacement) from its origin
+    uint32_t triangle;
+    float u, v;     // weights of the triangle's corners b and c at the hit
+    bool entering;  // moving against the triangle's outward normal: a crossing into the hull
+};
+
+// One cluster's points (kClusterSlots consecutive slots): those to search (bits of `active`) and
+// those that also trace a ray (bits of `rays`) from origin[k] along dir[k] for t in [0, t_far[k]].
+struct Cluster {
+    float point[kClusterSlots][3];
+    float origin[kClusterSlots][3];
+    float dir[kClusterSlots][3];
+    float t_far[kClusterSlots];
+    uint32_t active = 0, rays = 0;
+    Best best[kClusterSlots];
+    RayHit hit[kClusterSlots];
+};
+
+// Moeller-Trumbore against a leaf's eight triangles: the lanes the segment org + t dir,
+// t in [0, t_far], crosses, with t, u (weight of b), v (weight of c) and det > 0 when entering
+// (det = ab . (dir x ac) = -dir . (ab x ac), the outward normal).
+template <class F>
+inline uint32_t intersect_leaf(const float* corners, const float* org, const float* dir, float t_far, float* t_out,
+                               float* u_out, float* v_out, float* det_out) {
+    using namespace simd;
+    const F zero = splat(0.0f, F{}), one = splat(1.0f, F{});
+    const Vec3W<F> d{splat(dir[0], F{}), splat(dir[1], F{}), splat(dir[2], F{})};
+    uint32_t hits = 0;
+    for (uint32_t k = 0; k < kLeafTriangles; k += F::width) {
+        const float* c = corners + k;
+        const Vec3W<F> ab{load(c + 24, F{}), load(c + 32, F{}), load(c + 40, F{})};
+        const Vec3W<F> ac{load(c + 48, F{}), load(c + 56, F{}), load(c + 64, F{})};
+        const Vec3W<F> to{splat(org[0], F{}) - load(c, F{}), splat(org[1], F{}) - load(c + 8, F{}),
+                          splat(org[2], F{}) - load(c + 16, F{})};
+        const Vec3W<F> p{d.y * ac.z - d.z * ac.y, d.z * ac.x - d.x * ac.z, d.x * ac.y - d.y * ac.x};
+        const F det = dot(ab, p);
+        const F inverse = one / det;
+        const Vec3W<F> q{to.y * ab.z - to.z * ab.y, to.z * ab.x - to.x * ab.z, to.x * ab.y - to.y * ab.x};
+        const F u = dot(to, p) * inverse, v = dot(d, q) * inverse, t = dot(ac, q) * inverse;
+        const auto miss = (u < zero) | (v < zero) | (u + v > one) | (t < zero) | (t > splat(t_far, F{}));
+        const uint32_t lanes = lane_bits(abs(det) > zero) & ~lane_bits(miss);  // det 0: parallel, NaN lanes miss
+        if (lanes == 0) continue;
+        store(t_out + k, t);
+        store(u_out + k, u);
+        store(v_out + k, v);
+        store(det_out + k, det);
+        hits |= lanes << k;
+    }
+    return hits;
+}
+
+// The leaves one cluster may touch, with their boxes copied into local arrays (eight-wide tests).
+struct Candidates {
+    uint32_t count = 0;
+    uint32_t leaf[kMaxCandidates + 8];
+    alignas(32) float min_x[kMaxCandidates + 8], min_y[kMaxCandidates + 8], min_z[kMaxCandidates + 8];
+    alignas(32) float max_x[kMaxCandidates + 8], max_y[kMaxCandidates + 8], max_z[kMaxCandidates + 8];
+};
+
+// Traces a cluster point's ray against every candidate leaf whose box meets the segment's box,
+// keeping the first hit (strictly smaller t: ties keep the first leaf and lane, deterministic).
+template <class F>
+inline void trace_candidates(const BodyHierarchy& h, const Candidates& c, const float* org, const float* dir,
+                             float t_far, RayHit& hit) {
+    using namespace simd;
+    float lo[3], hi[3];
+    for (int a = 0; a < 3; ++a) {
+        const float end = org[a] + t_far * dir[a];
+        lo[a] = org[a] < end ? org[a] : end;
+        hi[a] = org[a] < end ? end : org[a];
+    }
+    const F lx = splat(lo[0], F{}), ly = splat(lo[1], F{}), lz = splat(lo[2], F{});
+    const F hx = splat(hi[0], F{}), hy = splat(hi[1], F{}), hz = splat(hi[2], F{});
+    alignas(32) float t[kLeafTriangles], u[kLeafTriangles], v[kLeafTriangles], det[kLeafTriangles];
+    for (uint32_t i = 0; i < c.count; i += F::width) {
+        const auto apart = (load(c.min_x + i, F{}) > hx) | (load(c.max_x + i, F{}) < lx) |
+                           (load(c.min_y + i, F{}) > hy) | (load(c.max_y + i, F{}) < ly) |
+                           (load(c.min_z + i, F{}) > hz) | (load(c.max_z + i, F{}) < lz);
+        uint32_t bits = ~lane_bits(apart) & ((1u << F::width) - 1u);
+        while (bits != 0) {
+            const uint32_t lane = uint32_t(__builtin_ctz(bits));
+            bits &= bits - 1;
+            if (i + lane >= c.count) break;
+            const uint32_t leaf = c.leaf[i + lane];
+            uint32_t lanes = intersect_leaf<F>(h.leaf_corners + size_t(kLeafCorners) * leaf, org, dir, t_far, t, u, v, det);
+            while (lanes != 0) {
+                const uint32_t k = uint32_t(__builtin_ctz(lanes));
+                lanes &= lanes - 1;
+                if (!(t[k] < hit.t)) continue;
+                hit = {t[k], h.leaf_triangle[kLeafTriangles * leaf + k], u[k], v[k], det[k] > 0.0f};
+            }
+        }
+    }
+}
+
+// Tests particle `p` against every candidate leaf whose box its base reach meets, keeping the closest
+// triangle within the leaf's reach (base + the leaf's sweep) that is strictly closer than `best`.
+template <class F>
+inline bool search_candidates(const BodyHierarchy& h, const Candidates& c, const float* p, float reach, Best& best) {
+    using namespace simd;
+    const F px = splat(p[0], F{}), py = splat(p[1], F{}), pz = splat(p[2], F{});
+    const F zero = splat(0.0f, F{});
+    const F reach2 = splat(reach * reach, F{});
+    bool met = false;
+    alignas(32) float d2[kLeafTriangles], v[kLeafTriangles], w[kLeafTriangles];
+    for (uint32_t i = 0; i < c.count; i += F::width) {
+        // Distance from p to each box (zero inside): the leaf boxes are already widened by their sweep.
+        const F dx = max(zero, max(load(c.min_x + i, F{}) - px, px - load(c.max_x + i, F{})));
+        const F dy = max(zero, max(load(c.min_y + i, F{}) - py, py - load(c.max_y + i, F{})));
+        const F dz = max(zero, max(load(c.min_z + i, F{}) - pz, pz - load(c.max_z + i, F{})));
+        const F box2 = mul_add(dx, dx, mul_add(dy, dy, dz * dz));
+        uint32_t bits = lane_bits(box2 < reach2);
+        alignas(32) float box2_lanes[F::width];
+        store(box2_lanes, box2);
+        while (bits != 0) {
+            const uint32_t lane = uint32_t(__builtin_ctz(bits));
+            bits &= bits - 1;
+            if (i + lane >= c.count) break;  // the copy's padding past the last candidate
+            met = true;
+            // Beyond the best so far: no triangle of this leaf can be strictly closer (the boxes are
+            // widened by kBoxSlack_m, so the box distance stays below any triangle's despite rounding).
+            if (!(box2_lanes[lane] < best.distance2)) continue;
+            const uint32_t leaf = c.leaf[i + lane];
+            const float leaf_reach = reach + h.leaf_sweep[leaf];
+            // Within the leaf's reach and closer than the best so far (equal lanes lose: d2 < limit).
+            float limit2 = leaf_reach * leaf_reach;
+            limit2 = best.distance2 < limit2 ? best.distance2 : limit2;
+            uint32_t lanes = closest_in_leaf<F>(h.leaf_corners + size_t(kLeafCorners) * leaf, p, limit2, d2, v, w);
+            while (lanes != 0) {
+                const uint32_t k = uint32_t(__builtin_ctz(lanes));
+                lanes &= lanes - 1;
+                if (!(d2[k] < best.distance2)) continue;  // strictly closer: ties keep the first, deterministic
+                best.distance2 = d2[k];
+                best.triangle = h.leaf_triangle[kLeafTriangles * leaf + k];
+                best.v = v[k];
+                best.w = w[k];
+            }
+        }
+    }
+    return met;
+}
+
+// Appends every leaf whose box meets [lo, hi] to `c`, root by root, group by group; calls `flush` when the list
+// is full (the caller searches it and empties it).
+template <class F, class Flush>
+inline void collect_leaves(const BodyHierarchy& h, const float* lo, const float* hi, Candidates& c, Flush&& flush) {
+    using namespace simd;
+    const F lx = splat(lo[0], F{}), ly = splat(lo[1], F{}), lz = splat(lo[2], F{});
+    const F hx = splat(hi[0], F{}), hy = splat(hi[1], F{}), hz = splat(hi[2], F{});
+    // Calls visit(i) for every box i in [first, first + count) below `end` that meets [lo, hi]
+    // (apart on some axis: box min above the query's max, or box max below its min).
+    auto for_each_meeting = [&](const Boxes& b, uint32_t first, uint32_t count, uint32_t end, auto&& visit) {
+        for (uint32_t i0 = first; i0 < first + count; i0 += F::width) {
+            const auto apart = (load(b.min_x + i0, F{}) > hx) | (load(b.max_x + i0, F{}) < lx) |
+                               (load(b.min_y + i0, F{}) > hy) | (load(b.max_y + i0, F{}) < ly) |
+                               (load(b.min_z + i0, F{}) > hz) | (load(b.max_z + i0, F{}) < lz);
+            uint32_t bits = ~lane_bits(apart) & ((1u << F::width) - 1u);
+            while (bits != 0) {
+                const uint32_t i = i0 + uint32_t(__builtin_ctz(bits));
+                bits &= bits - 1;
+                if (i >= end) return;  // padding boxes are empty, but be explicit
+                visit(i);
+            }
+        }
+    };
+    const uint32_t padded_roots = (h.root_count + 7) / 8 * 8;
+    for_each_meeting(h.roots, 0, padded_roots, h.root_count, [&](uint32_t r) {
+        for_each_meeting(h.groups, r * kRootGroups, kRootGroups, h.group_count, [&](uint32_t g) {
+            for_each_meeting(h.leaves, g * kGroupLeaves, kGroupLeaves, h.leaf_count, [&](uint32_t l) {
+                const uint32_t n = c.count++;
+                c.leaf[n] = l;
+                c.min_x[n] = h.leaves.min_x[l];
+                c.min_y[n] = h.leaves.min_y[l];
+                c.min_z[n] = h.leaves.min_z[l];
+                c.max_x[n] = h.leaves.max_x[l];
+                c.max_y[n] = h.leaves.max_y[l];
+                c.max_z[n] = h.leaves.max_z[l];
+                if (c.count == kMaxCandidates) flush();
+            });
+        });
+    });
+}
+
+// The closest hull triangle to each active point of the cluster within reach (best[k].distance2
+// stays infinite when none is), and the first triangle each ray point's segment meets (hit[k]).
+// The walk's box holds the points widened by the reach and the rays' segments. Returns the bits of
+// the points whose reach met at least one leaf box.
+template <class F>
+inline uint32_t search_cluster(const BodyHierarchy& h, float reach, Cluster& q, Candidates& c) {
+    constexpr float inf = std::numeric_limits<float>::infinity();
+    float lo[3] = {inf, inf, inf}, hi[3] = {-inf, -inf, -inf};
+    for (uint32_t k = 0; k < kClusterSlots; ++k) {
+        q.best[k] = {inf, 0, 0.0f, 0.0f};
+        q.hit[k] = {inf, kNoTriangle, 0.0f, 0.0f, false};
+        if (!(q.active >> k & 1u)) continue;
+        for (int a = 0; a < 3; ++a) {
+            lo[a] = q.point[k][a] - reach < lo[a] ? q.point[k][a] - reach : lo[a];
+            hi[a] = q.point[k][a] + reach > hi[a] ? q.point[k][a] + reach : hi[a];
+        }
+        if (!(q.rays >> k & 1u)) continue;
+        for (int a = 0; a < 3; ++a) {  // the point is the segment's far end; its start is the origin
+            lo[a] = q.origin[k][a] < lo[a] ? q.origin[k][a] : lo[a];
+            hi[a] = q.origin[k][a] > hi[a] ? q.origin[k][a] : hi[a];
+        }
+    }
+    if (q.active == 0) return 0;
+    uint32_t met = 0;
+    auto flush = [&] {
+        // Pad the copy so eight-wide loads past the end read empty boxes.
+        for (uint32_t n = c.count; n < c.count + 8; ++n) {
+            c.min_x[n] = c.min_y[n] = c.min_z[n] = inf;
+            c.max_x[n] = c.max_y[n] = c.max_z[n] = -inf;
+            c.leaf[n] = 0;
+        }
+        for (uint32_t k = 0; k < kClusterSlots; ++k) {
+            if (!(q.active >> k & 1u)) continue;
+            if (q.rays >> k & 1u) trace_candidates<F>(h, c, q.origin[k], q.dir[k], q.t_far[k], q.hit[k]);
+            if (search_candidates<F>(h, c, q.point[k], reach, q.best[k])) met |= 1u << k;
+        }
+        c.count = 0;
+    };
+    c.count = 0;
+    collect_leaves<F>(h, lo, hi, c, flush);
+    if (c.count > 0) flush();
+    return met;
+}
+
+inline float lowest(simd::Float1 a) { return a.v; }
+inline float highest(simd::Float1 a) { return a.v; }
+#if WEFT_HAVE_AVX2
+inline float lowest(simd::Float8 a) {
+    __m128 m = _mm_min_ps(_mm256_castps256_ps128(a.v), _mm256_extractf128_ps(a.v, 1));
+    m = _mm_min_ps(m, _mm_movehl_ps(m, m));
+    return _mm_cvtss_f32(_mm_min_ss(m, _mm_movehdup_ps(m)));
+}
+inline float highest(simd::Float8 a) {
+    __m128 m = _mm_max_ps(_mm256_castps256_ps128(a.v), _mm256_extractf128_ps(a.v, 1));
+    m = _mm_max_ps(m, _mm_movehl_ps(m, m));
+    return _mm_cvtss_f32(_mm_max_ss(m, _mm_movehdup_ps(m)));
+}
+#endif
+
+// to[index] = the union of from[first, first + count), cut at `end`.
+inline void unite(const Boxes& from, uint32_t first, uint32_t end, uint32_t count, Boxes& to, uint32_t index) {
+    end = first + count < end ? first + count : end;
+    float lo[3] = {from.min_x[first], from.min_y[first], from.min_z[first]};
+    float hi[3] = {from.max_x[first], from.max_y[first], from.max_z[first]};
+    for (uint32_t i = first + 1; i < end; ++i) {
+        lo[0] = from.min_x[i] < lo[0] ? from.min_x[i] : lo[0];
+        lo[1] = from.min_y[i] < lo[1] ? from.min_y[i] : lo[1];
+        lo[2] = from.min_z[i] < lo[2] ? from.min_z[i] : lo[2];
+        hi[0] = from.max_x[i] > hi[0] ? from.max_x[i] : hi[0];
+        hi[1] = from.max_y[i] > hi[1] ? from.max_y[i] : hi[1];
+        hi[2] = from.max_z[i] > hi[2] ? from.max_z[i] : hi[2];
+    }
+    to.min_x[index] = lo[0], to.min_y[index] = lo[1], to.min_z[index] = lo[2];
+    to.max_x[index] = hi[0], to.max_y[index] = hi[1], to.max_z[index] = hi[2];
+}
+
+// Refits every leaf to the hull (BodyState::hull: x, y, z and the vertex's motion this step):
+// corners, edges, normals and radii of its triangles, its box widened by the largest motion of its
+// vertices and kBoxSlack_m, then the group boxes. Min, max and IEEE arithmetic: both paths agree.
+template <class F>
+inline void refit_leaves(BodyHierarchy& h, const float* hull) {
+    using namespace simd;
+    const F slack = splat(kBoxSlack_m, F{});
+    for (uint32_t l = 0; l < h.leaf_count; ++l) {
+        float* c = h.leaf_corners + size_t(kLeafCorners) * l;
+        const uint32_t* offset = h.leaf_vertex + 3 * kLeafTriangles * l;  // 4 * vertex: a[8], b[8], c[8]
+        F lo[3], hi[3], sweep;
+        for (uint32_t k = 0; k < kLeafTriangles; k += F::width) {
+            Vec3W<F> a, ab, ac;
+            F* pa[3] = {&a.x, &a.y, &a.z};
+            F* pab[3] = {&ab.x, &ab.y, &ab.z};
+            F* pac[3] = {&ac.x, &ac.y, &ac.z};
+            for (int axis = 0; axis < 3; ++axis) {
+                const F va = gather(hull + axis, offset + k, F{});
+                const F vb = gather(hull + axis, offset + kLeafTriangles + k, F{});
+                const F vc = gather(hull + axis, offset + 2 * kLeafTriangles + k, F{});
+                *pa[axis] = va;
+                *pab[axis] = vb - va;
+                *pac[axis] = vc - va;
+                const F low = min(va, min(vb, vc)), high = max(va, max(vb, vc));
+                lo[axis] = k == 0 ? low : min(lo[axis], low);
+                hi[axis] = k == 0 ? high : max(hi[axis], high);
+                store(c + 8 * axis + k, va);
+                store(c + 24 + 8 * axis + k, vb - va);
+                store(c + 48 + 8 * axis + k, vc - va);
+            }
+            store(c + 72 + k, ab.y * ac.z - ab.z * ac.y);
+            store(c + 80 + k, ab.z * ac.x - ab.x * ac.z);
+            store(c + 88 + k, ab.x * ac.y - ab.y * ac.x);
+            // Rounded up by the slack: the ball test must never cut a triangle that is in reach.
+            store(c + 96 + k, sqrt(max(dot(ab, ab), dot(ac, ac))) + slack);
+            const F motion = max(gather(hull + 3, offset + k, F{}),
+                                 max(gather(hull + 3, offset + kLeafTriangles + k, F{}),
+                                     gather(hull + 3, offset + 2 * kLeafTriangles + k, F{})));
+            sweep = k == 0 ? motion : max(sweep, motion);
+        }
+        // Widened by the leaf's motion (a surface sweeping over resting cloth: the particle lies up
+        // to that much deeper) and by a slack that absorbs the box test's rounding.
+        const float leaf_sweep = highest(sweep);
+        const float widen = leaf_sweep + kBoxSlack_m;
+        h.leaf_sweep[l] = leaf_sweep;
+        h.leaves.min_x[l] = lowest(lo[0]) - widen;
+        h.leaves.min_y[l] = lowest(lo[1]) - widen;
+        h.leaves.min_z[l] = lowest(lo[2]) - widen;
+        h.leaves.max_x[l] = highest(hi[0]) + widen;
+        h.leaves.max_y[l] = highest(hi[1]) + widen;
+        h.leaves.max_z[l] = highest(hi[2]) + widen;
+    }
+    for (uint32_t g = 0; g < h.group_count; ++g) unite(h.leaves, g * kGroupLeaves, h.leaf_count, kGroupLeaves, h.groups, g);
+    for (uint32_t r = 0; r < h.root_count; ++r) unite(h.groups, r * kRootGroups, h.group_count, kRootGroups, h.roots, r);
+}
+
+// One path's search and refit: the templates for the scalar or the AVX2 path (null when unavailable).
+using SearchCluster = uint32_t (*)(const BodyHierarchy&, float, Cluster&, Candidates&);
+using RefitLeaves = void (*)(BodyHierarchy&, const float*);
+struct Path {
+    SearchCluster search;
+    RefitLeaves refit;
+};
+const Path& scalar_path();
+const Path* avx2_path();
+
+}  // namespace body_query
+}  // namespace weft
