@@ -1,5 +1,7 @@
 #include "bake.h"
 
+#include <algorithm>
+
 #include "asset_writer.h"
 
 namespace weft::bake {
@@ -72,7 +74,17 @@ Status bake_pattern(std::string_view text, const BakeOptions& options, Baked* ou
     if (Status s = parse_pattern(text, options.parse, &out->pattern); !s.ok()) return s;
     if (Status s = mesh_garment(out->pattern, options.mesh, &out->garment); !s.ok()) return s;
     const GarmentInput input = garment_input(out->garment, out->pattern.fabric);
-    if (Result r = cook_garment(input.desc, options.cook, options.choose_runs, &out->cooked, &out->cook_options); !r.ok()) return {r.message};
+    if (options.body != nullptr) {
+        std::vector<uint32_t> attached;
+        for (const Attachment& a : out->garment.attachments) attached.insert(attached.end(), a.particles.begin(), a.particles.end());
+        std::sort(attached.begin(), attached.end());
+        attached.erase(std::unique(attached.begin(), attached.end()), attached.end());
+        if (Status s = sew_garment(input.desc, attached, *options.body, options.sew, &out->sewn, &out->sew_report); !s.ok())
+            return {"sewing: " + s.error};
+    }
+    const ClothMeshDesc& mesh = options.body != nullptr ? out->sewn.desc : input.desc;
+    const CookOptions cook = options.body != nullptr ? sewn_cook_options(options.cook) : options.cook;
+    if (Result r = cook_garment(mesh, cook, options.choose_runs, &out->cooked, &out->cook_options); !r.ok()) return {r.message};
     if (Result r = assets::write_asset(out->cooked.asset(), &out->bytes); !r.ok()) return {r.message};
     assets::LoadedAsset check;
     if (Result r = assets::load_asset_copy(out->bytes.data(), out->bytes.size(), &check); !r.ok())

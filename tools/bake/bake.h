@@ -12,6 +12,7 @@
 
 #include "garment.h"
 #include "pattern.h"
+#include "sew.h"
 #include "weft/weft.h"
 
 namespace weft::bake {
@@ -23,6 +24,9 @@ struct BakeOptions {
     // Cook the garment with each of kRunChoices' (min_run_lanes, max_run_gap) as well as `cook`'s
     // own, and keep the one with the lowest estimated constraint pass (run_cost_ns); false: `cook` as given.
     bool choose_runs = true;
+    // Sew the garment onto this body and store the dressed pose (sew.h); null: the flat bake.
+    const SewBody* body = nullptr;
+    SewOptions sew;
 };
 
 // Run shapes the baker tries (BakeOptions::choose_runs): {min_run_lanes, max_run_gap}.
@@ -43,6 +47,8 @@ struct Baked {
     Pattern pattern;
     MeshedGarment garment;
     CookedCloth cooked;
+    SewnGarment sewn;              // with BakeOptions::body: the sewn, dressed garment
+    SewReport sew_report;
     CookOptions cook_options;      // what `cooked` was cooked with (BakeOptions::choose_runs)
     std::vector<std::byte> bytes;  // the asset file
 };

@@ -16,6 +16,7 @@
 #include <CGAL/Surface_mesh_default_criteria_3.h>
 #include <CGAL/Surface_mesh_default_triangulation_3.h>
 #include <CGAL/make_surface_mesh.h>
+#include <CGAL/Random.h>
 
 namespace weft::body {
 namespace {
@@ -209,6 +210,9 @@ std::string make_mannequin(const Measurements& m, const MannequinOptions& option
     const Function f = [&figure](Point_3 p) { return figure({p.x(), p.y(), p.z()}); };
     const Surface_3 surface(f, GT::Sphere_3(centre, 0.36 * m.height_m * m.height_m), 1e-7);
     const CGAL::Surface_mesh_default_criteria_3<Tr> criteria(25.0, options.edge_m, 0.1 * options.edge_m);
+    // The mesher's initial points come from CGAL's default random generator, seeded by the clock:
+    // a fixed seed makes the mannequin the same mesh every run (assets bind to its triangles).
+    CGAL::get_default_random() = CGAL::Random(0);
     CGAL::make_surface_mesh(c2t3, surface, criteria, CGAL::Manifold_tag());
     CGAL::Surface_mesh<Point_3> mesh;
     CGAL::facets_in_complex_2_to_triangle_mesh(c2t3, mesh);
