@@ -4,6 +4,9 @@
 // loaded asset stays at rest on the still body (mean speed < 1 mm/s, nothing ends inside).
 #include <doctest/doctest.h>
 
+#include <filesystem>
+
+#include <algorithm>
 #include <cmath>
 #include <fstream>
 #include <map>
@@ -11,6 +14,9 @@
 #include <sstream>
 
 #include "asset_writer.h"
+#include "body_mesh.h"
+#include "metrics.h"
+#include "scene_json.h"
 #include "bake.h"
 #include "mannequin.h"
 #include "weft/body.h"
@@ -114,6 +120,7 @@ void check_dressed(const std::string& pattern) {
     CHECK(differ_in_pose > 0);  // the start state is the dressed pose, not the flat one
 
     // The dressed pose: outside the skin, within 1 mm of the hull, at rest when it was stored.
+    CHECK(r.particles_inside_body == 0);
     CHECK(r.max_skin_penetration_m == 0.0);
     CHECK(r.max_penetration_m <= 0.001);
     CHECK(r.mean_speed_m_s < 0.001);
@@ -192,4 +199,107 @@ TEST_CASE("sewing: bad input is refused with a message") {
     options.body = &far;
     s = bake::bake_pattern(read_text(std::string(WEFT_SAMPLES_DIR) + "/skirt.json"), options, &baked);
     CHECK(s.error.find("is more than 0.5 m from the body") != std::string::npos);
+}
+
+TEST_CASE("attachments: the skirt's waistband follows the walking mannequin exactly") {
+    const bake::SewBody& body = mannequin();
+    const auto d = dress("skirt.json", body);
+    const ClothAsset& a = d->loaded.asset;
+    bake::BodyWorld w;
+    REQUIRE(bake::open_body_world(a, body, bake::SewOptions{}, 9.81f, 1.0f, &w).ok());
+    REQUIRE(attach_cloth_to_body(w.world, w.cloth, w.body).ok());
+    body::Mannequin m;
+    REQUIRE(body::make_mannequin(body::Measurements{}, body::MannequinOptions{}, &m).empty());
+    REQUIRE(m.triangles == body.triangles);
+    std::vector<Vec3> pose, x(a.particle_count);
+    float worst = 0.0f, moved = 0.0f;
+    for (int frame = 1; frame <= 60; ++frame) {
+        body::walk_pose(m, frame / 60.0f, &pose);
+        REQUIRE(set_body_vertices(w.world, w.body, pose.data(), uint32_t(pose.size())).ok());
+        REQUIRE(step(w.world, 1.0f / 60.0f).ok());
+        REQUIRE(read_positions(w.world, w.cloth, x.data(), a.particle_count).ok());
+        BodyView view;
+        REQUIRE(view_body(w.world, w.body, &view).ok());
+        for (uint32_t k = 0; k < a.attachment_count; ++k) {
+            const uint32_t* t = view.triangles + 3 * a.attached_triangle[k];
+            const float* wk = a.attached_weight + 3 * k;
+            float expect[3] = {0, 0, 0};
+            for (int c = 0; c < 3; ++c)
+                for (int i = 0; i < 3; ++i) expect[i] += wk[c] * view.hull[4 * t[c] + i];
+            const Vec3 p = x[a.attached_particle[k]];
+            worst = std::max({worst, std::fabs(p.x - expect[0]), std::fabs(p.y - expect[1]), std::fabs(p.z - expect[2])});
+            const uint32_t s = a.slot_of_particle[a.attached_particle[k]];
+            moved = std::max(moved, std::fabs(p.x - a.start_x[s]) + std::fabs(p.y - a.start_y[s]) + std::fabs(p.z - a.start_z[s]));
+        }
+    }
+    CHECK(worst <= 1e-6f);  // on the moving hull, to float rounding
+    CHECK(moved > 0.005f);  // and the walk did move them
+}
+
+TEST_CASE("attachments: bad bindings are refused") {
+    const auto d = dress("skirt.json", mannequin());
+    const body::BodyMesh ball = body::make_icosphere({0.0f, 1.0f, 0.0f}, 0.2f, 1);  // 80 triangles
+    bake::BodyWorld w;
+    REQUIRE(bake::open_body_world(d->loaded.asset, bake::SewBody{ball.positions, ball.triangles}, bake::SewOptions{}, 9.81f,
+                                  1.0f, &w).ok());
+    Result r = attach_cloth_to_body(w.world, w.cloth, w.body);
+    CHECK(r.code == ErrorCode::out_of_range);
+    CHECK(std::string(r.message).find("names body triangle") != std::string::npos);
+    CHECK(attach_cloth_to_body(w.world, ClothId{5}, w.body).code == ErrorCode::out_of_range);
+    CHECK(attach_cloth_to_body(w.world, w.cloth, BodyId{3}).code == ErrorCode::out_of_range);
+    CHECK(attach_cloth_to_body(nullptr, w.cloth, w.body).code == ErrorCode::invalid_argument);
+    const auto tee = dress("tee.json", mannequin());  // no attachments
+    bake::BodyWorld v;
+    REQUIRE(bake::open_body_world(tee->loaded.asset, mannequin(), bake::SewOptions{}, 9.81f, 1.0f, &v).ok());
+    CHECK(attach_cloth_to_body(v.world, v.cloth, v.body).code == ErrorCode::invalid_argument);
+}
+
+// tests/scenes/dress-garmentcode.json: the shared GarmentCode pencil dress sewn onto the shared
+// mean_all body, then run as the scene file says (the body blending A-pose -> T-pose).
+TEST_CASE("sewing: the GarmentCode pencil dress on the shared mean_all body (tests/scenes/dress-garmentcode.json)") {
+    const std::string shared = WEFT_SHARED_DATA_DIR;
+    if (!std::filesystem::exists(shared + "/bodies/mean_all.obj")) {
+        MESSAGE("../shared/data is not there: skipped");
+        return;
+    }
+    body::BodyMesh mean_all;
+    REQUIRE(body::load_body_mesh(shared + "/bodies/mean_all.obj", &mean_all).empty());
+    const bake::SewBody body{mean_all.positions, mean_all.triangles};
+    bake::BakeOptions options;
+    options.body = &body;
+    bake::Baked baked;
+    const bake::Status s =
+        bake::bake_pattern(read_text(shared + "/patterns/garmentcode/dress_pencil_specification.json"), options, &baked);
+    INFO(s.error);
+    REQUIRE(s.ok());
+    const bake::SewReport& r = baked.sew_report;
+    CHECK(r.max_seam_gap_m == 0.0);
+    CHECK(r.max_penetration_m <= 0.001);
+    CHECK(r.mean_speed_m_s < 0.001);
+    // Known: a few particles of the placed bodice start inside the A-pose's arms and stay there.
+    CHECK(r.particles_inside_body <= 8);
+    const std::string dir = std::filesystem::temp_directory_path() / "weft_test_sew";
+    std::filesystem::create_directories(dir);
+    std::ofstream(dir + "/dress-garmentcode.weft", std::ios::binary)
+        .write(reinterpret_cast<const char*>(baked.bytes.data()), std::streamsize(baked.bytes.size()));
+
+    scenes::Scene scene;
+    REQUIRE(scenes::load_scene_file(std::string(WEFT_TESTS_DIR) + "/scenes/dress-garmentcode.json", &scene).empty());
+    scenes::SceneWorld sw;
+    const std::string e = scenes::build_scene(scene, &sw, {dir});
+    INFO(e);
+    REQUIRE(e.empty());
+    REQUIRE(sw.body);
+    CHECK(sw.body->triangles.size() / 3 == 47500);
+    double deepest = 0.0;
+    for (uint32_t f = 1; f <= 120; ++f) {  // to the T-pose (half the period)
+        REQUIRE(scenes::animate_body(sw, float(f) * scene.dt_s).empty());
+        REQUIRE(step(sw.world, scene.dt_s).ok());
+        ClothView view;
+        REQUIRE(view_cloth(sw.world, sw.cloths[0].id, &view).ok());
+        REQUIRE(metrics::bounds(view).finite);
+        deepest = std::max(deepest, metrics::max_body_penetration_m(sw.world, sw.body->id, view));
+    }
+    CHECK(deepest <= 0.002);  // the arms rise up to 15 mm a frame through the bodice
+    std::filesystem::remove_all(dir);
 }

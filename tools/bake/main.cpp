@@ -202,6 +202,7 @@ int main(int argc, char** argv) {
         j["max_seam_gap_m"] = r.max_seam_gap_m;
         j["max_penetration_m"] = r.max_penetration_m;
         j["max_skin_penetration_m"] = r.max_skin_penetration_m;
+        j["particles_inside_body"] = r.particles_inside_body;
         j["final_mean_speed_m_s"] = r.mean_speed_m_s;
     }
     if (as_json) {

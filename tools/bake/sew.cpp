@@ -313,9 +313,10 @@ Status sew_garment(const ClothMeshDesc& unsewn, const std::vector<uint32_t>& att
             BodyContact c;
             if (query_body(w.world, w.body, g.positions[q], &c).ok() && c.found)
                 rep.max_penetration_m = std::max(rep.max_penetration_m, double(c.penetration_m));
-            if (inside_body(body, g.positions[q]))
-                rep.max_skin_penetration_m = std::max(rep.max_skin_penetration_m,
-                                                      c.found ? double(c.penetration_m - o.body_thickness_m) : 1.0);
+            if (inside_body(body, g.positions[q])) {
+                ++rep.particles_inside_body;
+                if (c.found) rep.max_skin_penetration_m = std::max(rep.max_skin_penetration_m, double(c.penetration_m - o.body_thickness_m));
+            }
         }
     }
     rep.sewing_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();

@@ -57,7 +57,8 @@ struct SewReport {
     uint32_t particles_before = 0, particles_after = 0;
     double max_seam_gap_m = 0.0;     // largest source-to-target distance when the sources merge
     double max_penetration_m = 0.0;  // deepest particle below the body's offset hull, dressed pose
-    double max_skin_penetration_m = 0.0;  // deepest particle inside the skin itself (0: none)
+    uint32_t particles_inside_body = 0;   // inside the skin (ray parity against the body)
+    double max_skin_penetration_m = 0.0;  // of those within the hull's reach: how deep below the skin
     double mean_speed_m_s = 0.0;     // over the last drape frame
     uint32_t body_triangles = 0;
 };

@@ -8,6 +8,7 @@
 #include <cmath>
 #include <functional>
 #include <map>
+#include <tuple>
 
 #include <CGAL/Complex_2_in_triangulation_3.h>
 #include <CGAL/IO/facets_in_complex_2_to_triangle_mesh.h>
@@ -195,6 +196,32 @@ Motion rotation_about(P pivot, P axis, double angle) {
     return m;
 }
 
+// The mesher's output order follows its triangulation's memory layout, which differs from run to
+// run even when the surface does not: vertices sorted by position and triangles by their vertices
+// (each rotated to start at its smallest index, winding kept) give one mesh for one surface, so
+// assets can bind to its triangles (body attachments).
+void canonical_order(Mannequin& m) {
+    const size_t n = m.positions.size();
+    std::vector<uint32_t> order(n), rank(n);
+    for (uint32_t v = 0; v < n; ++v) order[v] = v;
+    std::sort(order.begin(), order.end(), [&](uint32_t a, uint32_t b) {
+        const Vec3 &p = m.positions[a], &q = m.positions[b];
+        return std::tie(p.y, p.x, p.z, a) < std::tie(q.y, q.x, q.z, b);
+    });
+    std::vector<Vec3> positions(n);
+    for (uint32_t i = 0; i < n; ++i) rank[order[i]] = i, positions[i] = m.positions[order[i]];
+    std::vector<std::array<uint32_t, 3>> faces(m.triangles.size() / 3);
+    for (size_t t = 0; t < faces.size(); ++t) {
+        std::array<uint32_t, 3> f = {rank[m.triangles[3 * t]], rank[m.triangles[3 * t + 1]], rank[m.triangles[3 * t + 2]]};
+        while (f[0] > f[1] || f[0] > f[2]) f = {f[1], f[2], f[0]};
+        faces[t] = f;
+    }
+    std::sort(faces.begin(), faces.end());
+    m.positions = std::move(positions);
+    m.triangles.clear();
+    for (const auto& f : faces) m.triangles.insert(m.triangles.end(), f.begin(), f.end());
+}
+
 }  // namespace
 
 std::string make_mannequin(const Measurements& m, const MannequinOptions& options, Mannequin* out) {
@@ -224,6 +251,7 @@ std::string make_mannequin(const Measurements& m, const MannequinOptions& option
     }
     for (auto f : mesh.faces())
         for (auto v : CGAL::vertices_around_face(mesh.halfedge(f), mesh)) result.triangles.push_back(uint32_t(v.idx()));
+    canonical_order(result);
     result.bones = figure.bones;
     skin(result);
     *out = std::move(result);
