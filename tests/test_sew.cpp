@@ -60,10 +60,18 @@ std::unique_ptr<Dressed> dress(const std::string& pattern, const bake::SewBody& 
     return d;
 }
 
+// Each sample garment dressed once per test run (a bake takes a second or two; minutes under ASan).
+const Dressed& dressed(const std::string& pattern) {
+    static std::map<std::string, std::unique_ptr<Dressed>> cache;
+    std::unique_ptr<Dressed>& d = cache[pattern];
+    if (!d) d = dress(pattern, mannequin());
+    return *d;
+}
+
 void check_dressed(const std::string& pattern) {
     CAPTURE(pattern);
     const bake::SewBody& body = mannequin();
-    const auto d = dress(pattern, body);
+    const Dressed* d = &dressed(pattern);
     const bake::SewReport& r = d->baked.sew_report;
     const ClothAsset& a = d->loaded.asset;
     const bake::MeshedGarment& flat = d->baked.garment;
@@ -166,7 +174,7 @@ TEST_CASE("sewing: the sample skirt dressed on the mannequin") { check_dressed("
 TEST_CASE("sewing: the sample tee dressed on the mannequin") { check_dressed("tee.json"); }
 
 TEST_CASE("sewing: the skirt's waistband is attached to the body and pinned") {
-    const auto d = dress("skirt.json", mannequin());
+    const Dressed* d = &dressed("skirt.json");
     const ClothAsset& a = d->loaded.asset;
     REQUIRE(a.attachment_count > 0);
     CHECK(a.attachment_count == d->baked.sew_report.attached);
@@ -178,9 +186,8 @@ TEST_CASE("sewing: the skirt's waistband is attached to the body and pinned") {
 }
 
 TEST_CASE("sewing: the same pattern and body bake to the same bytes") {
-    const auto one = dress("skirt.json", mannequin());
-    const auto two = dress("skirt.json", mannequin());
-    CHECK(one->baked.bytes == two->baked.bytes);
+    const auto again = dress("skirt.json", mannequin());
+    CHECK(again->baked.bytes == dressed("skirt.json").baked.bytes);
 }
 
 TEST_CASE("sewing: bad input is refused with a message") {
@@ -203,7 +210,7 @@ TEST_CASE("sewing: bad input is refused with a message") {
 
 TEST_CASE("attachments: the skirt's waistband follows the walking mannequin exactly") {
     const bake::SewBody& body = mannequin();
-    const auto d = dress("skirt.json", body);
+    const Dressed* d = &dressed("skirt.json");
     const ClothAsset& a = d->loaded.asset;
     bake::BodyWorld w;
     REQUIRE(bake::open_body_world(a, body, bake::SewOptions{}, 9.81f, 1.0f, &w).ok());
@@ -237,7 +244,7 @@ TEST_CASE("attachments: the skirt's waistband follows the walking mannequin exac
 }
 
 TEST_CASE("attachments: bad bindings are refused") {
-    const auto d = dress("skirt.json", mannequin());
+    const Dressed* d = &dressed("skirt.json");
     const body::BodyMesh ball = body::make_icosphere({0.0f, 1.0f, 0.0f}, 0.2f, 1);  // 80 triangles
     bake::BodyWorld w;
     REQUIRE(bake::open_body_world(d->loaded.asset, bake::SewBody{ball.positions, ball.triangles}, bake::SewOptions{}, 9.81f,
@@ -248,7 +255,7 @@ TEST_CASE("attachments: bad bindings are refused") {
     CHECK(attach_cloth_to_body(w.world, ClothId{5}, w.body).code == ErrorCode::out_of_range);
     CHECK(attach_cloth_to_body(w.world, w.cloth, BodyId{3}).code == ErrorCode::out_of_range);
     CHECK(attach_cloth_to_body(nullptr, w.cloth, w.body).code == ErrorCode::invalid_argument);
-    const auto tee = dress("tee.json", mannequin());  // no attachments
+    const Dressed* tee = &dressed("tee.json");  // no attachments
     bake::BodyWorld v;
     REQUIRE(bake::open_body_world(tee->loaded.asset, mannequin(), bake::SewOptions{}, 9.81f, 1.0f, &v).ok());
     CHECK(attach_cloth_to_body(v.world, v.cloth, v.body).code == ErrorCode::invalid_argument);
