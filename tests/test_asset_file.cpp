@@ -390,7 +390,7 @@ TEST_CASE("versions: another major is refused by name, a newer minor loads and s
         write_at(other, offsetof(AssetFileHeader, version_major), uint16_t(3));
         fix_checksum(other);
         CHECK(expect_refused(other, ErrorCode::unsupported) ==
-              "asset format version 3.0 is not supported by this runtime (1.x)");
+              "asset format version 3." + std::to_string(kAssetVersionMinor) + " is not supported by this runtime (1.x)");
     }
     SUBCASE("major 0") {
         Bytes other = file;
@@ -436,6 +436,26 @@ TEST_CASE("versions: another major is refused by name, a newer minor loads and s
         CHECK(info.version_minor == 1);
         CHECK(info.sections[sections].kind == 1000);
         CHECK(std::string(asset_section_name(1000)) == "unknown");
+    }
+    SUBCASE("a 1.0 file (192-byte header, no sewn seams or attachments) still loads") {
+        // 1.0 ended its header before sewn_point_count: the table moves up, the sections stay.
+        Bytes older = file;
+        const uint32_t sections = section_count(file);
+        std::memmove(older.data() + kAssetHeaderSize_1_0, file.data() + sizeof(AssetFileHeader),
+                     sections * sizeof(AssetSectionEntry));
+        std::memset(older.data() + kAssetHeaderSize_1_0 + sections * sizeof(AssetSectionEntry), 0,
+                    sizeof(AssetFileHeader) - kAssetHeaderSize_1_0);
+        write_at(older, offsetof(AssetFileHeader, version_minor), uint16_t(0));
+        write_at(older, offsetof(AssetFileHeader, header_size), kAssetHeaderSize_1_0);
+        fix_checksum(older);
+        const LoadedAsset loaded = load_copy(older);
+        check_same_asset(s.asset(), loaded.asset);
+        CHECK(loaded.asset.sewn_point_count == 0);
+        CHECK(loaded.asset.attachment_count == 0);
+        // A 1.1 file must have the whole 1.1 header.
+        write_at(older, offsetof(AssetFileHeader, version_minor), uint16_t(1));
+        fix_checksum(older);
+        CHECK(expect_refused(older, ErrorCode::corrupt_asset) == "bad header size 192");
     }
 }
 

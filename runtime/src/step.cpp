@@ -19,6 +19,7 @@
 #include <utility>
 
 #include "aerodynamics/wind.h"
+#include "constraints/attachments.h"
 #include "world_internal.h"
 
 namespace weft {
@@ -183,6 +184,9 @@ void collide_bodies(World& world, ClothInstance& cloth, uint32_t substeps) {
 void step_cloth(World& world, ClothInstance& cloth, float dt) {
     const float h = dt / float(cloth.split.substeps);
     for (uint32_t substep = 0; substep < cloth.split.substeps; ++substep) {
+        if (cloth.attached_body != ~0u)                        // 0. attached particles ride the body
+            follow_attachments(world.bodies[cloth.attached_body], *cloth.asset, cloth.particles,
+                               float(substep + 1) / float(cloth.split.substeps));
         apply_external_forces(world, cloth, h);                // 1. F_ext: wind (gravity, damping in 2)
         correct_coarse_level(world, cloth, h);                 // 3a. coarse level (on predicted nodes)
         integrate(world, cloth, h);                            // 2. Verlet (+ the coarse correction)

@@ -15,6 +15,7 @@ struct ClothInstance {
     Particles particles;
     CoarseState coarse;
     float previous_substep_s = 0.0f;  // h_prev of time-corrected Verlet; 0 before the first step
+    uint32_t attached_body = ~0u;     // the body the asset's attachments follow (weft/attachments.h)
 };
 
 struct ColliderState {

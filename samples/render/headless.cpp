@@ -81,7 +81,10 @@ HeadlessContext::~HeadlessContext() {
         eglMakeCurrent(display_, EGL_NO_SURFACE, EGL_NO_SURFACE, EGL_NO_CONTEXT);
         eglDestroyContext(display_, context_);
     }
-    if (display_) eglTerminate(display_);
+    // The display stays initialised for the process (no eglTerminate): terminating it unloads Mesa's
+    // driver, whose process-lifetime caches then read as leaks with no stack LeakSanitizer can name
+    // or suppress. eglInitialize on an initialised display is a no-op, so the next context reuses it.
+    if (display_) eglReleaseThread();
 }
 
 void HeadlessContext::begin_frame() { glBindFramebuffer(GL_FRAMEBUFFER, multisampled_framebuffer_); }

@@ -24,8 +24,11 @@ bool save(const std::string& path, uint8_t mode, const Bytes& file) {
     return std::fclose(f) == 0 && ok;
 }
 
-// A grid of n x n with two pinned corners; garment data, lattice and options as asked.
-Bytes grid_asset(uint32_t n, bool garment, bool lattice, const CookOptions& options, bool pinned = true) {
+// A grid of n x n with two pinned corners; garment data, lattice and options as asked; `sewn`:
+// format 1.1's sewn seams and body attachments (a made-up seam on the first row's two particles,
+// the pinned corners attached to body triangles 0 and 1).
+Bytes grid_asset(uint32_t n, bool garment, bool lattice, const CookOptions& options, bool pinned = true,
+                 bool sewn = false) {
     scenes::GridMesh grid = scenes::make_grid(n, 1.0f, 1.0f, false, 1.0f);
     if (pinned) {
         grid.masses[grid.index(0, 0)] = 0.0f;
@@ -35,6 +38,20 @@ Bytes grid_asset(uint32_t n, bool garment, bool lattice, const CookOptions& opti
     ClothMeshDesc desc = grid.desc();
     if (garment) data.apply(desc);
     if (!lattice) desc.lattice = nullptr;
+    const uint32_t sewn_particle[1] = {1}, uv_first[2] = {0, 2}, attached[2] = {grid.index(0, 0), grid.index(0, n - 1)};
+    const uint32_t triangles[2] = {0, 1};
+    const float sewn_uv[4] = {0.1f, 0.0f, 0.9f, 0.0f}, weights[6] = {1, 0, 0, 0.25f, 0.25f, 0.5f};
+    if (sewn) {
+        desc.seam_point_count = 0;
+        desc.sewn_point_count = 1;
+        desc.sewn_particle = sewn_particle;
+        desc.sewn_uv_first = uv_first;
+        desc.sewn_uv = sewn_uv;
+        desc.attachment_count = 2;
+        desc.attached_particle = attached;
+        desc.attached_triangle = triangles;
+        desc.attached_weight = weights;
+    }
     CookedCloth cooked;
     Bytes file;
     if (!cook_cloth(desc, options, &cooked).ok() || !assets::write_asset(cooked.asset(), &file).ok()) return {};
@@ -63,6 +80,7 @@ int main(int argc, char** argv) {
         {"grid6_lattice_coarse", grid_asset(6, false, true, {})},
         {"grid5_simd16", grid_asset(5, true, true, wide)},
         {"grid4_bare_unpinned", grid_asset(4, false, true, bare, false)},
+        {"grid4_sewn_attached", grid_asset(4, true, true, {}, true, true)},
     };
     bool ok = true;
     for (const Seed& s : valid) {

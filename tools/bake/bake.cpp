@@ -1,5 +1,6 @@
 #include "bake.h"
 
+#include <algorithm>
 #include <cmath>
 
 #include "asset_writer.h"
@@ -116,6 +117,21 @@ Status bake_pattern(std::string_view text, const BakeOptions& options, Baked* ou
     if (winner > 0) {  // the winner becomes the garment's lattice
         std::swap(g.lattice, g.lattice_alternatives[winner - 1].lattice);
         std::swap(g.lattice_plane_stride, g.lattice_alternatives[winner - 1].plane_stride);
+    }
+    if (options.body != nullptr) {  // sew the flat panels, packed as the winner, and cook the dressed mesh
+        ClothMeshDesc flat = input.desc;
+        flat.lattice = g.lattice.data();
+        flat.lattice_plane_stride = g.lattice_plane_stride;
+        std::vector<uint32_t> attached;
+        for (const Attachment& a : g.attachments) attached.insert(attached.end(), a.particles.begin(), a.particles.end());
+        std::sort(attached.begin(), attached.end());
+        attached.erase(std::unique(attached.begin(), attached.end()), attached.end());
+        if (Status s = sew_garment(flat, attached, *options.body, options.sew, &out->sewn, &out->sew_report); !s.ok())
+            return {"sewing: " + s.error};
+        if (Result r = cook_garment(out->sewn.desc, sewn_cook_options(options.cook), options.choose_runs, &out->cooked,
+                                    &out->cook_options);
+            !r.ok())
+            return {r.message};
     }
     stage("writing", 3);
     if (Result r = assets::write_asset(out->cooked.asset(), &out->bytes); !r.ok()) return {r.message};

@@ -13,6 +13,7 @@
 
 #include "garment.h"
 #include "pattern.h"
+#include "sew.h"
 #include "weft/weft.h"
 
 namespace weft::bake {
@@ -26,6 +27,9 @@ struct BakeOptions {
     bool choose_runs = true;
     // Called before each stage with its name and number (weft-bake's progress bar); may be empty.
     std::function<void(const char* stage, uint32_t index, uint32_t count)> on_stage;
+    // Sew the garment onto this body and store the dressed pose (sew.h); null: the flat bake.
+    const SewBody* body = nullptr;
+    SewOptions sew;
 };
 
 // Run shapes the baker tries (BakeOptions::choose_runs): {min_run_lanes, max_run_gap}.
@@ -52,6 +56,8 @@ struct Baked {
     Pattern pattern;
     MeshedGarment garment;
     CookedCloth cooked;
+    SewnGarment sewn;              // with BakeOptions::body: the sewn, dressed garment
+    SewReport sew_report;
     CookOptions cook_options;      // what `cooked` was cooked with (BakeOptions::choose_runs)
     std::vector<std::byte> bytes;  // the asset file
 };

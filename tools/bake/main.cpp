@@ -1,7 +1,7 @@
 // weft-bake: sewing patterns -> binary cloth assets the runtime loads in place.
 //
 //   weft-bake PATTERN.json -o OUT.weft [--target-edge METRES] [--simd-width 8|16] [--json]
-//             [--depfile FILE] [--offset X,Y,Z] [--runs]
+//             [--depfile FILE] [--offset X,Y,Z] [--runs] [--body BODY.obj|BODY.gltf|mannequin]
 //   weft-bake --info FILE.weft [--json]
 //
 // The pipeline is bake_pattern (bake.h); this file is the command line around it.
@@ -17,6 +17,8 @@
 
 #include "asset_writer.h"
 #include "bake.h"
+#include "body_mesh.h"
+#include "mannequin.h"
 #include "progress.h"
 #include "run_report.h"
 
@@ -80,6 +82,23 @@ void print_human(const json& j) {
     for (const auto& [key, value] : j.items()) std::printf("  %-22s %s\n", key.c_str(), value.dump().c_str());
 }
 
+// The body to sew on: a mesh file, or "mannequin" for the project's own (default measurements).
+std::string load_sew_body(const std::string& name, bake::SewBody* out) {
+    if (name == "mannequin") {
+        body::Mannequin m;
+        if (std::string e = body::make_mannequin(body::Measurements{}, body::MannequinOptions{}, &m); !e.empty())
+            return "mannequin: " + e;
+        out->positions = std::move(m.positions);
+        out->triangles = std::move(m.triangles);
+        return {};
+    }
+    body::BodyMesh mesh;
+    if (std::string e = body::load_body_mesh(name, &mesh); !e.empty()) return e;
+    out->positions = std::move(mesh.positions);
+    out->triangles = std::move(mesh.triangles);
+    return {};
+}
+
 int info(const std::string& path, bool as_json) {
     std::string file;
     if (!read_file(path, &file)) return fail("cannot read '" + path + "'");
@@ -108,7 +127,7 @@ int info(const std::string& path, bool as_json) {
 
 int main(int argc, char** argv) {
     CLI::App app{"weft-bake: sewing patterns (Weft or GarmentCode JSON) to Weft cloth assets"};
-    std::string pattern_path, out_path, depfile, info_path;
+    std::string pattern_path, out_path, depfile, info_path, body_name;
     double target_edge = 0.0;
     uint32_t simd_width = kSimdWidth;
     std::vector<double> offset;
@@ -124,6 +143,8 @@ int main(int argc, char** argv) {
         ->expected(3)->delimiter(',');
     app.add_option("--depfile", depfile, "write a Make/Ninja depfile for the output");
     app.add_option("--info", info_path, "describe an asset file (loaded through the runtime's validating loader)");
+    app.add_option("--body", body_name,
+                   "sew the garment onto this body (OBJ, glTF, or 'mannequin': the project's own) and store it dressed");
     app.add_flag("--json", as_json, "one JSON object instead of the human summary");
     app.add_flag("--runs", runs, "also print where the constraints off SIMD runs and the padding lanes come from (stderr)");
     CLI11_PARSE(app, argc, argv);
@@ -137,6 +158,11 @@ int main(int argc, char** argv) {
     for (size_t k = 0; k < offset.size(); ++k) options.parse.placement_offset_m[k] = offset[k];
     options.mesh.target_edge_m = target_edge;
     options.cook.simd_width = simd_width;
+    bake::SewBody body;
+    if (!body_name.empty()) {
+        if (std::string e = load_sew_body(body_name, &body); !e.empty()) return fail("--body " + body_name + ": " + e);
+        options.body = &body;
+    }
     // On a terminal (and without --json) a bar names the stage; meshing and cooking a garment take seconds.
     progress::Bar bar("weft-bake " + pattern_path, 4, progress::wanted(as_json));
     options.on_stage = [&](const char* stage, uint32_t index, uint32_t) { bar.update(index, stage); };
@@ -153,7 +179,9 @@ int main(int argc, char** argv) {
     if (!out) return fail("cannot write '" + out_path + "'");
     if (!depfile.empty()) {
         std::ofstream d(depfile);
-        d << depfile_path(out_path) << ": " << depfile_path(pattern_path) << "\n";
+        d << depfile_path(out_path) << ": " << depfile_path(pattern_path);
+        if (!body_name.empty() && body_name != "mannequin") d << " " << depfile_path(body_name);
+        d << "\n";
         if (!d) return fail("cannot write '" + depfile + "'");
     }
 
@@ -172,6 +200,22 @@ int main(int argc, char** argv) {
     j["pinned"] = garment.pinned.size();
     j["min_run_lanes"] = baked.cook_options.min_run_lanes;
     j["max_run_gap"] = baked.cook_options.max_run_gap;
+    if (options.body != nullptr) {
+        const bake::SewReport& r = baked.sew_report;
+        j["body"] = body_name;
+        j["body_triangles"] = r.body_triangles;
+        j["sewing_s"] = r.sewing_s;
+        j["sewing_frames"] = r.sewing_frames;
+        j["drape_frames"] = r.drape_frames;
+        j["sewn_seam_points"] = r.seam_points;
+        j["attached_to_body"] = r.attached;
+        j["particles_before_sewing"] = r.particles_before;
+        j["max_seam_gap_m"] = r.max_seam_gap_m;
+        j["max_penetration_m"] = r.max_penetration_m;
+        j["max_skin_penetration_m"] = r.max_skin_penetration_m;
+        j["particles_inside_body"] = r.particles_inside_body;
+        j["final_mean_speed_m_s"] = r.mean_speed_m_s;
+    }
     if (as_json) {
         std::printf("%s\n", j.dump().c_str());
     } else {

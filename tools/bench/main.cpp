@@ -10,6 +10,7 @@
 //   weft-bench sweep SCENE [--sizes 100] [--wind 10,20,40] [--frames 330] [--budget-ms 0.25,0.5,1]
 //                     [--json] [--csv FILE] [--plot FILE.png] [--quick] [--no-peer] ...
 //                     run time against error, Weft's budgets and Bullet's (docs/accuracy.md)
+//   weft-bench garment [--steps 300] [--json]                          dressed garments on animated bodies
 //   weft-bench baked PATTERN.json ... [--iterations 10] [--repeat 5]   baked vs in-memory, ns per projection
 //
 // The budget is `--sweeps` spent by the runtime's automatic policy (config "default") or the seed's
@@ -28,6 +29,7 @@
 #include "bench_run.h"
 #include "baked.h"
 #include "body.h"
+#include "garment.h"
 #include "levers.h"
 #include "sweep.h"
 
@@ -548,6 +550,12 @@ int main(int argc, char** argv) {
     sweep->add_flag("--quick", sweep_quick, "a tiny grid (tests): 2 x 2 configurations, one Bullet budget, reference capped at 4 substeps");
     CLI::App* baked = bench::add_baked_subcommand(app);
 
+    uint32_t garment_steps = 300;
+    bool garment_json = false;
+    CLI::App* garment = app.add_subcommand("garment", "the dressed garments (skirt, tee, shared dress) on their animated bodies");
+    garment->add_option("--steps", garment_steps, "steps measured per scene (after the body's ramp)")->capture_default_str()
+        ->check(CLI::Range(1u, 100000u));
+    garment->add_flag("--json", garment_json, "one JSON object per scene");
     bench::BodyBenchOptions body_o;
     CLI::App* body = app.add_subcommand("body", "body collision pass on the shared mean_all body, A-pose <-> T-pose");
     body->add_option("--frames", body_o.frames, "frames measured")->capture_default_str();
@@ -560,6 +568,7 @@ int main(int argc, char** argv) {
 
     CLI11_PARSE(app, argc, argv);
     if (body->parsed()) return bench::run_body(body_o);
+    if (garment->parsed()) return bench::run_garment(garment_steps, garment_json);
 
     if (baked->parsed()) return bench::run_baked();
     if (drape->parsed()) return run({SeedScene::drape}, drape_o, true);

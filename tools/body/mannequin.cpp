@@ -8,6 +8,7 @@
 #include <cmath>
 #include <functional>
 #include <map>
+#include <tuple>
 
 #include <CGAL/Complex_2_in_triangulation_3.h>
 #include <CGAL/IO/facets_in_complex_2_to_triangle_mesh.h>
@@ -16,6 +17,7 @@
 #include <CGAL/Surface_mesh_default_criteria_3.h>
 #include <CGAL/Surface_mesh_default_triangulation_3.h>
 #include <CGAL/make_surface_mesh.h>
+#include <CGAL/Random.h>
 
 namespace weft::body {
 namespace {
@@ -194,6 +196,32 @@ Motion rotation_about(P pivot, P axis, double angle) {
     return m;
 }
 
+// The mesher's output order follows its triangulation's memory layout, which differs from run to
+// run even when the surface does not: vertices sorted by position and triangles by their vertices
+// (each rotated to start at its smallest index, winding kept) give one mesh for one surface, so
+// assets can bind to its triangles (body attachments).
+void canonical_order(Mannequin& m) {
+    const size_t n = m.positions.size();
+    std::vector<uint32_t> order(n), rank(n);
+    for (uint32_t v = 0; v < n; ++v) order[v] = v;
+    std::sort(order.begin(), order.end(), [&](uint32_t a, uint32_t b) {
+        const Vec3 &p = m.positions[a], &q = m.positions[b];
+        return std::tie(p.y, p.x, p.z, a) < std::tie(q.y, q.x, q.z, b);
+    });
+    std::vector<Vec3> positions(n);
+    for (uint32_t i = 0; i < n; ++i) rank[order[i]] = i, positions[i] = m.positions[order[i]];
+    std::vector<std::array<uint32_t, 3>> faces(m.triangles.size() / 3);
+    for (size_t t = 0; t < faces.size(); ++t) {
+        std::array<uint32_t, 3> f = {rank[m.triangles[3 * t]], rank[m.triangles[3 * t + 1]], rank[m.triangles[3 * t + 2]]};
+        while (f[0] > f[1] || f[0] > f[2]) f = {f[1], f[2], f[0]};
+        faces[t] = f;
+    }
+    std::sort(faces.begin(), faces.end());
+    m.positions = std::move(positions);
+    m.triangles.clear();
+    for (const auto& f : faces) m.triangles.insert(m.triangles.end(), f.begin(), f.end());
+}
+
 }  // namespace
 
 std::string make_mannequin(const Measurements& m, const MannequinOptions& options, Mannequin* out) {
@@ -209,6 +237,9 @@ std::string make_mannequin(const Measurements& m, const MannequinOptions& option
     const Function f = [&figure](Point_3 p) { return figure({p.x(), p.y(), p.z()}); };
     const Surface_3 surface(f, GT::Sphere_3(centre, 0.36 * m.height_m * m.height_m), 1e-7);
     const CGAL::Surface_mesh_default_criteria_3<Tr> criteria(25.0, options.edge_m, 0.1 * options.edge_m);
+    // The mesher's initial points come from CGAL's default random generator, seeded by the clock:
+    // a fixed seed makes the mannequin the same mesh every run (assets bind to its triangles).
+    CGAL::get_default_random() = CGAL::Random(0);
     CGAL::make_surface_mesh(c2t3, surface, criteria, CGAL::Manifold_tag());
     CGAL::Surface_mesh<Point_3> mesh;
     CGAL::facets_in_complex_2_to_triangle_mesh(c2t3, mesh);
@@ -220,6 +251,7 @@ std::string make_mannequin(const Measurements& m, const MannequinOptions& option
     }
     for (auto f : mesh.faces())
         for (auto v : CGAL::vertices_around_face(mesh.halfedge(f), mesh)) result.triangles.push_back(uint32_t(v.idx()));
+    canonical_order(result);
     result.bones = figure.bones;
     skin(result);
     *out = std::move(result);

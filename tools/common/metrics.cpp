@@ -175,4 +175,15 @@ Vec3 particle_position(const ClothView& c, uint32_t particle) {
     return {c.x[s], c.y[s], c.z[s]};
 }
 
+double max_body_penetration_m(const World* world, BodyId body, const ClothView& cloth) {
+    double deepest = 0.0;
+    for (uint32_t s = 0; s < cloth.asset->slot_count; ++s) {
+        if (!(cloth.inverse_mass[s] > 0.0f)) continue;  // pinned (attached) and padding slots
+        BodyContact c;
+        if (query_body(world, body, {cloth.x[s], cloth.y[s], cloth.z[s]}, &c).ok() && c.found)
+            deepest = std::max(deepest, double(c.penetration_m));
+    }
+    return deepest;
+}
+
 }  // namespace weft::metrics

@@ -3,6 +3,7 @@
 
 #include <vector>
 
+#include "weft/body.h"
 #include "weft/weft.h"
 
 namespace weft::metrics {
@@ -33,6 +34,10 @@ double max_penetration_m(const ClothView& cloth, const ColliderDesc* colliders, 
 // The same over positions in caller order; pinned particles (asset inverse mass 0) are skipped.
 double max_penetration_m(const ClothAsset& asset, const std::vector<Vec3>& positions,
                          const ColliderDesc* colliders, uint32_t count);
+
+// Deepest a cloth's free particle lies below a body's offset hull (weft/body.h: what the body
+// pass enforces, as query_body sees it within the hull's reach), metres; 0 when none is.
+double max_body_penetration_m(const World* world, BodyId body, const ClothView& cloth);
 
 // --- errors against a reference run (docs/accuracy.md) ------------------------------------------
 

@@ -1,9 +1,15 @@
 #include "scene.h"
 
+#include <algorithm>
+#include <cmath>
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
 #include <iterator>
+#include <utility>
+
+#include "body_mesh.h"
+#include "mannequin.h"
 
 namespace weft::scenes {
 
@@ -104,7 +110,70 @@ std::string load_baked_cloth(const std::string& path, SceneCloth* out) {
     return {};
 }
 
+std::string load_body(const BodySpec& spec, const Scene& scene, const std::vector<std::string>& dirs, SceneBody* out) {
+    out->spec = spec;
+    if (spec.mannequin) {
+        auto m = std::make_shared<body::Mannequin>();
+        if (std::string e = body::make_mannequin(body::Measurements{}, body::MannequinOptions{}, m.get()); !e.empty())
+            return "mannequin: " + e;
+        out->rest = m->positions;
+        out->triangles = m->triangles;
+        out->mannequin = m;
+    } else {
+        body::BodyMesh mesh;
+        if (std::string e = body::load_body_mesh(find_asset(spec.mesh_path, scene.base_dir, dirs), &mesh); !e.empty())
+            return e;
+        out->rest = std::move(mesh.positions);
+        out->triangles = std::move(mesh.triangles);
+    }
+    if (spec.animation == BodyAnimation::walk && !spec.mannequin) return "only the mannequin walks";
+    if (spec.animation == BodyAnimation::blend) {
+        body::BodyMesh other;
+        if (std::string e = body::load_body_mesh(find_asset(spec.blend_to_path, scene.base_dir, dirs), &other); !e.empty())
+            return e;
+        if (other.positions.size() != out->rest.size() || other.triangles != out->triangles)
+            return "blend_to does not have the body's vertices and faces";
+        out->blend_to = std::move(other.positions);
+    }
+    return {};
+}
+
 }  // namespace
+
+SceneWorld& SceneWorld::operator=(SceneWorld&& other) noexcept {
+    if (this == &other) return *this;
+    destroy_world(world);  // before `memory`, which holds it, is replaced
+    cloths = std::move(other.cloths);
+    body = std::move(other.body);
+    memory = std::move(other.memory);
+    world = std::exchange(other.world, nullptr);
+    colliders = std::move(other.colliders);
+    dt_s = other.dt_s;
+    return *this;
+}
+
+std::string animate_body(SceneWorld& w, float t_s) {
+    if (!w.body || w.body->spec.animation == BodyAnimation::still) return {};
+    SceneBody& b = *w.body;
+    const size_t n = b.rest.size();
+    if (b.spec.animation == BodyAnimation::walk) {
+        const auto& m = *static_cast<const body::Mannequin*>(b.mannequin.get());
+        body::walk_pose(m, t_s, &b.pose);
+        // Enter the walk from the rest pose (the garment was dressed on it): smoothstep over ramp_s.
+        const float u = b.spec.ramp_s > 0.0f ? std::min(1.0f, t_s / b.spec.ramp_s) : 1.0f, k = u * u * (3.0f - 2.0f * u);
+        for (size_t v = 0; v < n; ++v)
+            b.pose[v] = {b.rest[v].x + (b.pose[v].x - b.rest[v].x) * k, b.rest[v].y + (b.pose[v].y - b.rest[v].y) * k,
+                         b.rest[v].z + (b.pose[v].z - b.rest[v].z) * k};
+    } else {
+        const float k = 0.5f - 0.5f * std::cos(6.2831853f * t_s / b.spec.period_s);
+        b.pose.resize(n);
+        for (size_t v = 0; v < n; ++v)
+            b.pose[v] = {b.rest[v].x + (b.blend_to[v].x - b.rest[v].x) * k, b.rest[v].y + (b.blend_to[v].y - b.rest[v].y) * k,
+                         b.rest[v].z + (b.blend_to[v].z - b.rest[v].z) * k};
+    }
+    if (Result r = set_body_vertices(w.world, b.id, b.pose.data(), uint32_t(n)); !r.ok()) return r.message;
+    return {};
+}
 
 std::string build_scene(const Scene& scene, SceneWorld* out, const std::vector<std::string>& asset_dirs) {
     if (scene.cloths.empty()) return "the scene has no cloth";
@@ -125,6 +194,13 @@ std::string build_scene(const Scene& scene, SceneWorld* out, const std::vector<s
         if (!error.empty()) return "cloth '" + spec.name + "': " + error;
         reserve_cloth(wd, *cloth.asset);
     }
+    if (scene.body) {
+        out->body = std::make_unique<SceneBody>();
+        if (std::string e = load_body(*scene.body, scene, asset_dirs, out->body.get()); !e.empty()) return "body: " + e;
+        wd.max_bodies = 1;
+        wd.max_body_vertices = uint32_t(out->body->rest.size());
+        wd.max_body_triangles = uint32_t(out->body->triangles.size() / 3);
+    }
     wd.max_colliders = uint32_t(scene.colliders.size());
     wd.wind = scene.wind_m_s.has_value();
     wd.gravity_m_s2 = scene.gravity_m_s2;
@@ -138,6 +214,18 @@ std::string build_scene(const Scene& scene, SceneWorld* out, const std::vector<s
     if (!out->memory) return "out of memory";
     if (Result r = create_world(wd, out->memory.get(), bytes, &out->world); !r.ok()) return r.message;
 
+    if (out->body) {
+        const BodySpec& b = out->body->spec;
+        BodyDesc bd;
+        bd.positions = out->body->rest.data();
+        bd.vertex_count = uint32_t(out->body->rest.size());
+        bd.triangles = out->body->triangles.data();
+        bd.triangle_count = uint32_t(out->body->triangles.size() / 3);
+        bd.thickness_m = b.thickness_m;
+        bd.margin_m = b.margin_m;
+        bd.friction = b.friction;
+        if (Result r = add_body(out->world, bd, &out->body->id); !r.ok()) return std::string("body: ") + r.message;
+    }
     for (size_t i = 0; i < scene.cloths.size(); ++i) {
         const ClothSpec& spec = scene.cloths[i];
         ClothDesc cd = spec.desc;
@@ -151,6 +239,9 @@ std::string build_scene(const Scene& scene, SceneWorld* out, const std::vector<s
         out->cloths[i].desc = cd;
         if (Result r = add_cloth(out->world, cd, &out->cloths[i].id); !r.ok())
             return "cloth '" + scene.cloths[i].name + "': " + r.message;
+        if (out->body && cd.asset->attachment_count > 0)  // a garment dressed on this body (weft-bake --body)
+            if (Result r = attach_cloth_to_body(out->world, out->cloths[i].id, out->body->id); !r.ok())
+                return "cloth '" + scene.cloths[i].name + "': attachments: " + r.message;
     }
     out->colliders.resize(scene.colliders.size());
     for (size_t i = 0; i < scene.colliders.size(); ++i)

@@ -58,6 +58,20 @@ struct ClothSpec {
     ClothDesc desc;                  // solver settings; desc.asset is filled by build_scene
 };
 
+// A body collider (weft/body.h) and how it moves: the project's mannequin or a mesh file, still,
+// walking (the mannequin's procedural walk, entered from its rest pose over ramp_s) or blended
+// back and forth between two poses of the same mesh (the shared A-pose and T-pose).
+enum class BodyAnimation : uint8_t { still, walk, blend };
+struct BodySpec {
+    bool mannequin = false;     // the project's own (tools/body/mannequin.h, default measurements)
+    std::string mesh_path;      // or an OBJ/glTF file, relative to the scene file's folder
+    BodyAnimation animation = BodyAnimation::still;
+    std::string blend_to_path;  // blend: the second pose (same faces)
+    float period_s = 2.0f;      // blend: rest -> blend_to -> rest
+    float ramp_s = 1.0f;        // walk: seconds from the rest pose into the full walk
+    float thickness_m = 0.004f, margin_m = 0.002f, friction = 0.5f;  // BodyDesc
+};
+
 struct Scene {
     std::string name;
     std::string base_dir = ".";  // relative asset paths are looked up here first
@@ -70,6 +84,7 @@ struct Scene {
     bool profile = false;
     std::vector<ClothSpec> cloths;
     std::vector<ColliderDesc> colliders;
+    std::optional<BodySpec> body;
 };
 
 // One cloth of a built scene: where its asset came from, and its instance.
@@ -84,8 +99,24 @@ struct SceneCloth {
     ClothDesc desc;  // what add_cloth was given (the scene's settings, the baked fabric's stiffness)
 };
 
+// A built scene's body: its rest pose, what animates it, its id in the world.
+struct SceneBody {
+    BodySpec spec;
+    std::vector<Vec3> rest, blend_to, pose;
+    std::vector<uint32_t> triangles;
+    std::shared_ptr<const void> mannequin;  // body::Mannequin for the walk (tools/body)
+    BodyId id{};
+};
+
 struct SceneWorld {
+    // Owns its world: destroy_world releases the body's Embree scene and device, `memory` the rest.
+    SceneWorld() = default;
+    SceneWorld(SceneWorld&& other) noexcept { *this = std::move(other); }
+    SceneWorld& operator=(SceneWorld&& other) noexcept;
+    ~SceneWorld() { destroy_world(world); }
+
     std::vector<SceneCloth> cloths;
+    std::unique_ptr<SceneBody> body;
     std::unique_ptr<unsigned char[], void (*)(void*)> memory{nullptr, nullptr};
     World* world = nullptr;
     std::vector<ColliderId> colliders;
@@ -96,6 +127,10 @@ struct SceneWorld {
 // everything. A relative asset path is looked up in scene.base_dir, then in each of `asset_dirs`
 // (where a build put its baked assets). Returns the failure message (empty on success).
 std::string build_scene(const Scene& scene, SceneWorld* out, const std::vector<std::string>& asset_dirs = {});
+
+// Moves the scene's body to its pose at time t (seconds since the start) through
+// set_body_vertices; nothing for a still body or a scene without one. Call before step().
+std::string animate_body(SceneWorld& world, float t_s);
 
 // The triangles of a built cloth in caller particle order (for OBJ and glTF writers).
 std::vector<uint32_t> caller_triangles(const ClothAsset& asset);

@@ -194,9 +194,42 @@ ColliderDesc parse_collider(const json& j, const std::string& where) {
     return c;
 }
 
+BodySpec parse_body(const json& j, const std::string& where) {
+    object(j, where, {"mannequin", "mesh", "animation", "blend_to", "period_s", "ramp_s", "thickness_m", "margin_m",
+                      "friction"});
+    BodySpec b;
+    if (j.contains("mannequin") == j.contains("mesh")) fail(where, "needs exactly one of 'mannequin' and 'mesh'");
+    if (j.contains("mannequin")) {
+        object(j["mannequin"], where + ".mannequin", {});
+        b.mannequin = true;
+    } else {
+        b.mesh_path = text(j["mesh"], where + ".mesh");
+    }
+    if (j.contains("animation")) {
+        const std::string a = text(j["animation"], where + ".animation");
+        if (a == "still") b.animation = BodyAnimation::still;
+        else if (a == "walk") b.animation = BodyAnimation::walk;
+        else if (a == "blend") b.animation = BodyAnimation::blend;
+        else fail(where + ".animation", "must be still, walk or blend");
+    }
+    if (b.animation == BodyAnimation::walk && !b.mannequin) fail(where + ".animation", "only the mannequin walks");
+    if (b.animation == BodyAnimation::blend) {
+        if (!j.contains("blend_to")) fail(where, "a blend needs 'blend_to'");
+        b.blend_to_path = text(j["blend_to"], where + ".blend_to");
+    } else if (j.contains("blend_to")) {
+        fail(where + ".blend_to", "only a blend animation takes it");
+    }
+    read(j, "period_s", where, 0.01, 1e4, &b.period_s);
+    read(j, "ramp_s", where, 0.0, 1e4, &b.ramp_s);
+    read(j, "thickness_m", where, 1e-5, 0.5, &b.thickness_m);
+    read(j, "margin_m", where, 0.0, 0.5, &b.margin_m);
+    read(j, "friction", where, 0.0, 10.0, &b.friction);
+    return b;
+}
+
 Scene parse(const json& root, const std::string& base_dir) {
     object(root, "scene", {"format", "version", "name", "description", "dt_s", "frames", "gravity_m_s2",
-                           "air_density_kg_m3", "wind_m_s", "simd", "cloths", "colliders"});
+                           "air_density_kg_m3", "wind_m_s", "simd", "cloths", "colliders", "body"});
     if (!root.contains("format") || root["format"] != "weft-scene") fail("scene.format", "must be \"weft-scene\"");
     if (!root.contains("version") || !root["version"].is_number_integer() || root["version"] != 1)
         fail("scene.version", "must be 1 (the only version this build reads)");
@@ -228,6 +261,7 @@ Scene parse(const json& root, const std::string& base_dir) {
         for (size_t i = 0; i < c.size(); ++i)
             s.colliders.push_back(parse_collider(c[i], "scene.colliders[" + std::to_string(i) + "]"));
     }
+    if (root.contains("body")) s.body = parse_body(root["body"], "scene.body");
     return s;
 }
 

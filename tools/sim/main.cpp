@@ -61,6 +61,7 @@ FrameReport measure(const scenes::Scene& scene, const scenes::SceneWorld& sw, ui
         particles += c.asset->particle_count;
         r.max_penetration_m = std::max(r.max_penetration_m, metrics::max_penetration_m(view, scene.colliders.data(),
                                                                                      uint32_t(scene.colliders.size())));
+        if (sw.body) r.max_penetration_m = std::max(r.max_penetration_m, metrics::max_body_penetration_m(sw.world, sw.body->id, view));
         r.mean_speed_m_s += metrics::mean_speed(view) * c.asset->particle_count;
         r.finite = r.finite && metrics::bounds(view).finite;
     }
@@ -173,6 +174,10 @@ int main(int argc, char** argv) {
     FrameReport last;
     double worst_penetration = 0.0;
     for (uint32_t f = 1; f <= scene.frames; ++f) {
+        if (std::string e = scenes::animate_body(sw, float(f) * scene.dt_s); !e.empty()) {
+            std::fprintf(stderr, "weft-sim: frame %u: body: %s\n", f, e.c_str());
+            return 2;
+        }
         const auto t0 = std::chrono::steady_clock::now();
         const Result r = step(sw.world, scene.dt_s);
         const auto t1 = std::chrono::steady_clock::now();

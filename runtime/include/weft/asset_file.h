@@ -26,7 +26,9 @@ namespace weft {
 
 inline constexpr char kAssetMagic[8] = {'W', 'E', 'F', 'T', 'A', 'S', 'E', 'T'};
 inline constexpr uint16_t kAssetVersionMajor = 1;  // a different major is refused
-inline constexpr uint16_t kAssetVersionMinor = 0;  // a newer minor loads (unknown sections skipped)
+inline constexpr uint16_t kAssetVersionMinor = 1;  // a newer minor loads (unknown sections skipped)
+// 1.1 appended sewn_point_count and sewn_uv_count to the header: a 1.0 file's is this long (read as 0).
+inline constexpr uint32_t kAssetHeaderSize_1_0 = 192;
 // Written as a little-endian uint32: the bytes 04 03 02 01. A big-endian writer gives 01 02 03 04.
 inline constexpr uint32_t kAssetEndianMarker = 0x01020304u;
 // Every section starts at a multiple of this (a cache line; also enough for any SIMD load).
@@ -79,6 +81,11 @@ struct AssetFileHeader {
     uint32_t coarse_lane_count;
     uint32_t coarse_batch_count;
     uint32_t coarse_colour_count;
+    // 1.1: sewn seams (ClothAsset::sewn_*).
+    uint32_t sewn_point_count;
+    uint32_t sewn_uv_count;
+    uint32_t attachment_count;  // body attachments (ClothAsset::attached_*)
+    uint32_t reserved_1_1;      // 0: keeps the header a multiple of 8 bytes without hidden padding
 };
 
 // One entry of the section table (header_size + i * 32).
@@ -143,8 +150,14 @@ enum class AssetSectionKind : uint32_t {
     coarse_index_b,
     coarse_batches,  // 49
     wind_rest_area,  // 50
+    sewn_particle,   // 51 (1.1)
+    sewn_uv_first,
+    sewn_uv,
+    attached_particle,  // 54 (1.1)
+    attached_triangle,
+    attached_weight,
 };
-inline constexpr uint32_t kAssetSectionKindCount = 50;  // known kinds: 1..kAssetSectionKindCount
+inline constexpr uint32_t kAssetSectionKindCount = 56;  // known kinds: 1..kAssetSectionKindCount
 
 // Name of a section kind ("unknown" for kinds this runtime does not know).
 const char* asset_section_name(uint32_t kind);
@@ -199,6 +212,12 @@ void visit_asset_sections(const AssetFileHeader& h, Asset& a, Visit&& visit) {
     visit(K::seam_first, a.seam_first, h.seam_point_count > 0 ? uint64_t(h.seam_point_count) + 1 : 0);
     visit(K::seam_source, a.seam_source, uint64_t(h.seam_source_count));
     visit(K::panel, a.panel, h.panel_count > 0 ? uint64_t(h.particle_count) : 0);
+    visit(K::sewn_particle, a.sewn_particle, uint64_t(h.sewn_point_count));
+    visit(K::sewn_uv_first, a.sewn_uv_first, h.sewn_point_count > 0 ? uint64_t(h.sewn_point_count) + 1 : 0);
+    visit(K::sewn_uv, a.sewn_uv, 2 * uint64_t(h.sewn_uv_count));
+    visit(K::attached_particle, a.attached_particle, uint64_t(h.attachment_count));
+    visit(K::attached_triangle, a.attached_triangle, uint64_t(h.attachment_count));
+    visit(K::attached_weight, a.attached_weight, 3 * uint64_t(h.attachment_count));
 }
 
 // Copies ClothAsset's scalar fields between the header and an asset, in either direction:
@@ -234,6 +253,9 @@ void pair_asset_scalars(Header& h, Asset& a, Copy&& copy) {
     copy(h.coarse_lane_count, a.coarse_lane_count);
     copy(h.coarse_batch_count, a.coarse_batch_count);
     copy(h.coarse_colour_count, a.coarse_colour_count);
+    copy(h.sewn_point_count, a.sewn_point_count);
+    copy(h.sewn_uv_count, a.sewn_uv_count);
+    copy(h.attachment_count, a.attachment_count);
 }
 
 // ---------------------------------------------------------------------------------------------

@@ -188,6 +188,22 @@ struct ClothAsset {
     const uint16_t* panel = nullptr;  // [particle_count] the sewing panel each particle came from
     bool has_fabric = false;          // false: `fabric` holds the defaults
     Fabric fabric;
+    // Sewn seams (weft-bake --body, seed 4.2): every seam point merged into one particle with the
+    // summed mass; the texture coordinates of all its sources are kept here (a renderer splits the
+    // particle into one vertex per panel). A sewn asset has no unsewn seam points left.
+    uint32_t sewn_point_count = 0;
+    const uint32_t* sewn_particle = nullptr;  // [sewn_point_count] the particle the point became
+    const uint32_t* sewn_uv_first = nullptr;  // [sewn_point_count + 1] CSR offsets, 2..8 apart
+    uint32_t sewn_uv_count = 0;               // = sewn_uv_first[sewn_point_count]
+    const float* sewn_uv = nullptr;           // [2 * sewn_uv_count] each source's uv (metres)
+    // Body attachments (a waistband): particle attached_particle[k] is bound to triangle
+    // attached_triangle[k] of the body the garment was dressed on, at barycentric weights
+    // attached_weight[3k..3k+2] of its offset hull; such particles are pinned (inverse mass 0) and
+    // follow the body (weft/body.h: attach_cloth_to_body).
+    uint32_t attachment_count = 0;
+    const uint32_t* attached_particle = nullptr;  // [attachment_count] caller particles, pinned
+    const uint32_t* attached_triangle = nullptr;  // [attachment_count] body triangles
+    const float* attached_weight = nullptr;       // [3 * attachment_count] barycentric, sum 1
 
     uint32_t total_constraints() const {
         return constraint_count[0] + constraint_count[1] + constraint_count[2];
@@ -230,6 +246,21 @@ struct ClothMeshDesc {
     uint32_t panel_count = 0;
     const uint16_t* panel = nullptr;  // [particle_count], each < panel_count
     const Fabric* fabric = nullptr;   // null: the defaults
+    uint32_t sewn_point_count = 0;    // sewn seams, copied as given (ClothAsset documents them)
+    const uint32_t* sewn_particle = nullptr;
+    const uint32_t* sewn_uv_first = nullptr;
+    const float* sewn_uv = nullptr;
+    uint32_t attachment_count = 0;    // body attachments, copied as given (ClothAsset documents them)
+    const uint32_t* attached_particle = nullptr;
+    const uint32_t* attached_triangle = nullptr;
+    const float* attached_weight = nullptr;
+
+    // Optional rest shape per triangle: its three corners on the flat panels, [3 * triangle_count]
+    // (a sewn garment's particle on a seam has one flat position per panel). When given, a
+    // stretch/shear spring's rest length is its edge's length in its triangles (their mean), a bend
+    // spring's the distance of the two opposite corners with both triangles unfolded flat about
+    // their edge; rest_positions (or positions) then serve only tethers and the coarse level.
+    const Vec3* rest_corners = nullptr;
 };
 
 struct CookOptions {
@@ -289,6 +320,10 @@ public:
     uint32_t panel_count = 0;
     bool has_fabric = false;
     Fabric fabric;
+    std::vector<uint32_t> sewn_particle, sewn_uv_first;
+    std::vector<float> sewn_uv;
+    std::vector<uint32_t> attached_particle, attached_triangle;
+    std::vector<float> attached_weight;
 
     // Points asset() at the vectors; call after changing them.
     void refresh_asset(uint32_t particle_count, uint32_t colour_count, const uint32_t counts[3],

@@ -2,6 +2,7 @@
 #pragma once
 
 #include "weft/asset_file.h"
+#include "weft/attachments.h"
 #include "weft/body.h"
 #include "weft/cloth_asset.h"
 #include "weft/types.h"

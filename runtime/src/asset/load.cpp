@@ -41,7 +41,8 @@ static_assert(offsetof(AssetFileHeader, checksum) == 8 && offsetof(AssetFileHead
               offsetof(AssetFileHeader, header_size) == 32 && offsetof(AssetFileHeader, simd_width) == 40 &&
               offsetof(AssetFileHeader, constraint_count) == 64 && offsetof(AssetFileHeader, seam_point_count) == 128 &&
               offsetof(AssetFileHeader, has_uv) == 140 && offsetof(AssetFileHeader, fabric) == 148 &&
-              offsetof(AssetFileHeader, coarse_slot_count) == 176 && sizeof(AssetFileHeader) == 192);
+              offsetof(AssetFileHeader, coarse_slot_count) == 176 &&
+              offsetof(AssetFileHeader, sewn_point_count) == kAssetHeaderSize_1_0 && sizeof(AssetFileHeader) == 208);
 static_assert(sizeof(AssetSectionEntry) == 32 && offsetof(AssetSectionEntry, offset) == 8 &&
               offsetof(AssetSectionEntry, size) == 16 && offsetof(AssetSectionEntry, element_count) == 24);
 static_assert(kAssetChecksumStart == offsetof(AssetFileHeader, checksum) + sizeof(uint64_t));
@@ -57,7 +58,7 @@ const char* asset_section_name(uint32_t kind) {
         "coarse_row_frac_0", "coarse_row_frac_1", "coarse_col_node_0", "coarse_col_node_1",
         "coarse_col_frac_0", "coarse_col_frac_1", "uv", "seam_first", "seam_source", "panel",
         "coarse_slot_of_node", "coarse_node_of_slot", "coarse_rest_length", "coarse_lane_weight", "coarse_index_a",
-        "coarse_index_b", "coarse_batches", "wind_rest_area"};
+        "coarse_index_b", "coarse_batches", "wind_rest_area", "sewn_particle", "sewn_uv_first", "sewn_uv", "attached_particle", "attached_triangle", "attached_weight"};
     return kind <= kAssetSectionKindCount ? names[kind] : names[0];
 }
 
@@ -123,13 +124,16 @@ Result check_file(const void* bytes, size_t size, AssetFileInfo& info, AssetFile
         return make_error(ErrorCode::unsupported, "asset format version %u.%u is not supported by this runtime (%u.x)",
                           version[0], version[1], kAssetVersionMajor);
 
-    if (size < sizeof(AssetFileHeader))
+    // A 1.0 header ends before the 1.1 fields (sewn seams): they read as 0.
+    const uint32_t least_header = version[1] == 0 ? kAssetHeaderSize_1_0 : uint32_t(sizeof(AssetFileHeader));
+    if (size < least_header)
         return make_error(ErrorCode::corrupt_asset, "asset file of %zu bytes is shorter than its header", size);
-    std::memcpy(&header, file, sizeof(header));
+    header = AssetFileHeader{};
+    std::memcpy(&header, file, least_header);
     if (header.file_size != size)
         return make_error(ErrorCode::corrupt_asset, "asset file says %llu bytes, %zu given (truncated?)",
                           (unsigned long long)header.file_size, size);
-    if (header.header_size < sizeof(AssetFileHeader) || header.header_size % 8 != 0 || header.header_size > size)
+    if (header.header_size < least_header || header.header_size % 8 != 0 || header.header_size > size)
         return make_error(ErrorCode::corrupt_asset, "bad header size %u", header.header_size);
     if (header.section_count > kMaxAssetSections)
         return make_error(ErrorCode::corrupt_asset, "%u sections (at most %u)", header.section_count,

@@ -96,6 +96,15 @@ void CookedCloth::refresh_asset(uint32_t particle_count, uint32_t colour_count, 
     a.panel = panel.empty() ? nullptr : panel.data();
     a.has_fabric = has_fabric;
     a.fabric = fabric;
+    a.sewn_point_count = uint32_t(sewn_particle.size());
+    a.sewn_particle = sewn_particle.empty() ? nullptr : sewn_particle.data();
+    a.sewn_uv_first = sewn_uv_first.empty() ? nullptr : sewn_uv_first.data();
+    a.sewn_uv_count = uint32_t(sewn_uv.size() / 2);
+    a.sewn_uv = sewn_uv.empty() ? nullptr : sewn_uv.data();
+    a.attachment_count = uint32_t(attached_particle.size());
+    a.attached_particle = attached_particle.empty() ? nullptr : attached_particle.data();
+    a.attached_triangle = attached_triangle.empty() ? nullptr : attached_triangle.data();
+    a.attached_weight = attached_weight.empty() ? nullptr : attached_weight.data();
 }
 
 namespace {
@@ -163,6 +172,18 @@ Result check_mesh(const ClothMeshDesc& mesh) {
         !r.ok())
         return r;
     if (Result r = check_panels(mesh.panel, mesh.panel_count, mesh.particle_count); !r.ok()) return r;
+    if (Result r = check_sewn(mesh.sewn_point_count, mesh.sewn_particle, mesh.sewn_uv_first, mesh.sewn_uv,
+                              mesh.particle_count);
+        !r.ok())
+        return r;
+    if (Result r = check_attachments(mesh.attachment_count, mesh.attached_particle, mesh.attached_triangle,
+                                     mesh.attached_weight, mesh.particle_count);
+        !r.ok())
+        return r;
+    if (mesh.rest_corners != nullptr)
+        for (uint32_t i = 0; i < 3 * mesh.triangle_count; ++i)
+            if (!finite(mesh.rest_corners[i]))
+                return make_error(ErrorCode::non_finite, "rest corner %u of triangle %u is not finite", i % 3, i / 3);
     if (mesh.fabric != nullptr) return check_fabric(*mesh.fabric);
     return {};
 }
@@ -186,6 +207,17 @@ void copy_garment(const ClothMeshDesc& mesh, CookedCloth& out) {
     out.panel_count = mesh.panel != nullptr ? mesh.panel_count : 0;
     out.has_fabric = mesh.fabric != nullptr;
     out.fabric = mesh.fabric != nullptr ? *mesh.fabric : Fabric{};
+    if (mesh.sewn_point_count > 0) {
+        const uint32_t sources = mesh.sewn_uv_first[mesh.sewn_point_count];
+        out.sewn_particle.assign(mesh.sewn_particle, mesh.sewn_particle + mesh.sewn_point_count);
+        out.sewn_uv_first.assign(mesh.sewn_uv_first, mesh.sewn_uv_first + mesh.sewn_point_count + 1);
+        out.sewn_uv.assign(mesh.sewn_uv, mesh.sewn_uv + 2 * size_t(sources));
+    }
+    if (mesh.attachment_count > 0) {
+        out.attached_particle.assign(mesh.attached_particle, mesh.attached_particle + mesh.attachment_count);
+        out.attached_triangle.assign(mesh.attached_triangle, mesh.attached_triangle + mesh.attachment_count);
+        out.attached_weight.assign(mesh.attached_weight, mesh.attached_weight + 3 * size_t(mesh.attachment_count));
+    }
 }
 
 // Step 1: stretch/shear on every edge, bend across every interior edge (caller indices).
@@ -225,6 +257,70 @@ std::vector<Spring> derive_springs(const ClothMeshDesc& mesh) {
                               [](const Spring& l, const Spring& r) { return l.a == r.a && l.b == r.b; }),
                   springs.end());
     return springs;
+}
+
+// Rest lengths from ClothMeshDesc::rest_corners, by particle pair key (min << 32 | max): an edge's
+// length in its triangles (their mean: the two sides of a gathered seam differ), and a bend pair's
+// distance with its two triangles unfolded flat about their shared edge (a sewn seam rests flat).
+struct CornerRest {
+    std::vector<std::pair<uint64_t, float>> edge, bend;  // sorted by key
+    static float find(const std::vector<std::pair<uint64_t, float>>& v, uint64_t key) {
+        const auto it = std::lower_bound(v.begin(), v.end(), std::make_pair(key, -1.0f));
+        return it != v.end() && it->first == key ? it->second : 0.0f;
+    }
+};
+
+CornerRest corner_rest(const ClothMeshDesc& mesh) {
+    struct HalfEdge {
+        uint64_t key;
+        uint32_t triangle, corner;  // the edge runs from corner to corner + 1 of the triangle
+    };
+    std::vector<HalfEdge> edges;
+    for (uint32_t t = 0; t < mesh.triangle_count; ++t)
+        for (uint32_t e = 0; e < 3; ++e) {
+            const uint32_t a = mesh.triangles[3 * t + e], b = mesh.triangles[3 * t + (e + 1) % 3];
+            edges.push_back({(uint64_t(std::min(a, b)) << 32) | std::max(a, b), t, e});
+        }
+    std::sort(edges.begin(), edges.end(), [](const HalfEdge& l, const HalfEdge& r) {
+        return l.key != r.key ? l.key < r.key : l.triangle < r.triangle;
+    });
+    // The opposite corner of half-edge h in the frame of its edge from particle min to max: the
+    // distance along the edge from min and the height above it.
+    auto frame = [&](const HalfEdge& h, float* along, float* height, float* length) {
+        const Vec3* c = mesh.rest_corners + 3 * h.triangle;
+        Vec3 p = c[h.corner], q = c[(h.corner + 1) % 3];
+        if (mesh.triangles[3 * h.triangle + h.corner] > mesh.triangles[3 * h.triangle + (h.corner + 1) % 3]) std::swap(p, q);
+        const Vec3 o = c[(h.corner + 2) % 3];
+        const Vec3 e{q.x - p.x, q.y - p.y, q.z - p.z}, d{o.x - p.x, o.y - p.y, o.z - p.z};
+        *length = std::sqrt(e.x * e.x + e.y * e.y + e.z * e.z);
+        *along = *length > 0.0f ? (d.x * e.x + d.y * e.y + d.z * e.z) / *length : 0.0f;
+        *height = std::sqrt(std::max(0.0f, d.x * d.x + d.y * d.y + d.z * d.z - *along * *along));
+    };
+    CornerRest out;
+    for (size_t i = 0; i < edges.size();) {
+        size_t j = i;
+        float sum = 0.0f;
+        for (; j < edges.size() && edges[j].key == edges[i].key; ++j) {
+            float along, height, length;
+            frame(edges[j], &along, &height, &length);
+            sum += length;
+        }
+        out.edge.push_back({edges[i].key, sum / float(j - i)});
+        for (size_t k = i; k + 1 < j; ++k) {
+            const uint32_t o1 = mesh.triangles[3 * edges[k].triangle + (edges[k].corner + 2) % 3];
+            const uint32_t o2 = mesh.triangles[3 * edges[k + 1].triangle + (edges[k + 1].corner + 2) % 3];
+            if (o1 == o2) continue;
+            float u1, h1, l1, u2, h2, l2;
+            frame(edges[k], &u1, &h1, &l1);
+            frame(edges[k + 1], &u2, &h2, &l2);
+            out.bend.push_back({(uint64_t(std::min(o1, o2)) << 32) | std::max(o1, o2),
+                                std::sqrt((u1 - u2) * (u1 - u2) + (h1 + h2) * (h1 + h2))});
+        }
+        i = j;
+    }
+    std::sort(out.edge.begin(), out.edge.end());
+    std::sort(out.bend.begin(), out.bend.end());
+    return out;
 }
 
 // Step 2: slot of every particle. Lattice particles go to plane (i & 1, j & 1), row-major with a
@@ -604,11 +700,16 @@ Result cook_cloth(const ClothMeshDesc& mesh, const CookOptions& options, CookedC
     // Springs in slots; a spring between two pinned particles never moves anything: dropped.
     std::vector<Spring> springs;
     uint32_t counts[kConstraintKindCount] = {};
+    const CornerRest corners = mesh.rest_corners != nullptr ? corner_rest(mesh) : CornerRest{};
     for (const Spring& s : derive_springs(mesh)) {
         if (inverse_mass[s.a] == 0.0f && inverse_mass[s.b] == 0.0f) continue;
         const uint32_t sa = cooked.slot_of_particle[s.a], sb = cooked.slot_of_particle[s.b];
         const ConstraintKind kind = classify(mesh, s.a, s.b, s.kind);
-        springs.push_back({std::min(sa, sb), std::max(sa, sb), kind, distance(rest[s.a], rest[s.b])});
+        const uint64_t key = (uint64_t(s.a) << 32) | s.b;
+        const float length = mesh.rest_corners == nullptr       ? distance(rest[s.a], rest[s.b])
+                             : s.kind == ConstraintKind::bend ? CornerRest::find(corners.bend, key)
+                                                              : CornerRest::find(corners.edge, key);
+        springs.push_back({std::min(sa, sb), std::max(sa, sb), kind, length});
         counts[uint32_t(kind)] += 1;
     }
     uint32_t on_runs = 0;

@@ -47,6 +47,42 @@ Result check_seam_sources(uint32_t point_count, const uint32_t* seam_first, cons
     return {};
 }
 
+Result check_sewn(uint32_t point_count, const uint32_t* particle, const uint32_t* uv_first, const float* uv,
+                  uint32_t particle_count) {
+    if (point_count == 0) return {};
+    if (particle == nullptr || uv == nullptr)
+        return make_error(ErrorCode::invalid_argument, "sewn points without particles or uvs");
+    if (Result r = check_seam_offsets(point_count, uv_first); !r.ok()) return r;
+    for (uint32_t s = 0; s < point_count; ++s)
+        if (particle[s] >= particle_count)
+            return make_error(ErrorCode::out_of_range, "sewn point %u is particle %u of %u", s, particle[s],
+                              particle_count);
+    for (uint64_t i = 0; i < 2 * uint64_t(uv_first[point_count]); ++i)
+        if (!std::isfinite(uv[i]))
+            return make_error(ErrorCode::non_finite, "sewn uv %llu is not finite", (unsigned long long)(i / 2));
+    return {};
+}
+
+Result check_attachments(uint32_t count, const uint32_t* particle, const uint32_t* triangle, const float* weight,
+                         uint32_t particle_count) {
+    if (count == 0) return {};
+    if (particle == nullptr || triangle == nullptr || weight == nullptr)
+        return make_error(ErrorCode::invalid_argument, "attachments without particles, triangles or weights");
+    for (uint32_t k = 0; k < count; ++k) {
+        if (particle[k] >= particle_count)
+            return make_error(ErrorCode::out_of_range, "attachment %u names particle %u of %u", k, particle[k],
+                              particle_count);
+        const float* w = weight + 3 * size_t(k);
+        const float sum = w[0] + w[1] + w[2];
+        for (int i = 0; i < 3; ++i)
+            if (!(w[i] >= -1e-4f && w[i] <= 1.0001f))
+                return make_error(ErrorCode::out_of_range, "attachment %u has weight %g outside [0, 1]", k, double(w[i]));
+        if (!(std::fabs(sum - 1.0f) <= 1e-3f))
+            return make_error(ErrorCode::invalid_argument, "attachment %u's weights sum to %g, not 1", k, double(sum));
+    }
+    return {};
+}
+
 Result check_panels(const uint16_t* panel, uint32_t panel_count, uint32_t particle_count) {
     if (panel == nullptr) {
         if (panel_count != 0)

@@ -21,6 +21,15 @@ Result check_seam_sources(uint32_t point_count, const uint32_t* seam_first, cons
 // Every particle's panel below panel_count (at most 2^16 panels: they are stored as uint16).
 Result check_panels(const uint16_t* panel, uint32_t panel_count, uint32_t particle_count);
 
+// Sewn seams: the offsets as check_seam_offsets, every particle in range, every uv finite.
+Result check_sewn(uint32_t point_count, const uint32_t* particle, const uint32_t* uv_first, const float* uv,
+                  uint32_t particle_count);
+
+// Body attachments: every particle in range and distinct, weights finite in [0, 1] summing to 1.
+// (The triangles are checked against the body when the cloth is attached.)
+Result check_attachments(uint32_t count, const uint32_t* particle, const uint32_t* triangle, const float* weight,
+                         uint32_t particle_count);
+
 // Every value finite and >= 0.
 Result check_fabric(const Fabric& fabric);
 

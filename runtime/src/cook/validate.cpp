@@ -318,6 +318,15 @@ Result check_garment(const ClothAsset& a) {
         r = make_error(ErrorCode::corrupt_asset, "seam sources without seam points");
     if (r.ok()) r = check_seam_sources(a.seam_point_count, a.seam_first, a.seam_source, a.particle_count);
     if (r.ok()) r = check_panels(a.panel, a.panel_count, a.particle_count);
+    if (r.ok()) r = check_sewn(a.sewn_point_count, a.sewn_particle, a.sewn_uv_first, a.sewn_uv, a.particle_count);
+    if (r.ok() && a.sewn_point_count > 0 && a.sewn_uv_first[a.sewn_point_count] != a.sewn_uv_count)
+        r = make_error(ErrorCode::corrupt_asset, "sewn_uv_first ends at %u, sewn_uv_count is %u",
+                       a.sewn_uv_first[a.sewn_point_count], a.sewn_uv_count);
+    if (r.ok())
+        r = check_attachments(a.attachment_count, a.attached_particle, a.attached_triangle, a.attached_weight,
+                              a.particle_count);
+    if (r.ok() && a.sewn_point_count == 0 && a.sewn_uv_count != 0)
+        r = make_error(ErrorCode::corrupt_asset, "sewn uvs without sewn points");
     if (r.ok()) r = check_fabric(a.fabric);
     if (!r.ok()) r.code = ErrorCode::corrupt_asset;
     return r;

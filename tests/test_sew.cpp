@@ -1,0 +1,312 @@
+// Virtual sewing in weft-bake (tools/bake/sew.h, seed 4.2): the sample skirt and tee sewn onto the
+// project's mannequin. The seams are merged (one particle, summed mass, every source's uv kept),
+// the rest lengths still come from the flat panels, the dressed pose is outside the body, and the
+// loaded asset stays at rest on the still body (mean speed < 1 mm/s, nothing ends inside).
+#include <doctest/doctest.h>
+
+#include <filesystem>
+
+#include <algorithm>
+#include <cmath>
+#include <fstream>
+#include <map>
+#include <memory>
+#include <sstream>
+
+#include "asset_writer.h"
+#include "body_mesh.h"
+#include "metrics.h"
+#include "scene_json.h"
+#include "bake.h"
+#include "mannequin.h"
+#include "weft/body.h"
+#include "weft/weft.h"
+
+using namespace weft;
+
+namespace {
+
+std::string read_text(const std::string& path) {
+    std::ifstream f(path, std::ios::binary);
+    std::ostringstream s;
+    s << f.rdbuf();
+    return s.str();
+}
+
+const bake::SewBody& mannequin() {
+    static const bake::SewBody body = [] {
+        body::Mannequin m;
+        REQUIRE(body::make_mannequin(body::Measurements{}, body::MannequinOptions{}, &m).empty());
+        return bake::SewBody{m.positions, m.triangles};
+    }();
+    return body;
+}
+
+struct Dressed {
+    bake::Baked baked;
+    assets::LoadedAsset loaded;
+};
+
+std::unique_ptr<Dressed> dress(const std::string& pattern, const bake::SewBody& body) {
+    auto d = std::make_unique<Dressed>();
+    bake::BakeOptions options;
+    options.body = &body;
+    const bake::Status s = bake::bake_pattern(read_text(std::string(WEFT_SAMPLES_DIR) + "/" + pattern), options, &d->baked);
+    INFO(s.error);
+    REQUIRE(s.ok());
+    const Result r = assets::load_asset_copy(d->baked.bytes.data(), d->baked.bytes.size(), &d->loaded);
+    INFO(r.message);
+    REQUIRE(r.ok());
+    return d;
+}
+
+// Each sample garment dressed once per test run (a bake takes a second or two; minutes under ASan).
+const Dressed& dressed(const std::string& pattern) {
+    static std::map<std::string, std::unique_ptr<Dressed>> cache;
+    std::unique_ptr<Dressed>& d = cache[pattern];
+    if (!d) d = dress(pattern, mannequin());
+    return *d;
+}
+
+void check_dressed(const std::string& pattern) {
+    CAPTURE(pattern);
+    const bake::SewBody& body = mannequin();
+    const Dressed* d = &dressed(pattern);
+    const bake::SewReport& r = d->baked.sew_report;
+    const ClothAsset& a = d->loaded.asset;
+    const bake::MeshedGarment& flat = d->baked.garment;
+
+    // Seams closed and merged: one particle per seam point, summed mass, every source's uv.
+    CHECK(r.max_seam_gap_m == 0.0);
+    CHECK(r.seam_points > 0);
+    CHECK(a.seam_point_count == 0);
+    CHECK(a.sewn_point_count == r.seam_points);
+    CHECK(a.particle_count == r.particles_after);
+    uint32_t sources = 0;
+    for (uint32_t s = 0; s < a.sewn_point_count; ++s) {
+        const uint32_t first = a.sewn_uv_first[s], count = a.sewn_uv_first[s + 1] - first;
+        CHECK(count >= 2);
+        sources += count;
+        CHECK(a.sewn_uv[2 * first] == a.uv[2 * a.sewn_particle[s]]);
+        CHECK(a.sewn_uv[2 * first + 1] == a.uv[2 * a.sewn_particle[s] + 1]);
+    }
+    CHECK(r.particles_after == r.particles_before - (sources - a.sewn_point_count));
+    // Summed mass: a sewn particle weighs its sources (0 when pinned: the attachments).
+    std::vector<double> source_mass(a.particle_count, 0.0);
+    for (uint32_t p = 0; p < d->baked.sewn.new_of_old.size(); ++p)
+        source_mass[d->baked.sewn.new_of_old[p]] += flat.masses[p];
+    for (uint32_t p = 0; p < a.particle_count; ++p) {
+        const float inverse = a.inverse_mass[a.slot_of_particle[p]];
+        if (inverse > 0.0f) CHECK(1.0 / inverse == doctest::Approx(source_mass[p]).epsilon(1e-4));
+    }
+
+    // Rest lengths from the flat panels: a spring between two particles no seam touched has the
+    // length it had on the flat panel, whatever the dressed pose did to it.
+    std::vector<int64_t> old_of_new(a.particle_count, -1);
+    std::vector<uint32_t> sources_of(a.particle_count, 0);
+    for (uint32_t p = 0; p < d->baked.sewn.new_of_old.size(); ++p) {
+        old_of_new[d->baked.sewn.new_of_old[p]] = p;
+        ++sources_of[d->baked.sewn.new_of_old[p]];
+    }
+    std::vector<ConstraintKind> kind(a.lane_count);
+    for (uint32_t b = 0; b < a.batch_count; ++b)
+        for (uint32_t l = 0; l < a.batches[b].lane_count; ++l) kind[a.batches[b].first_lane + l] = a.batches[b].kind;
+    uint32_t checked = 0, differ_in_pose = 0;
+    for (uint32_t l = 0; l < a.lane_count; ++l) {
+        if (a.lane_weight[l] == 0.0f || kind[l] == ConstraintKind::bend) continue;  // bends across a seam unfold
+        const uint32_t i = a.particle_of_slot[a.index_a[l]], j = a.particle_of_slot[a.index_b[l]];
+        if (sources_of[i] != 1 || sources_of[j] != 1 || a.panel[i] != a.panel[j]) continue;
+        const Vec3 p = flat.rest_positions[old_of_new[i]], q = flat.rest_positions[old_of_new[j]];
+        const float flat_length = std::sqrt((p.x - q.x) * (p.x - q.x) + (p.y - q.y) * (p.y - q.y) + (p.z - q.z) * (p.z - q.z));
+        const float dx = a.start_x[a.index_a[l]] - a.start_x[a.index_b[l]], dy = a.start_y[a.index_a[l]] - a.start_y[a.index_b[l]],
+                    dz = a.start_z[a.index_a[l]] - a.start_z[a.index_b[l]];
+        CHECK(a.rest_length[l] == doctest::Approx(flat_length).epsilon(1e-5));
+        differ_in_pose += std::fabs(std::sqrt(dx * dx + dy * dy + dz * dz) - flat_length) > 1e-4f;
+        ++checked;
+    }
+    CHECK(checked > a.lane_count / 4);
+    CHECK(differ_in_pose > 0);  // the start state is the dressed pose, not the flat one
+
+    // The dressed pose: outside the skin, within 1 mm of the hull, at rest when it was stored.
+    CHECK(r.particles_inside_body == 0);
+    CHECK(r.max_skin_penetration_m == 0.0);
+    CHECK(r.max_penetration_m <= 0.001);
+    CHECK(r.mean_speed_m_s < 0.001);
+    for (uint32_t p = 0; p < a.particle_count; ++p) {
+        const uint32_t s = a.slot_of_particle[p];
+        CHECK_FALSE(bake::inside_body(body, {a.start_x[s], a.start_y[s], a.start_z[s]}));
+    }
+
+    // The loaded asset on the still body stays there: two seconds, mean speed < 1 mm/s at the end,
+    // no particle inside the body or deeper than 1 mm below its hull.
+    bake::BodyWorld w;  // the still body, as the sewing's drape had it
+    REQUIRE(bake::open_body_world(a, body, bake::SewOptions{}, 9.81f, 1.0f, &w).ok());
+    const float dt = bake::SewOptions{}.dt_s;
+    std::vector<Vec3> before(a.particle_count), now(a.particle_count);
+    read_positions(w.world, w.cloth, before.data(), a.particle_count);
+    double speed = 0.0;
+    for (int frame = 0; frame < 120; ++frame) {
+        REQUIRE(step(w.world, dt).ok());
+        read_positions(w.world, w.cloth, now.data(), a.particle_count);
+        double sum = 0.0;
+        for (uint32_t p = 0; p < a.particle_count; ++p)
+            sum += std::sqrt((now[p].x - before[p].x) * (now[p].x - before[p].x) +
+                             (now[p].y - before[p].y) * (now[p].y - before[p].y) +
+                             (now[p].z - before[p].z) * (now[p].z - before[p].z));
+        speed = sum / a.particle_count / dt;
+        std::swap(now, before);
+    }
+    CHECK(speed < 0.001);
+    float deepest = 0.0f;
+    for (uint32_t p = 0; p < a.particle_count; ++p) {
+        CHECK_FALSE(bake::inside_body(body, before[p]));
+        BodyContact c;
+        REQUIRE(query_body(w.world, w.body, before[p], &c).ok());
+        if (c.found) deepest = std::max(deepest, c.penetration_m);
+    }
+    CHECK(deepest <= 0.001f);
+}
+
+}  // namespace
+
+TEST_CASE("sewing: the sample skirt dressed on the mannequin") { check_dressed("skirt.json"); }
+
+TEST_CASE("sewing: the sample tee dressed on the mannequin") { check_dressed("tee.json"); }
+
+TEST_CASE("sewing: the skirt's waistband is attached to the body and pinned") {
+    const Dressed* d = &dressed("skirt.json");
+    const ClothAsset& a = d->loaded.asset;
+    REQUIRE(a.attachment_count > 0);
+    CHECK(a.attachment_count == d->baked.sew_report.attached);
+    const uint32_t triangles = uint32_t(mannequin().triangles.size() / 3);
+    for (uint32_t k = 0; k < a.attachment_count; ++k) {
+        CHECK(a.inverse_mass[a.slot_of_particle[a.attached_particle[k]]] == 0.0f);
+        CHECK(a.attached_triangle[k] < triangles);
+    }
+}
+
+TEST_CASE("sewing: the same pattern and body bake to the same bytes") {
+    const auto again = dress("skirt.json", mannequin());
+    CHECK(again->baked.bytes == dressed("skirt.json").baked.bytes);
+}
+
+TEST_CASE("sewing: bad input is refused with a message") {
+    bake::BakeOptions options;
+    bake::SewBody empty;
+    options.body = &empty;
+    bake::Baked baked;
+    bake::Status s = bake::bake_pattern(read_text(std::string(WEFT_SAMPLES_DIR) + "/skirt.json"), options, &baked);
+    CHECK(s.error == "sewing: the body has no triangles");
+    options.body = &mannequin();
+    s = bake::bake_pattern(read_text(std::string(WEFT_SAMPLES_DIR) + "/sheet.json"), options, &baked);
+    CHECK(s.error == "sewing: the pattern has no seams to sew");
+    // A body far from the panels: the seams close in the air, the attachments find no body.
+    bake::SewBody far = mannequin();
+    for (Vec3& v : far.positions) v.x += 5.0f;
+    options.body = &far;
+    s = bake::bake_pattern(read_text(std::string(WEFT_SAMPLES_DIR) + "/skirt.json"), options, &baked);
+    CHECK(s.error.find("is more than 0.5 m from the body") != std::string::npos);
+}
+
+TEST_CASE("attachments: the skirt's waistband follows the walking mannequin exactly") {
+    const bake::SewBody& body = mannequin();
+    const Dressed* d = &dressed("skirt.json");
+    const ClothAsset& a = d->loaded.asset;
+    bake::BodyWorld w;
+    REQUIRE(bake::open_body_world(a, body, bake::SewOptions{}, 9.81f, 1.0f, &w).ok());
+    REQUIRE(attach_cloth_to_body(w.world, w.cloth, w.body).ok());
+    body::Mannequin m;
+    REQUIRE(body::make_mannequin(body::Measurements{}, body::MannequinOptions{}, &m).empty());
+    REQUIRE(m.triangles == body.triangles);
+    std::vector<Vec3> pose, x(a.particle_count);
+    float worst = 0.0f, moved = 0.0f;
+    for (int frame = 1; frame <= 60; ++frame) {
+        body::walk_pose(m, frame / 60.0f, &pose);
+        REQUIRE(set_body_vertices(w.world, w.body, pose.data(), uint32_t(pose.size())).ok());
+        REQUIRE(step(w.world, 1.0f / 60.0f).ok());
+        REQUIRE(read_positions(w.world, w.cloth, x.data(), a.particle_count).ok());
+        BodyView view;
+        REQUIRE(view_body(w.world, w.body, &view).ok());
+        for (uint32_t k = 0; k < a.attachment_count; ++k) {
+            const uint32_t* t = view.triangles + 3 * a.attached_triangle[k];
+            const float* wk = a.attached_weight + 3 * k;
+            float expect[3] = {0, 0, 0};
+            for (int c = 0; c < 3; ++c)
+                for (int i = 0; i < 3; ++i) expect[i] += wk[c] * view.hull[4 * t[c] + i];
+            const Vec3 p = x[a.attached_particle[k]];
+            worst = std::max({worst, std::fabs(p.x - expect[0]), std::fabs(p.y - expect[1]), std::fabs(p.z - expect[2])});
+            const uint32_t s = a.slot_of_particle[a.attached_particle[k]];
+            moved = std::max(moved, std::fabs(p.x - a.start_x[s]) + std::fabs(p.y - a.start_y[s]) + std::fabs(p.z - a.start_z[s]));
+        }
+    }
+    CHECK(worst <= 1e-6f);  // on the moving hull, to float rounding
+    CHECK(moved > 0.005f);  // and the walk did move them
+}
+
+TEST_CASE("attachments: bad bindings are refused") {
+    const Dressed* d = &dressed("skirt.json");
+    const body::BodyMesh ball = body::make_icosphere({0.0f, 1.0f, 0.0f}, 0.2f, 1);  // 80 triangles
+    bake::BodyWorld w;
+    REQUIRE(bake::open_body_world(d->loaded.asset, bake::SewBody{ball.positions, ball.triangles}, bake::SewOptions{}, 9.81f,
+                                  1.0f, &w).ok());
+    Result r = attach_cloth_to_body(w.world, w.cloth, w.body);
+    CHECK(r.code == ErrorCode::out_of_range);
+    CHECK(std::string(r.message).find("names body triangle") != std::string::npos);
+    CHECK(attach_cloth_to_body(w.world, ClothId{5}, w.body).code == ErrorCode::out_of_range);
+    CHECK(attach_cloth_to_body(w.world, w.cloth, BodyId{3}).code == ErrorCode::out_of_range);
+    CHECK(attach_cloth_to_body(nullptr, w.cloth, w.body).code == ErrorCode::invalid_argument);
+    const Dressed* tee = &dressed("tee.json");  // no attachments
+    bake::BodyWorld v;
+    REQUIRE(bake::open_body_world(tee->loaded.asset, mannequin(), bake::SewOptions{}, 9.81f, 1.0f, &v).ok());
+    CHECK(attach_cloth_to_body(v.world, v.cloth, v.body).code == ErrorCode::invalid_argument);
+}
+
+// tests/scenes/dress-garmentcode.json: the shared GarmentCode pencil dress sewn onto the shared
+// mean_all body, then run as the scene file says (the body blending A-pose -> T-pose).
+TEST_CASE("sewing: the GarmentCode pencil dress on the shared mean_all body (tests/scenes/dress-garmentcode.json)") {
+    const std::string shared = WEFT_SHARED_DATA_DIR;
+    if (!std::filesystem::exists(shared + "/bodies/mean_all.obj")) {
+        MESSAGE("../shared/data is not there: skipped");
+        return;
+    }
+    body::BodyMesh mean_all;
+    REQUIRE(body::load_body_mesh(shared + "/bodies/mean_all.obj", &mean_all).empty());
+    const bake::SewBody body{mean_all.positions, mean_all.triangles};
+    bake::BakeOptions options;
+    options.body = &body;
+    bake::Baked baked;
+    const bake::Status s =
+        bake::bake_pattern(read_text(shared + "/patterns/garmentcode/dress_pencil_specification.json"), options, &baked);
+    INFO(s.error);
+    REQUIRE(s.ok());
+    const bake::SewReport& r = baked.sew_report;
+    CHECK(r.max_seam_gap_m == 0.0);
+    CHECK(r.max_penetration_m <= 0.001);
+    CHECK(r.mean_speed_m_s < 0.001);
+    // Known: a few particles of the placed bodice start inside the A-pose's arms and stay there.
+    CHECK(r.particles_inside_body <= 8);
+    const std::string dir = std::filesystem::temp_directory_path() / "weft_test_sew";
+    std::filesystem::create_directories(dir);
+    std::ofstream(dir + "/dress-garmentcode.weft", std::ios::binary)
+        .write(reinterpret_cast<const char*>(baked.bytes.data()), std::streamsize(baked.bytes.size()));
+
+    scenes::Scene scene;
+    REQUIRE(scenes::load_scene_file(std::string(WEFT_TESTS_DIR) + "/scenes/dress-garmentcode.json", &scene).empty());
+    scenes::SceneWorld sw;
+    const std::string e = scenes::build_scene(scene, &sw, {dir});
+    INFO(e);
+    REQUIRE(e.empty());
+    REQUIRE(sw.body);
+    CHECK(sw.body->triangles.size() / 3 == 47500);
+    double deepest = 0.0;
+    for (uint32_t f = 1; f <= 120; ++f) {  // to the T-pose (half the period)
+        REQUIRE(scenes::animate_body(sw, float(f) * scene.dt_s).empty());
+        REQUIRE(step(sw.world, scene.dt_s).ok());
+        ClothView view;
+        REQUIRE(view_cloth(sw.world, sw.cloths[0].id, &view).ok());
+        REQUIRE(metrics::bounds(view).finite);
+        deepest = std::max(deepest, metrics::max_body_penetration_m(sw.world, sw.body->id, view));
+    }
+    CHECK(deepest <= 0.002);  // the arms rise up to 15 mm a frame through the bodice
+    std::filesystem::remove_all(dir);
+}

@@ -1,0 +1,330 @@
+// Virtual sewing (sew.h): sew, merge, drape, all stepped by the runtime in a world with the body.
+#include "sew.h"
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <cstdlib>
+#include <memory>
+#include <numeric>
+
+#include "weft/body.h"
+#include "weft/world.h"
+
+namespace weft::bake {
+namespace {
+
+Vec3 sub(Vec3 a, Vec3 b) { return {a.x - b.x, a.y - b.y, a.z - b.z}; }
+float dot(Vec3 a, Vec3 b) { return a.x * b.x + a.y * b.y + a.z * b.z; }
+Vec3 cross(Vec3 a, Vec3 b) { return {a.y * b.z - a.z * b.y, a.z * b.x - a.x * b.z, a.x * b.y - a.y * b.x}; }
+float length(Vec3 a) { return std::sqrt(dot(a, a)); }
+
+// Seam points as sets of particles joined transitively (a particle in two seam points, where
+// seams meet, joins them): root of every particle.
+std::vector<uint32_t> seam_groups(const ClothMeshDesc& m) {
+    std::vector<uint32_t> parent(m.particle_count);
+    std::iota(parent.begin(), parent.end(), 0u);
+    auto find = [&](uint32_t p) {
+        while (parent[p] != p) p = parent[p] = parent[parent[p]];
+        return p;
+    };
+    for (uint32_t s = 0; s < m.seam_point_count; ++s)
+        for (uint32_t i = m.seam_first[s] + 1; i < m.seam_first[s + 1]; ++i) {
+            const uint32_t a = find(m.seam_source[m.seam_first[s]]), b = find(m.seam_source[i]);
+            if (a != b) parent[std::max(a, b)] = std::min(a, b);
+        }
+    for (uint32_t p = 0; p < m.particle_count; ++p) parent[p] = find(p);
+    return parent;
+}
+
+// Moves every seam group's particles toward their target by at most `step_m` (eq. 10: the sources
+// move geometrically, not by physics; they are held kinematic, inverse mass 0, while they move) and
+// returns the largest distance of a particle to its target before the move.
+float close_seams(World* world, ClothId cloth, const std::vector<std::vector<uint32_t>>& groups,
+                  const std::vector<Vec3>& target, std::vector<Vec3>& x, float step_m) {
+    float gap = 0.0f;
+    for (size_t k = 0; k < groups.size(); ++k)
+        for (uint32_t p : groups[k]) {
+            const Vec3 d = sub(target[k], x[p]);
+            const float l = length(d);
+            gap = std::max(gap, l);
+            const float t = l > step_m ? step_m / l : 1.0f;
+            x[p] = {x[p].x + d.x * t, x[p].y + d.y * t, x[p].z + d.z * t};
+            set_particle(world, cloth, p, x[p], 0.0f);
+        }
+    return gap;
+}
+
+}  // namespace
+
+BodyWorld::~BodyWorld() { destroy_world(world); }
+
+Status open_body_world(const ClothAsset& asset, const SewBody& body, const SewOptions& o, float gravity,
+                       float damping_per_s, BodyWorld* w, float margin_m) {
+    WorldDesc desc;
+    desc.max_cloths = 0;
+    reserve_cloth(desc, asset);
+    desc.max_bodies = 1;
+    desc.max_body_vertices = uint32_t(body.positions.size());
+    desc.max_body_triangles = uint32_t(body.triangles.size() / 3);
+    desc.gravity_m_s2 = {0.0f, -gravity, 0.0f};
+    const MemoryRequirements need = world_memory_requirements(desc);
+    w->block.reset(std::aligned_alloc(need.alignment, (need.bytes + need.alignment - 1) / need.alignment * need.alignment));
+    if (!w->block) return {"cannot allocate the sewing world"};
+    if (Result r = create_world(desc, w->block.get(), need.bytes, &w->world); !r.ok()) return {r.message};
+    BodyDesc b;
+    b.positions = body.positions.data();
+    b.vertex_count = uint32_t(body.positions.size());
+    b.triangles = body.triangles.data();
+    b.triangle_count = uint32_t(body.triangles.size() / 3);
+    b.thickness_m = o.body_thickness_m;
+    b.friction = o.body_friction;
+    b.margin_m = margin_m;
+    if (Result r = add_body(w->world, b, &w->body); !r.ok()) return {std::string("body: ") + r.message};
+    ClothDesc c;
+    c.asset = &asset;
+    c.sweeps = o.sweeps;
+    c.damping_per_s = damping_per_s;
+    if (Result r = add_cloth(w->world, c, &w->cloth); !r.ok()) return {std::string("garment: ") + r.message};
+    return {};
+}
+
+bool inside_body(const SewBody& body, Vec3 p) {
+    // Ray parity along a direction no mesh axis shares (Moeller-Trumbore against every triangle).
+    const Vec3 dir{0.5773f, 0.5774f, 0.5773f};
+    uint32_t crossings = 0;
+    for (size_t t = 0; t + 2 < body.triangles.size(); t += 3) {
+        const Vec3 a = body.positions[body.triangles[t]], b = body.positions[body.triangles[t + 1]],
+                   c = body.positions[body.triangles[t + 2]];
+        const Vec3 e1 = sub(b, a), e2 = sub(c, a), h = cross(dir, e2);
+        const float det = dot(e1, h);
+        if (std::fabs(det) < 1e-12f) continue;
+        const Vec3 s = sub(p, a);
+        const float u = dot(s, h) / det;
+        if (u < 0.0f || u > 1.0f) continue;
+        const Vec3 q = cross(s, e1);
+        const float v = dot(dir, q) / det;
+        if (v < 0.0f || u + v > 1.0f) continue;
+        crossings += dot(e2, q) / det > 0.0f;
+    }
+    return crossings % 2 == 1;
+}
+
+Status sew_garment(const ClothMeshDesc& unsewn, const std::vector<uint32_t>& attached, const SewBody& body,
+                   const SewOptions& o, SewnGarment* out, SewReport* report) {
+    const auto start = std::chrono::steady_clock::now();
+    if (body.positions.empty() || body.triangles.size() < 3) return {"the body has no triangles"};
+    if (unsewn.seam_point_count == 0) return {"the pattern has no seams to sew"};
+    if (unsewn.rest_positions == nullptr || unsewn.masses == nullptr) return {"sewing needs flat rest positions and masses"};
+    const uint32_t n = unsewn.particle_count;
+    SewReport rep;
+    rep.particles_before = n;
+    rep.body_triangles = uint32_t(body.triangles.size() / 3);
+
+    // 1. Sewing: the unsewn garment under a small gravity, seams closing geometrically.
+    CookOptions cook;
+    CookedCloth cooked;
+    if (Result r = cook_cloth(unsewn, cook, &cooked); !r.ok()) return {std::string("unsewn garment: ") + r.message};
+    const std::vector<uint32_t> root = seam_groups(unsewn);
+    std::vector<std::vector<uint32_t>> groups;
+    {
+        std::vector<uint32_t> group_of(n, ~0u), members(n, 0);
+        for (uint32_t p = 0; p < n; ++p) ++members[root[p]];
+        for (uint32_t p = 0; p < n; ++p) {
+            if (members[root[p]] < 2) continue;
+            if (group_of[root[p]] == ~0u) group_of[root[p]] = uint32_t(groups.size()), groups.emplace_back();
+            groups[group_of[root[p]]].push_back(p);
+        }
+    }
+    std::vector<Vec3> x(unsewn.positions, unsewn.positions + n), target(groups.size());
+    for (size_t k = 0; k < groups.size(); ++k) {  // eq. (10): the mean of the sources as placed
+        Vec3 sum{};
+        for (uint32_t p : groups[k]) sum = {sum.x + x[p].x, sum.y + x[p].y, sum.z + x[p].z};
+        const float inv = 1.0f / float(groups[k].size());
+        target[k] = {sum.x * inv, sum.y * inv, sum.z * inv};
+    }
+    {
+        BodyWorld w;
+        if (Status s = open_body_world(cooked.asset(), body, o, o.sewing_gravity_m_s2, o.sewing_damping_per_s, &w); !s.ok())
+            return s;
+        // The sources reach their targets, then the cloth settles around the closed seams.
+        for (uint32_t settled = 0; settled < o.settle_frames;) {
+            if (Result r = read_positions(w.world, w.cloth, x.data(), n); !r.ok()) return {r.message};
+            const float gap = close_seams(w.world, w.cloth, groups, target, x, o.sewing_speed_m_s * o.dt_s);
+            if (gap == 0.0f) ++settled;
+            if (rep.sewing_frames == o.max_sewing_frames)
+                return {"a seam is still " + std::to_string(gap * 100.0) + " cm open after " +
+                        std::to_string(o.max_sewing_frames) + " sewing frames"};
+            if (Result r = step(w.world, o.dt_s); !r.ok()) return {r.message};
+            ++rep.sewing_frames;
+        }
+        if (Result r = read_positions(w.world, w.cloth, x.data(), n); !r.ok()) return {r.message};
+        for (size_t k = 0; k < groups.size(); ++k)
+            for (uint32_t p : groups[k]) rep.max_seam_gap_m = std::max(rep.max_seam_gap_m, double(length(sub(x[p], target[k]))));
+    }
+
+    // Attachments: each attached particle goes to the closest point of the body's offset hull and
+    // is bound there by barycentric weights (pinned from now on: it follows the body).
+    std::vector<float> mass(unsewn.masses, unsewn.masses + n);
+    struct Binding {
+        uint32_t particle, triangle;
+        float weight[3];
+    };
+    std::vector<Binding> bindings;
+    if (!attached.empty()) {
+        BodyWorld probe;  // a query reach of 0.5 m finds the closest hull point of any garment particle
+        if (Status s = open_body_world(cooked.asset(), body, o, 0.0f, 1.0f, &probe, 0.5f); !s.ok()) return s;
+        BodyView view;
+        view_body(probe.world, probe.body, &view);
+        for (uint32_t p : attached) {
+            BodyContact c;
+            if (!query_body(probe.world, probe.body, x[p], &c).ok() || !c.found)
+                return {"attached particle " + std::to_string(p) + " is more than 0.5 m from the body"};
+            const uint32_t* t = view.triangles + 3 * c.triangle;
+            const Vec3 a{view.hull[4 * t[0]], view.hull[4 * t[0] + 1], view.hull[4 * t[0] + 2]};
+            const Vec3 b{view.hull[4 * t[1]], view.hull[4 * t[1] + 1], view.hull[4 * t[1] + 2]};
+            const Vec3 cc{view.hull[4 * t[2]], view.hull[4 * t[2] + 1], view.hull[4 * t[2] + 2]};
+            // Barycentric weights of the hull point (it lies on the triangle: plain area ratios).
+            const Vec3 e1 = sub(b, a), e2 = sub(cc, a), d = sub(c.hull_point, a);
+            const float d11 = dot(e1, e1), d12 = dot(e1, e2), d22 = dot(e2, e2), dd1 = dot(d, e1), dd2 = dot(d, e2);
+            const float det = d11 * d22 - d12 * d12;
+            float v = det > 0.0f ? (d22 * dd1 - d12 * dd2) / det : 0.0f, u = det > 0.0f ? (d11 * dd2 - d12 * dd1) / det : 0.0f;
+            v = std::clamp(v, 0.0f, 1.0f), u = std::clamp(u, 0.0f, 1.0f - v);
+            Binding bind{p, c.triangle, {1.0f - v - u, v, u}};
+            bindings.push_back(bind);
+            x[p] = {a.x * bind.weight[0] + b.x * bind.weight[1] + cc.x * bind.weight[2],
+                    a.y * bind.weight[0] + b.y * bind.weight[1] + cc.y * bind.weight[2],
+                    a.z * bind.weight[0] + b.z * bind.weight[1] + cc.z * bind.weight[2]};
+            mass[p] = 0.0f;
+        }
+    }
+    // 2. Merging: one particle per seam group (the first source's index order), summed mass.
+    SewnGarment g;
+    g.new_of_old.assign(n, ~0u);
+    std::vector<uint32_t> first_of_new;
+    for (uint32_t p = 0; p < n; ++p) {
+        if (root[p] != p) continue;
+        g.new_of_old[p] = uint32_t(first_of_new.size());
+        first_of_new.push_back(p);
+    }
+    for (uint32_t p = 0; p < n; ++p) g.new_of_old[p] = g.new_of_old[root[p]];
+    const uint32_t m = uint32_t(first_of_new.size());
+    g.positions.assign(m, Vec3{});
+    g.masses.assign(m, 0.0f);
+    std::vector<uint32_t> count(m, 0);
+    std::vector<bool> pinned(m, false);
+    for (uint32_t p = 0; p < n; ++p) {
+        const uint32_t q = g.new_of_old[p];
+        g.positions[q] = {g.positions[q].x + x[p].x, g.positions[q].y + x[p].y, g.positions[q].z + x[p].z};
+        g.masses[q] += unsewn.masses[p];
+        pinned[q] = pinned[q] || mass[p] == 0.0f;
+        ++count[q];
+    }
+    for (uint32_t q = 0; q < m; ++q) {
+        const float inv = 1.0f / float(count[q]);
+        g.positions[q] = {g.positions[q].x * inv, g.positions[q].y * inv, g.positions[q].z * inv};
+        if (pinned[q]) g.masses[q] = 0.0f;  // a pin on any source holds the sewn particle
+    }
+    if (unsewn.uv != nullptr) {
+        g.uv.resize(2 * size_t(m));
+        for (uint32_t q = 0; q < m; ++q) g.uv[2 * q] = unsewn.uv[2 * first_of_new[q]], g.uv[2 * q + 1] = unsewn.uv[2 * first_of_new[q] + 1];
+        g.sewn_uv_first.push_back(0);
+        for (const std::vector<uint32_t>& group : groups) {
+            g.sewn_particle.push_back(g.new_of_old[group[0]]);
+            for (uint32_t p : group) g.sewn_uv.push_back(unsewn.uv[2 * p]), g.sewn_uv.push_back(unsewn.uv[2 * p + 1]);
+            g.sewn_uv_first.push_back(uint32_t(g.sewn_uv.size() / 2));
+        }
+    }
+    if (unsewn.lattice != nullptr) {
+        g.lattice.assign(2 * size_t(m), -1);
+        for (uint32_t q = 0; q < m; ++q)
+            if (count[q] == 1)
+                g.lattice[2 * q] = unsewn.lattice[2 * first_of_new[q]], g.lattice[2 * q + 1] = unsewn.lattice[2 * first_of_new[q] + 1];
+    }
+    if (unsewn.panel != nullptr) {
+        g.panel.resize(m);
+        for (uint32_t q = 0; q < m; ++q) g.panel[q] = unsewn.panel[first_of_new[q]];
+    }
+    for (uint32_t t = 0; t < unsewn.triangle_count; ++t) {
+        const uint32_t* v = unsewn.triangles + 3 * t;
+        const uint32_t a = g.new_of_old[v[0]], b = g.new_of_old[v[1]], c = g.new_of_old[v[2]];
+        if (a == b || b == c || a == c) continue;  // a corner sewn onto its own triangle's edge
+        g.triangles.insert(g.triangles.end(), {a, b, c});
+        for (int k = 0; k < 3; ++k) g.rest_corners.push_back(unsewn.rest_positions[v[k]]);
+    }
+    for (const Binding& b : bindings) {  // one binding per sewn particle (the first source's)
+        const uint32_t q = g.new_of_old[b.particle];
+        if (std::find(g.attached_particle.begin(), g.attached_particle.end(), q) != g.attached_particle.end()) continue;
+        g.attached_particle.push_back(q);
+        g.attached_triangle.push_back(b.triangle);
+        g.attached_weight.insert(g.attached_weight.end(), b.weight, b.weight + 3);
+        g.positions[q] = x[b.particle];
+    }
+    rep.attached = uint32_t(g.attached_particle.size());
+    rep.seam_points = uint32_t(groups.size());
+    rep.particles_after = m;
+
+    ClothMeshDesc& d = g.desc;
+    d.particle_count = m;
+    d.positions = g.positions.data();
+    d.triangle_count = uint32_t(g.triangles.size() / 3);
+    d.triangles = g.triangles.data();
+    d.masses = g.masses.data();
+    d.rest_corners = g.rest_corners.data();
+    d.lattice = g.lattice.empty() ? nullptr : g.lattice.data();
+    d.lattice_plane_stride = unsewn.lattice_plane_stride;
+    d.uv = g.uv.empty() ? nullptr : g.uv.data();
+    d.panel_count = unsewn.panel_count;
+    d.panel = g.panel.empty() ? nullptr : g.panel.data();
+    d.fabric = unsewn.fabric;
+    if (!g.attached_particle.empty()) {
+        d.attachment_count = uint32_t(g.attached_particle.size());
+        d.attached_particle = g.attached_particle.data();
+        d.attached_triangle = g.attached_triangle.data();
+        d.attached_weight = g.attached_weight.data();
+    }
+    if (!g.sewn_particle.empty()) {
+        d.sewn_point_count = uint32_t(g.sewn_particle.size());
+        d.sewn_particle = g.sewn_particle.data();
+        d.sewn_uv_first = g.sewn_uv_first.data();
+        d.sewn_uv = g.sewn_uv.data();
+    }
+
+    // 3. Draping under full gravity until at rest.
+    {
+        CookedCloth sewn;
+        if (Result r = cook_cloth(d, sewn_cook_options(cook), &sewn); !r.ok()) return {std::string("sewn garment: ") + r.message};
+        BodyWorld w;
+        if (Status s = open_body_world(sewn.asset(), body, o, o.gravity_m_s2, o.drape_damping_per_s, &w); !s.ok()) return s;
+        std::vector<Vec3> now(m), before(g.positions);
+        uint32_t calm = 0;
+        while (rep.drape_frames < o.max_drape_frames && calm < o.rest_frames) {
+            if (Result r = step(w.world, o.dt_s); !r.ok()) return {r.message};
+            ++rep.drape_frames;
+            read_positions(w.world, w.cloth, now.data(), m);
+            double sum = 0.0;
+            for (uint32_t q = 0; q < m; ++q) sum += length(sub(now[q], before[q]));
+            rep.mean_speed_m_s = sum / m / o.dt_s;
+            calm = rep.mean_speed_m_s < o.rest_speed_m_s ? calm + 1 : 0;
+            std::swap(now, before);
+        }
+        g.positions = before;
+        d.positions = g.positions.data();
+        for (uint32_t q = 0; q < m; ++q) {
+            BodyContact c;
+            if (query_body(w.world, w.body, g.positions[q], &c).ok() && c.found)
+                rep.max_penetration_m = std::max(rep.max_penetration_m, double(c.penetration_m));
+            if (inside_body(body, g.positions[q])) {
+                ++rep.particles_inside_body;
+                if (c.found) rep.max_skin_penetration_m = std::max(rep.max_skin_penetration_m, double(c.penetration_m - o.body_thickness_m));
+            }
+        }
+    }
+    rep.sewing_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+    *out = std::move(g);
+    // The vectors moved with their buffers: desc's pointers stay valid.
+    if (report != nullptr) *report = rep;
+    return {};
+}
+
+}  // namespace weft::bake

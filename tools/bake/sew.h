@@ -1,0 +1,117 @@
+// Virtual sewing (seed section 4.2): the flat panels, placed around a body, are sewn into a garment
+// and draped on it; weft-bake --body stores the dressed garment as the asset's start state.
+//
+//   1. sewing: the unsewn garment (every seam point's sources still separate particles) steps in a
+//      world with the body as a collider under a small gravity; before every step each seam
+//      point's sources move geometrically (held kinematic) toward their target, the mean of the
+//      sources as placed (eq. 10), by at most sewing_speed * dt; the cloth follows by physics and
+//      settles for settle_frames once every seam is closed;
+//   1b. attaching: the pattern's body attachments are bound to the closest hull point and pinned;
+//   2. merging: each seam point becomes one particle at its target with the summed mass; its
+//      sources' texture coordinates are all kept (ClothAsset::sewn_*); triangles keep their flat
+//      corners (ClothMeshDesc::rest_corners) so rest lengths still come from the flat panels;
+//   3. draping: the sewn garment steps under full gravity until its mean speed stays below
+//      rest_speed (or max_drape_frames), and that pose is the start state.
+// The runtime does the stepping (weft/body.h: Embree offset-hull collisions), so what the baker
+// dresses is exactly what a game's world will step.
+#pragma once
+
+#include <cstdint>
+#include <cstdlib>
+#include <memory>
+#include <vector>
+
+#include "pattern.h"
+#include "weft/body.h"
+#include "weft/world.h"
+
+namespace weft::bake {
+
+// The body to sew on: plain arrays (tools/body loads files or makes the mannequin).
+struct SewBody {
+    std::vector<Vec3> positions;      // metres, Y up
+    std::vector<uint32_t> triangles;  // 3 per triangle, counter-clockwise seen from outside
+};
+
+struct SewOptions {
+    float dt_s = 1.0f / 60.0f;
+    float sewing_gravity_m_s2 = 1.0f;   // small gravity while the seams close (seed 4.2)
+    float sewing_speed_m_s = 0.3f;      // how fast a source moves toward its target
+    uint32_t settle_frames = 60;        // frames with every seam closed before merging
+    uint32_t max_sewing_frames = 900;   // a seam still open after this fails the bake
+    float gravity_m_s2 = 9.81f;         // the drape after merging
+    float rest_speed_m_s = 0.001f;      // the drape is at rest below this mean speed...
+    uint32_t rest_frames = 30;          // ...held for this many frames in a row
+    uint32_t max_drape_frames = 900;
+    uint32_t sweeps = 8;                // the solver's budget per step (ClothDesc::sweeps)
+    float sewing_damping_per_s = 4.0f;  // extra calm while sewing (ClothDesc::damping_per_s)
+    // The drape looks for the rest pose, so it may be calmer than the game's cloth: at 1/s the
+    // pencil dress's hem swung with a 5 s period through all 900 frames for one particle order.
+    float drape_damping_per_s = 2.0f;
+    float body_thickness_m = 0.004f;    // the body's offset hull (BodyDesc::thickness_m)
+    float body_friction = 0.5f;
+};
+
+struct SewReport {
+    double sewing_s = 0.0;           // wall time of the whole sewing and drape, seconds
+    uint32_t sewing_frames = 0, drape_frames = 0;
+    uint32_t seam_points = 0;        // merged
+    uint32_t attached = 0;           // particles bound to the body
+    uint32_t particles_before = 0, particles_after = 0;
+    double max_seam_gap_m = 0.0;     // largest source-to-target distance when the sources merge
+    double max_penetration_m = 0.0;  // deepest particle below the body's offset hull, dressed pose
+    uint32_t particles_inside_body = 0;   // inside the skin (ray parity against the body)
+    double max_skin_penetration_m = 0.0;  // of those within the hull's reach: how deep below the skin
+    double mean_speed_m_s = 0.0;     // over the last drape frame
+    uint32_t body_triangles = 0;
+};
+
+// The sewn garment: owns what `desc` points into.
+struct SewnGarment {
+    std::vector<Vec3> positions;       // the dressed pose
+    std::vector<Vec3> rest_corners;    // 3 per triangle: the flat panels' corners
+    std::vector<float> masses, uv, sewn_uv;
+    std::vector<int32_t> lattice;
+    std::vector<uint16_t> panel;
+    std::vector<uint32_t> triangles, sewn_particle, sewn_uv_first;
+    std::vector<uint32_t> attached_particle, attached_triangle;
+    std::vector<float> attached_weight;
+    std::vector<uint32_t> new_of_old;  // the sewn particle of every unsewn one
+    ClothMeshDesc desc;                // cook_cloth's input (fabric as the unsewn input's)
+};
+
+// Sews `unsewn` (a garment as cook_cloth takes it, with seam points, uv and flat rest positions)
+// onto `body`. The `attached` particles (the pattern's body attachments) are bound, once the seams
+// are closed, to the closest point of the body's offset hull: pinned there, stored as attachments. Fails with a message when the body is empty or a seam does not close.
+Status sew_garment(const ClothMeshDesc& unsewn, const std::vector<uint32_t>& attached, const SewBody& body,
+                   const SewOptions& options, SewnGarment* out, SewReport* report);
+
+// A world holding one cloth and the body (as the sewing steps it), released on scope exit.
+struct BodyWorld {
+    std::unique_ptr<void, decltype(&std::free)> block{nullptr, &std::free};
+    World* world = nullptr;
+    ClothId cloth;
+    BodyId body;
+    BodyWorld() = default;
+    BodyWorld(const BodyWorld&) = delete;
+    BodyWorld& operator=(const BodyWorld&) = delete;
+    ~BodyWorld();
+};
+// `asset` (which must outlive the world) on `body` with options' hull, friction and sweeps, gravity
+// in m/s^2 downward, the given damping (1/s) and the body's query margin (m).
+Status open_body_world(const ClothAsset& asset, const SewBody& body, const SewOptions& options, float gravity_m_s2,
+                       float damping_per_s, BodyWorld* out, float margin_m = 0.002f);
+
+// How a sewn garment is cooked: as `options` without the coarse level, whose constraints take
+// their rest lengths as straight distances on a per-particle rest pose, which a sewn garment does
+// not have (a seam particle has one flat position per panel; the dressed pose is not at rest).
+inline CookOptions sewn_cook_options(CookOptions options) {
+    options.coarse_spacing_m = 0.0f;
+    return options;
+}
+
+// Whether `point` lies inside the body's skin (ray parity against every triangle: a reference for
+// reports and tests, not for stepping).
+bool inside_body(const SewBody& body, Vec3 point);
+
+}  // namespace weft::bake

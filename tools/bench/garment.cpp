@@ -1,0 +1,262 @@
+// weft-bench garment: per scene (samples/scenes/skirt-walk.json, tee-walk.json and, with ../shared,
+// tests/scenes/dress-garmentcode.json), the garment is baked onto its body (weft-bake's
+// bake_pattern with --body), the scene file is built and run, and every step is timed per pass
+// (WorldDesc::profile). In the same run, after every step, a plain baseline of the body pass is
+// timed with Embree directly: refit of a dynamic scene over the same offset hull, then one
+// rtcPointQuery (closest point within thickness + margin) per particle per substep, no rays.
+//   weft-bench garment [--steps N] [--json]
+#include "garment.h"
+
+#include <embree3/rtcore.h>
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <cstdio>
+#include <filesystem>
+#include <fstream>
+#include <sstream>
+#include <string>
+#include <vector>
+
+#include <nlohmann/json.hpp>
+
+#include "bake.h"
+#include "body_mesh.h"
+#include "mannequin.h"
+#include "metrics.h"
+#include "scene.h"
+#include "scene_json.h"
+
+namespace weft::bench {
+namespace {
+
+using Clock = std::chrono::steady_clock;
+
+std::string read_text(const std::string& path) {
+    std::ifstream f(path, std::ios::binary);
+    std::ostringstream s;
+    s << f.rdbuf();
+    return s.str();
+}
+
+// The plain pass: its own Embree device and dynamic scene over a copy of the world's offset hull.
+struct PlainPass {
+    RTCDevice device = nullptr;
+    RTCScene scene = nullptr;
+    RTCGeometry geometry = nullptr;
+    std::vector<float> hull;  // 4 per vertex (Embree's layout), + 4 of padding
+    std::vector<uint32_t> triangles;
+    float reach = 0.0f;
+
+    struct Query {
+        const PlainPass* pass;
+        float p[3];
+        float best2;
+    };
+    // Closest point on a triangle by its Voronoi regions (Ericson 5.1.5), distance squared only.
+    static float distance2(const float* p, const float* a, const float* b, const float* c) {
+        auto sub = [](const float* x, const float* y, float* o) { o[0] = x[0] - y[0], o[1] = x[1] - y[1], o[2] = x[2] - y[2]; };
+        auto dot = [](const float* x, const float* y) { return x[0] * y[0] + x[1] * y[1] + x[2] * y[2]; };
+        float ab[3], ac[3], ap[3], bp[3], cp[3], q[3];
+        sub(b, a, ab), sub(c, a, ac), sub(p, a, ap);
+        const float d1 = dot(ab, ap), d2 = dot(ac, ap);
+        auto at = [&](float v, float w) {
+            for (int k = 0; k < 3; ++k) q[k] = a[k] + ab[k] * v + ac[k] * w;
+            float d[3];
+            sub(p, q, d);
+            return dot(d, d);
+        };
+        if (d1 <= 0 && d2 <= 0) return at(0, 0);
+        sub(p, b, bp);
+        const float d3 = dot(ab, bp), d4 = dot(ac, bp);
+        if (d3 >= 0 && d4 <= d3) return at(1, 0);
+        const float vc = d1 * d4 - d3 * d2;
+        if (vc <= 0 && d1 >= 0 && d3 <= 0) return at(d1 / (d1 - d3), 0);
+        sub(p, c, cp);
+        const float d5 = dot(ab, cp), d6 = dot(ac, cp);
+        if (d6 >= 0 && d5 <= d6) return at(0, 1);
+        const float vb = d5 * d2 - d1 * d6;
+        if (vb <= 0 && d2 >= 0 && d6 <= 0) return at(0, d2 / (d2 - d6));
+        const float va = d3 * d6 - d5 * d4;
+        if (va <= 0 && (d4 - d3) >= 0 && (d5 - d6) >= 0) {
+            const float w = (d4 - d3) / ((d4 - d3) + (d5 - d6));
+            return at(1 - w, w);
+        }
+        const float denom = 1 / (va + vb + vc);
+        return at(vb * denom, vc * denom);
+    }
+    static bool callback(RTCPointQueryFunctionArguments* args) {
+        Query& q = *static_cast<Query*>(args->userPtr);
+        const uint32_t* t = q.pass->triangles.data() + 3 * args->primID;
+        const float* h = q.pass->hull.data();
+        const float d2 = distance2(q.p, h + 4 * t[0], h + 4 * t[1], h + 4 * t[2]);
+        if (!(d2 < q.best2)) return false;
+        q.best2 = d2;
+        args->query->radius = std::sqrt(d2);
+        return true;
+    }
+
+    bool open(const BodyView& v) {
+        device = rtcNewDevice(nullptr);
+        if (device == nullptr) return false;
+        scene = rtcNewScene(device);
+        rtcSetSceneFlags(scene, RTC_SCENE_FLAG_DYNAMIC);
+        rtcSetSceneBuildQuality(scene, RTC_BUILD_QUALITY_LOW);
+        geometry = rtcNewGeometry(device, RTC_GEOMETRY_TYPE_TRIANGLE);
+        rtcSetGeometryBuildQuality(geometry, RTC_BUILD_QUALITY_REFIT);
+        hull.assign(v.hull, v.hull + 4 * size_t(v.vertex_count));
+        hull.resize(hull.size() + 4, 0.0f);
+        triangles.assign(v.triangles, v.triangles + 3 * size_t(v.triangle_count));
+        triangles.resize(triangles.size() + 4, 0u);
+        rtcSetSharedGeometryBuffer(geometry, RTC_BUFFER_TYPE_VERTEX, 0, RTC_FORMAT_FLOAT3, hull.data(), 0, 16, v.vertex_count);
+        rtcSetSharedGeometryBuffer(geometry, RTC_BUFFER_TYPE_INDEX, 0, RTC_FORMAT_UINT3, triangles.data(), 0, 12,
+                                   v.triangle_count);
+        rtcCommitGeometry(geometry);
+        rtcAttachGeometry(scene, geometry);
+        rtcCommitScene(scene);
+        reach = v.thickness_m + v.margin_m;
+        return true;
+    }
+    // The hull of this step (copied untimed), then timed: refit + one query per particle per substep.
+    double run(const BodyView& v, const ClothView& cloth, uint32_t substeps) {
+        std::copy(v.hull, v.hull + 4 * size_t(v.vertex_count), hull.begin());
+        const auto t0 = Clock::now();
+        rtcUpdateGeometryBuffer(geometry, RTC_BUFFER_TYPE_VERTEX, 0);
+        rtcCommitGeometry(geometry);
+        rtcCommitScene(scene);
+        RTCPointQueryContext context;
+        for (uint32_t s = 0; s < substeps; ++s)
+            for (uint32_t i = 0; i < cloth.asset->slot_count; ++i) {
+                if (!(cloth.inverse_mass[i] > 0.0f)) continue;
+                Query q{this, {cloth.x[i], cloth.y[i], cloth.z[i]}, reach * reach};
+                RTCPointQuery pq{};
+                pq.x = q.p[0], pq.y = q.p[1], pq.z = q.p[2], pq.radius = reach, pq.time = 0.0f;
+                rtcInitPointQueryContext(&context);
+                rtcPointQuery(scene, &pq, &context, callback, &q);
+            }
+        return std::chrono::duration<double, std::micro>(Clock::now() - t0).count();
+    }
+    ~PlainPass() {
+        if (geometry) rtcReleaseGeometry(geometry);
+        if (scene) rtcReleaseScene(scene);
+        if (device) rtcReleaseDevice(device);
+    }
+};
+
+double median(std::vector<double> x) {
+    if (x.empty()) return 0.0;
+    std::sort(x.begin(), x.end());
+    return x[x.size() / 2];
+}
+
+struct Case {
+    std::string scene_file, pattern;
+    bool mannequin;  // else the shared mean_all
+};
+
+}  // namespace
+
+int run_garment(uint32_t steps, bool as_json) {
+    const std::string shared = WEFT_SHARED_DATA_DIR;
+    std::vector<Case> cases = {{std::string(WEFT_SOURCE_DIR) + "/samples/scenes/skirt-walk.json",
+                                std::string(WEFT_SOURCE_DIR) + "/samples/patterns/skirt.json", true},
+                               {std::string(WEFT_SOURCE_DIR) + "/samples/scenes/tee-walk.json",
+                                std::string(WEFT_SOURCE_DIR) + "/samples/patterns/tee.json", true}};
+    if (std::filesystem::exists(shared + "/bodies/mean_all.obj"))
+        cases.push_back({std::string(WEFT_SOURCE_DIR) + "/tests/scenes/dress-garmentcode.json",
+                         shared + "/patterns/garmentcode/dress_pencil_specification.json", false});
+    const std::filesystem::path dir = std::filesystem::temp_directory_path() / "weft_bench_garment";
+    std::filesystem::create_directories(dir);
+    bake::SewBody mannequin, mean_all;
+    {
+        body::Mannequin m;
+        if (std::string e = body::make_mannequin(body::Measurements{}, body::MannequinOptions{}, &m); !e.empty())
+            return std::fprintf(stderr, "weft-bench garment: mannequin: %s\n", e.c_str()), 1;
+        mannequin = {m.positions, m.triangles};
+        body::BodyMesh b;
+        if (cases.size() > 2 && body::load_body_mesh(shared + "/bodies/mean_all.obj", &b).empty())
+            mean_all = {b.positions, b.triangles};
+    }
+    if (!as_json)
+        std::printf("weft-bench garment: %u steps per scene after the walk's 1 s ramp, one thread; us per step (medians)\n", steps);
+    for (const Case& c : cases) {
+        scenes::Scene scene;
+        if (std::string e = scenes::load_scene_file(c.scene_file, &scene); !e.empty())
+            return std::fprintf(stderr, "weft-bench garment: %s\n", e.c_str()), 1;
+        bake::BakeOptions options;
+        options.body = c.mannequin ? &mannequin : &mean_all;
+        bake::Baked baked;
+        if (bake::Status s = bake::bake_pattern(read_text(c.pattern), options, &baked); !s.ok())
+            return std::fprintf(stderr, "weft-bench garment: %s: %s\n", c.pattern.c_str(), s.error.c_str()), 1;
+        std::ofstream((dir / scene.cloths[0].asset_path).string(), std::ios::binary)
+            .write(reinterpret_cast<const char*>(baked.bytes.data()), std::streamsize(baked.bytes.size()));
+        scene.profile = true;
+        scenes::SceneWorld sw;
+        if (std::string e = scenes::build_scene(scene, &sw, {dir.string()}); !e.empty())
+            return std::fprintf(stderr, "weft-bench garment: %s: %s\n", scene.name.c_str(), e.c_str()), 1;
+        BodyView view;
+        view_body(sw.world, sw.body->id, &view);
+        PlainPass plain;
+        if (!plain.open(view)) return std::fprintf(stderr, "weft-bench garment: no Embree device\n"), 1;
+        SolverSplit split;
+        cloth_solver_split(sw.world, sw.cloths[0].id, &split);
+        const uint32_t warmup = uint32_t(std::lround((scene.body->ramp_s + 0.05f) / scene.dt_s));
+        std::vector<double> step_us, integrate_us, constraints_us, body_us, other_us, plain_us;
+        double deepest = 0.0;
+        for (uint32_t f = 1; f <= warmup + steps; ++f) {
+            scenes::animate_body(sw, float(f) * scene.dt_s);
+            const WorldStats before = world_stats(sw.world);
+            const auto t0 = Clock::now();
+            step(sw.world, scene.dt_s);
+            const double us = std::chrono::duration<double, std::micro>(Clock::now() - t0).count();
+            const WorldStats after = world_stats(sw.world);
+            ClothView cloth;
+            view_cloth(sw.world, sw.cloths[0].id, &cloth);
+            view_body(sw.world, sw.body->id, &view);
+            const double baseline = plain.run(view, cloth, split.substeps);
+            if (f <= warmup) continue;
+            auto pass = [&](Pass p) { return double(after.pass_ns[int(p)] - before.pass_ns[int(p)]) / 1e3; };
+            const double integrate = pass(Pass::integrate) + pass(Pass::wind);
+            const double constraints = pass(Pass::coarse) + pass(Pass::constraints) + pass(Pass::tethers);
+            const double body = pass(Pass::body);
+            step_us.push_back(us);
+            integrate_us.push_back(integrate);
+            constraints_us.push_back(constraints);
+            body_us.push_back(body);
+            other_us.push_back(us - integrate - constraints - body);
+            plain_us.push_back(baseline);
+            deepest = std::max(deepest, metrics::max_body_penetration_m(sw.world, sw.body->id, cloth));
+        }
+        const nlohmann::json j = {{"scene", scene.name},
+                                  {"particles", sw.cloths[0].asset->particle_count},
+                                  {"body_triangles", sw.body->triangles.size() / 3},
+                                  {"steps", steps},
+                                  {"substeps", split.substeps},
+                                  {"us_per_step", median(step_us)},
+                                  {"integrate_us", median(integrate_us)},
+                                  {"constraints_us", median(constraints_us)},
+                                  {"body_collision_us", median(body_us)},
+                                  {"other_us", median(other_us)},
+                                  {"baseline_point_query_us", median(plain_us)},
+                                  {"body_vs_baseline", median(plain_us) > 0 ? median(body_us) / median(plain_us) : 0.0},
+                                  // The runtime's pass queries the BVH for every particle every substep.
+                                  {"bvh_query_ratio", 1.0},
+                                  {"max_penetration_m", deepest},
+                                  {"sewing_s", baked.sew_report.sewing_s}};
+        if (as_json) {
+            std::printf("%s\n", j.dump().c_str());
+        } else {
+            std::printf("  %-18s %5u particles, %5zu body triangles: step %7.0f (integrate %5.0f, constraints %5.0f, body %6.0f, "
+                        "other %5.0f); plain rtcPointQuery pass %6.0f; deepest %.2f mm\n",
+                        scene.name.c_str(), sw.cloths[0].asset->particle_count, sw.body->triangles.size() / 3,
+                        median(step_us), median(integrate_us), median(constraints_us), median(body_us), median(other_us),
+                        median(plain_us), deepest * 1e3);
+        }
+        std::fflush(stdout);
+    }
+    std::filesystem::remove_all(dir);
+    return 0;
+}
+
+}  // namespace weft::bench
