@@ -52,19 +52,24 @@ double run_cost_ns(const ClothAsset& a) {
     return kRunLaneNs * run + kIndexedLaneNs * indexed;
 }
 
+CookScore cook_score(const ClothAsset& a) {
+    const LanePadding padding = lane_padding(a);
+    return {padding.constraints.ratio() > kMaxPaddingRatio || padding.ratio() > kMaxPaddingRatio, run_cost_ns(a)};
+}
+
 Result cook_garment(const ClothMeshDesc& mesh, const CookOptions& options, bool choose_runs, CookedCloth* out,
                     CookOptions* chosen) {
     if (chosen != nullptr) *chosen = options;
     if (Result r = cook_cloth(mesh, options, out); !r.ok() || !choose_runs) return r;
-    double best = run_cost_ns(out->asset());
+    CookScore best = cook_score(out->asset());
     for (const auto& [min_run_lanes, max_run_gap] : kRunChoices) {
         CookOptions cook = options;
         cook.min_run_lanes = min_run_lanes;
         cook.max_run_gap = max_run_gap;
         CookedCloth trial;
         if (Result r = cook_cloth(mesh, cook, &trial); !r.ok()) return r;
-        if (const double cost = run_cost_ns(trial.asset()); cost < best) {
-            best = cost, *out = std::move(trial);
+        if (const CookScore score = cook_score(trial.asset()); score < best) {
+            best = score, *out = std::move(trial);
             if (chosen != nullptr) *chosen = cook;
         }
     }
@@ -80,7 +85,7 @@ Result cook_packings(const ClothMeshDesc& mesh, const MeshedGarment& g, const Co
     scoring.coarse_spacing_m = 0.0f;
     scoring.tethers_per_particle = 0;
     CookOptions best_options = options;
-    double best = HUGE_VAL;
+    CookScore best{true, HUGE_VAL};
     *winner = 0;
     ClothMeshDesc desc = mesh;
     for (size_t k = 0; k <= g.lattice_alternatives.size(); ++k) {
@@ -89,7 +94,7 @@ Result cook_packings(const ClothMeshDesc& mesh, const MeshedGarment& g, const Co
         CookedCloth trial;
         CookOptions trial_options;
         if (Result r = cook_garment(desc, scoring, choose_runs, &trial, &trial_options); !r.ok()) return r;
-        if (const double cost = run_cost_ns(trial.asset()); cost < best) best = cost, *winner = k, best_options = trial_options;
+        if (const CookScore score = cook_score(trial.asset()); score < best) best = score, *winner = k, best_options = trial_options;
     }
     best_options.coarse_spacing_m = options.coarse_spacing_m;
     best_options.tethers_per_particle = options.tethers_per_particle;
