@@ -2,9 +2,9 @@
 # The main job: builds Release, bakes the sample patterns (weft-bake, through the build's
 # weft_bake() rules), runs the baked drape in weft-sim, then the seed paper's experiments (Liu, Sun,
 # Xu 2008, section 3): the drape timing table beside the paper's, the flag (wind) and the sphere
-# (collision), and draws two pictures (out/drape-baked.png, out/sphere.png) with weft-sim --png.
-# Timings: lowest median of 3 runs (see README). Dressing the garment on the mannequin joins when
-# that issue lands.
+# (collision), then sews the sample skirt onto the project's own mannequin (weft-bake --body
+# mannequin) and runs it on the walking mannequin, and draws three pictures (out/drape-baked.png,
+# out/sphere.png, out/skirt-walk.png) with weft-sim --png. Timings: lowest median of 3 runs (see README).
 #   bash scripts/main-job.sh
 # Environment: WEFT_BUILD_DIR (default build), WEFT_OUT_DIR (default out; JSON lines land there),
 # WEFT_BENCH_CPU (CPU to pin the single-threaded bench to; default 1 when there are two or more).
@@ -43,11 +43,16 @@ sim=("${bench[@]:0:${#bench[@]}-1}" "$build_dir/tools/sim/weft-sim")
 "${sim[@]}" samples/scenes/drape-baked.json --assets "$build_dir/samples/assets"
 "${sim[@]}" samples/scenes/drape.json
 echo
+echo "== the sample skirt dressed on the mannequin (weft-bake --body mannequin), then walking (weft-sim)"
+"$build_dir/tools/bake/weft-bake" samples/patterns/skirt.json --body mannequin -o "$out_dir/skirt-dressed.weft"
+"${sim[@]}" samples/scenes/skirt-walk.json --assets "$out_dir"
+echo
 echo "== pictures (weft-sim --png: samples/render on Mesa's llvmpipe, headless)"
 sim_tool="$build_dir/tools/sim/weft-sim"
 if "$sim_tool" samples/scenes/drape-baked.json --assets "$build_dir/samples/assets" --png "$out_dir/drape-baked.png" >/dev/null &&
-  "$sim_tool" samples/scenes/sphere.json --png "$out_dir/sphere.png" >/dev/null; then
-  echo "pictures: $out_dir/drape-baked.png, $out_dir/sphere.png (1280x720)"
+  "$sim_tool" samples/scenes/sphere.json --png "$out_dir/sphere.png" >/dev/null &&
+  "$sim_tool" samples/scenes/skirt-walk.json --assets "$out_dir" --png "$out_dir/skirt-walk.png" >/dev/null; then
+  echo "pictures: $out_dir/drape-baked.png, $out_dir/sphere.png, $out_dir/skirt-walk.png (1280x720)"
 else
   echo "pictures: not written (weft-sim built without the renderer? run scripts/install-deps.sh)"
 fi
