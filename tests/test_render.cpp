@@ -1,10 +1,12 @@
 // The renderer (samples/render) on the headless context: the sphere scene's picture is not blank,
-// and the cloth's pixels are where the cloth's projected bounding box says they must be. Runs on
+// and the cloth's pixels are where the cloth's projected bounding box says they must be; the dressed
+// skirt in wind (figure 14) shows the body around the garment. Runs on
 // Mesa's llvmpipe through EGL's surfaceless platform: no display, no GPU.
 #include <doctest/doctest.h>
 
 #include <algorithm>
 #include <map>
+#include <memory>
 #include <set>
 
 #include "headless.h"
@@ -24,6 +26,26 @@ bool is_cloth_mask(const render::Image& image, int x, int y) {
 }
 
 uint32_t packed(const uint8_t* p) { return uint32_t(p[0]) << 16 | uint32_t(p[1]) << 8 | p[2]; }
+
+// A sample scene stepped `frames` times, and the renderer on a kWidth x kHeight headless context.
+struct Stage {
+    scenes::Scene scene;
+    scenes::SceneWorld world;
+    std::unique_ptr<render::HeadlessContext> context;
+    std::unique_ptr<render::Renderer> renderer;
+};
+
+void set_stage(const std::string& scene_file, int frames, Stage* s) {
+    REQUIRE(scenes::load_scene_file(std::string(WEFT_SOURCE_DIR) + "/samples/scenes/" + scene_file, &s->scene).empty());
+    const std::string built = scenes::build_scene(s->scene, &s->world, {WEFT_SAMPLE_ASSETS_DIR});
+    REQUIRE_MESSAGE(built.empty(), built);
+    for (int frame = 0; frame < frames; ++frame) REQUIRE(step(s->world.world, s->scene.dt_s).ok());
+    std::string error;
+    s->context = render::HeadlessContext::create(kWidth, kHeight, &error);
+    REQUIRE_MESSAGE(s->context, error);
+    s->renderer = render::Renderer::create(&error);
+    REQUIRE_MESSAGE(s->renderer, error);
+}
 
 }  // namespace
 
@@ -66,20 +88,13 @@ TEST_CASE("planar_uv lays the rest cloth out on its two widest axes, in metres")
 }
 
 TEST_CASE("the sphere scene's picture: not blank, and the cloth inside its projected bounding box") {
-    scenes::Scene scene;
-    REQUIRE(scenes::load_scene_file(std::string(WEFT_SOURCE_DIR) + "/samples/scenes/sphere.json", &scene).empty());
-    scenes::SceneWorld world;
-    REQUIRE(scenes::build_scene(scene, &world).empty());
     // 5 frames: the cloth is still falling, above the sphere, so it fills the top of the picture
     // (a picture upside down or mirrored puts it elsewhere).
-    for (int frame = 0; frame < 5; ++frame) REQUIRE(step(world.world, scene.dt_s).ok());
-
-    std::string error;
-    const auto context = render::HeadlessContext::create(kWidth, kHeight, &error);
-    REQUIRE_MESSAGE(context, error);
-    const auto renderer = render::Renderer::create(&error);
-    REQUIRE_MESSAGE(renderer, error);
-    render::Snapshot snapshot = render::snapshot_of_scene(scene, world);
+    Stage stage;
+    set_stage("sphere.json", 5, &stage);
+    const auto& context = stage.context;
+    const auto& renderer = stage.renderer;
+    render::Snapshot snapshot = render::snapshot_of_scene(stage.scene, stage.world);
     const render::Camera camera = render::frame_box(render::bounds(snapshot), {35.0f, 30.0f, 0.0f}, float(kWidth) / kHeight);
 
     context->begin_frame();
@@ -138,4 +153,48 @@ TEST_CASE("the sphere scene's picture: not blank, and the cloth inside its proje
     CHECK(counts[1] > cloth_pixels / 5);
     CHECK(cloth_colours.count(packed(render::kClothMaskRgb)) == 0);
     CHECK(cloth_colours.count(packed(shaded.pixel(kWidth / 2, 0))) == 0);
+}
+
+TEST_CASE("the dressed skirt's picture (figure 14): the body is drawn, the garment inside its projected box") {
+    Stage stage;
+    set_stage("skirt-wind.json", 5, &stage);
+    const auto& context = stage.context;
+    const auto& renderer = stage.renderer;
+    const render::Snapshot snapshot = render::snapshot_of_scene(stage.scene, stage.world);
+    REQUIRE(snapshot.bodies.size() == 1);
+    REQUIRE(snapshot.bodies[0].positions.size() == stage.world.body->rest.size());
+    // From the front: the garment is framed with the whole body (the box holds the body).
+    const render::Camera camera = render::frame_box(render::bounds(snapshot), {0.0f, 10.0f, 0.0f}, float(kWidth) / kHeight);
+    context->begin_frame();
+    renderer->draw(snapshot, camera, kWidth, kHeight, render::Look::cloth_mask);
+    const render::Image mask = context->read_image();
+
+    const render::PixelBox cloth = render::projected_box(camera, snapshot.cloths[0].positions, kWidth, kHeight);
+    const render::PixelBox body = render::projected_box(camera, snapshot.bodies[0].positions, kWidth, kHeight);
+    INFO("cloth box x " << cloth.min.x << ".." << cloth.max.x << ", y " << cloth.min.y << ".." << cloth.max.y);
+    INFO("body box x " << body.min.x << ".." << body.max.x << ", y " << body.min.y << ".." << body.max.y);
+    // The skirt hangs from the waist: below the head, above the feet, inside the body's box.
+    REQUIRE(cloth.min.y > body.min.y + 0.2f * (body.max.y - body.min.y));
+    REQUIRE(cloth.max.y < body.max.y - 0.1f * (body.max.y - body.min.y));
+    int cloth_pixels = 0, cloth_outside = 0, body_pixels = 0, body_outside = 0, body_above_cloth = 0;
+    for (int y = 0; y < kHeight; ++y) {
+        for (int x = 0; x < kWidth; ++x) {
+            const float cx = float(x) + 0.5f, cy = float(y) + 0.5f;
+            const uint8_t* p = mask.pixel(x, y);
+            if (is_cloth_mask(mask, x, y)) {
+                ++cloth_pixels;
+                cloth_outside += cx < cloth.min.x - 1.0f || cx > cloth.max.x + 1.0f || cy < cloth.min.y - 1.0f || cy > cloth.max.y + 1.0f;
+            } else if (p[0] == render::kColliderMaskRgb[0] && p[1] == render::kColliderMaskRgb[1] &&
+                       p[2] == render::kColliderMaskRgb[2]) {
+                ++body_pixels;
+                body_outside += cx < body.min.x - 1.0f || cx > body.max.x + 1.0f || cy < body.min.y - 1.0f || cy > body.max.y + 1.0f;
+                body_above_cloth += cy < cloth.min.y;
+            }
+        }
+    }
+    CHECK(cloth_outside == 0);
+    CHECK(body_outside == 0);
+    CHECK(cloth_pixels > 0.3f * (cloth.max.x - cloth.min.x) * (cloth.max.y - cloth.min.y));
+    CHECK(body_above_cloth > 200);  // the torso, arms and head above the waistband
+    CHECK(body_pixels > body_above_cloth);  // and the legs below the hem
 }

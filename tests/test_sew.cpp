@@ -42,6 +42,11 @@ const bake::SewBody& mannequin() {
     return body;
 }
 
+bool same_points(const std::vector<Vec3>& a, const std::vector<Vec3>& b) {
+    return std::equal(a.begin(), a.end(), b.begin(), b.end(),
+                      [](Vec3 p, Vec3 q) { return p.x == q.x && p.y == q.y && p.z == q.z; });
+}
+
 struct Dressed {
     bake::Baked baked;
     assets::LoadedAsset loaded;
@@ -188,6 +193,74 @@ TEST_CASE("sewing: the skirt's waistband is attached to the body and pinned") {
 TEST_CASE("sewing: the same pattern and body bake to the same bytes") {
     const auto again = dress("skirt.json", mannequin());
     CHECK(again->baked.bytes == dressed("skirt.json").baked.bytes);
+}
+
+TEST_CASE("sewing: the watched frames (weft-bake --sewing-frames, figure 13) go from panels apart to the asset's start state") {
+    struct Watched {
+        std::string stage;
+        uint32_t frame;
+        bool last;
+        std::vector<Vec3> positions;
+        std::vector<uint32_t> triangles;
+        std::vector<float> uv;
+        float gap_m;
+    };
+    std::vector<Watched> frames;
+    bake::BakeOptions options;
+    options.body = &mannequin();
+    options.sew.frame_every = 25;
+    options.sew.on_frame = [&](const bake::SewFrame& f) {
+        frames.push_back({f.stage, f.frame, f.last, {f.positions, f.positions + f.particle_count},
+                          {f.triangles, f.triangles + 3 * size_t(f.triangle_count)},
+                          f.uv ? std::vector<float>(f.uv, f.uv + 2 * size_t(f.particle_count)) : std::vector<float>{}, f.max_seam_gap_m});
+    };
+    bake::Baked baked;
+    const bake::Status s = bake::bake_pattern(read_text(std::string(WEFT_SAMPLES_DIR) + "/skirt.json"), options, &baked);
+    REQUIRE_MESSAGE(s.ok(), s.error);
+    const Dressed& unwatched = dressed("skirt.json");
+    CHECK(baked.bytes == unwatched.baked.bytes);  // watching only reads
+    const bake::SewReport& r = baked.sew_report;
+
+    // Sewing frames 0, 25, 50, ... and the last; then drape frames 0, 25, ... and the last.
+    const auto sewing = std::count_if(frames.begin(), frames.end(), [](const Watched& w) { return w.stage == "sewing"; });
+    REQUIRE(sewing == (r.sewing_frames - 1) / 25 + 2);
+    REQUIRE(frames.size() == size_t(sewing + (r.drape_frames - 1) / 25 + 2));
+    for (size_t k = 0; k < frames.size(); ++k) {
+        const Watched& w = frames[k];
+        CAPTURE(k);
+        const bool is_sewing = k < size_t(sewing);
+        CHECK(w.stage == (is_sewing ? "sewing" : "drape"));
+        CHECK(w.last == (k + 1 == size_t(sewing) || k + 1 == frames.size()));
+        CHECK(w.frame == (w.last ? (is_sewing ? r.sewing_frames : r.drape_frames) : 25 * uint32_t(is_sewing ? k : k - sewing)));
+        CHECK(w.positions.size() == (is_sewing ? r.particles_before : r.particles_after));
+        CHECK(w.uv.size() == 2 * w.positions.size());
+        for (uint32_t i : w.triangles) CHECK(i < w.positions.size());
+    }
+    // The first frame: the panels as placed, seams more than 5 cm apart; the seams close as it goes.
+    CHECK(frames[0].gap_m > 0.05f);
+    CHECK(same_points(frames[0].positions, baked.garment.positions));
+    CHECK(frames[1].gap_m < frames[0].gap_m);
+    CHECK(frames[size_t(sewing) - 1].gap_m == 0.0f);
+    // The last frame is the asset's start state, bit for bit.
+    const ClothAsset& a = unwatched.loaded.asset;
+    const Watched& last = frames.back();
+    REQUIRE(last.positions.size() == a.particle_count);
+    std::vector<Vec3> start(a.particle_count);
+    for (uint32_t p = 0; p < a.particle_count; ++p) {
+        const uint32_t slot = a.slot_of_particle[p];
+        start[p] = {a.start_x[slot], a.start_y[slot], a.start_z[slot]};
+    }
+    CHECK(same_points(last.positions, start));
+
+    // As weft-bake writes it: an OBJ with vt that reads back exactly.
+    const std::string path = (std::filesystem::temp_directory_path() / "weft-test-drape-last.obj").string();
+    REQUIRE(body::save_obj(path, last.positions, last.triangles, last.uv).empty());
+    body::BodyMesh read;
+    REQUIRE(body::load_body_mesh(path, &read).empty());
+    std::filesystem::remove(path);
+    CHECK(same_points(read.positions, last.positions));
+    CHECK(read.triangles == last.triangles);
+    CHECK(read.uv == last.uv);
 }
 
 TEST_CASE("sewing: bad input is refused with a message") {

@@ -18,7 +18,8 @@ Vec3 to_weft(const glm::vec3& v) { return {v.x, v.y, v.z}; }
 constexpr glm::vec3 kClothFront{0.85f, 0.36f, 0.22f};  // brick red
 constexpr glm::vec3 kClothBack{0.25f, 0.45f, 0.70f};   // denim blue
 constexpr glm::vec3 kCollider{0.62f, 0.64f, 0.66f};
-constexpr glm::vec3 kColliderMask{0.0f, 0.6f, 0.0f};
+const glm::vec3 kColliderMask = glm::vec3(kColliderMaskRgb[0], kColliderMaskRgb[1], kColliderMaskRgb[2]) / 255.0f;
+constexpr glm::vec3 kBody{0.80f, 0.76f, 0.70f};  // a tailor's dummy: pale, so the garment stands out
 constexpr float kCheckerSquare_m = 0.1f;  // a 2 m cloth shows 20 squares a side
 constexpr int kRoundSegments = 96;        // around a collider's axis: the sphere's facets stay under 1 mm deep at 0.5 m
 
@@ -269,6 +270,8 @@ Box cloth_bounds(const Snapshot& snapshot) {
 Box bounds(const Snapshot& snapshot) {
     const Box cloths = cloth_bounds(snapshot);
     Box box = cloths;
+    for (const BodySurface& body : snapshot.bodies)
+        for (const Vec3& p : body.positions) box.add(to_glm(p));
     for (const ColliderDesc& c : snapshot.colliders) {
         const glm::vec3 r(c.radius_m);
         if (c.shape == ColliderShape::plane) {
@@ -419,6 +422,15 @@ void Renderer::draw(const Snapshot& snapshot, const Camera& camera, int width, i
         Mesh mesh;
         static_cast<SurfaceMesh&>(mesh) = collider_surface(c, box);
         mesh.front_colour = mesh.back_colour = mask ? kColliderMask : kCollider;
+        mesh.unlit = mask;
+        draw_mesh(mesh);
+    }
+    for (const BodySurface& body : snapshot.bodies) {
+        Mesh mesh;
+        mesh.positions = body.positions;
+        mesh.normals = smooth_normals(body.positions, body.triangles);
+        mesh.indices = body.triangles;
+        mesh.front_colour = mesh.back_colour = mask ? kColliderMask : kBody;
         mesh.unlit = mask;
         draw_mesh(mesh);
     }

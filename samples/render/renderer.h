@@ -21,14 +21,21 @@ struct ClothSurface {
     std::vector<float> uv;            // 2 per particle, metres on the flat cloth (the checker's coordinates)
 };
 
+// A body collider (weft/body.h) as drawn: its vertices in the pose of the picture.
+struct BodySurface {
+    std::vector<Vec3> positions;
+    std::vector<uint32_t> triangles;  // 3 per triangle, counter-clockwise seen from outside
+};
+
 // Everything one picture shows.
 struct Snapshot {
     std::vector<ClothSurface> cloths;
     std::vector<ColliderDesc> colliders;
+    std::vector<BodySurface> bodies;
 };
 
-// Box around the cloths and the bounded colliders (planes are infinite: only a floor's point under
-// the cloths is in).
+// Box around the cloths, the bodies and the bounded colliders (planes are infinite: only a floor's
+// point under the cloths is in).
 Box bounds(const Snapshot& snapshot);
 // Box around the cloths only (the render test projects it).
 Box cloth_bounds(const Snapshot& snapshot);
@@ -59,10 +66,11 @@ PixelBox projected_box(const Camera& camera, const std::vector<Vec3>& points, in
 std::vector<float> planar_uv(const std::vector<Vec3>& rest_positions);
 
 enum class Look : uint8_t {
-    shaded,      // lit, checkered cloth (front and back in different colours), grey colliders
-    cloth_mask,  // the cloth unlit in kClothMaskRgb, colliders unlit: tests find the cloth's pixels
+    shaded,      // lit, checkered cloth (front and back in different colours), grey colliders, a pale body
+    cloth_mask,  // the cloth unlit in kClothMaskRgb, colliders and bodies unlit: tests find the cloth's pixels
 };
 inline constexpr uint8_t kClothMaskRgb[3] = {255, 0, 255};
+inline constexpr uint8_t kColliderMaskRgb[3] = {0, 153, 0};  // colliders and bodies in Look::cloth_mask
 
 class Renderer {
 public:

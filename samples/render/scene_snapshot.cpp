@@ -22,6 +22,10 @@ Snapshot snapshot_of_scene(const scenes::Scene& scene, const scenes::SceneWorld&
             cloth.uv = planar_uv(rest);
         }
     }
+    if (world.body) {  // in its pose now (animate_body), else at rest
+        const scenes::SceneBody& b = *world.body;
+        s.bodies.push_back({b.pose.empty() ? b.rest : b.pose, b.triangles});
+    }
     return s;
 }
 

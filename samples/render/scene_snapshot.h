@@ -7,7 +7,7 @@
 namespace weft::render {
 
 // The scene's cloths (positions now, triangles, texture coordinates: the asset's `uv` when it has
-// them, else planar_uv of its start positions) and colliders.
+// them, else planar_uv of its start positions), colliders and the body in its current pose.
 Snapshot snapshot_of_scene(const scenes::Scene& scene, const scenes::SceneWorld& world);
 
 }  // namespace weft::render

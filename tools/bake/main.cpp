@@ -2,11 +2,13 @@
 //
 //   weft-bake PATTERN.json -o OUT.weft [--target-edge METRES] [--simd-width 8|16] [--json]
 //             [--depfile FILE] [--offset X,Y,Z] [--runs] [--body BODY.obj|BODY.gltf|mannequin]
+//             [--sewing-frames DIR [--sewing-every K]]
 //   weft-bake --info FILE.weft [--json]
 //
 // The pipeline is bake_pattern (bake.h); this file is the command line around it.
 // Exit status 0 on success; 1 with the reason on stderr for anything else.
 #include <cstdio>
+#include <filesystem>
 #include <fstream>
 #include <sstream>
 #include <string>
@@ -147,6 +149,12 @@ int main(int argc, char** argv) {
                    "sew the garment onto this body (OBJ, glTF, or 'mannequin': the project's own) and store it dressed");
     app.add_flag("--json", as_json, "one JSON object instead of the human summary");
     app.add_flag("--runs", runs, "also print where the constraints off SIMD runs and the padding lanes come from (stderr)");
+    std::string sewing_frames;
+    uint32_t sewing_every = 10;
+    app.add_option("--sewing-frames", sewing_frames,
+                   "with --body: write the sewing world every K frames as OBJ files into this folder "
+                   "(body.obj; sewing_NNNNN.obj, the unsewn panels; drape_NNNNN.obj, the sewn garment; figure 13)");
+    app.add_option("--sewing-every", sewing_every, "K for --sewing-frames (default 10)")->check(CLI::Range(1u, 100000u));
     CLI11_PARSE(app, argc, argv);
 
     if (!info_path.empty()) return info(info_path, as_json);
@@ -163,6 +171,29 @@ int main(int argc, char** argv) {
         if (std::string e = load_sew_body(body_name, &body); !e.empty()) return fail("--body " + body_name + ": " + e);
         options.body = &body;
     }
+    // Figure 13: the sewing world as OBJ files (frame numbers per stage; the stage's last frame too).
+    std::string frames_error;
+    uint32_t frames_written = 0;
+    if (!sewing_frames.empty()) {
+        if (body_name.empty()) return fail("--sewing-frames needs --body");
+        std::error_code ec;
+        std::filesystem::create_directories(sewing_frames, ec);
+        if (ec) return fail("--sewing-frames: cannot create '" + sewing_frames + "': " + ec.message());
+        if (std::string e = body::save_obj(sewing_frames + "/body.obj", body.positions, body.triangles); !e.empty())
+            return fail("--sewing-frames: " + e);
+        options.sew.frame_every = sewing_every;
+        options.sew.on_frame = [&](const bake::SewFrame& f) {
+            char name[64];
+            std::snprintf(name, sizeof name, "/%s_%05u.obj", f.stage, f.frame);
+            const std::vector<Vec3> positions(f.positions, f.positions + f.particle_count);
+            const std::vector<uint32_t> triangles(f.triangles, f.triangles + 3 * size_t(f.triangle_count));
+            std::vector<float> uv;
+            if (f.uv != nullptr) uv.assign(f.uv, f.uv + 2 * size_t(f.particle_count));
+            if (std::string e = body::save_obj(sewing_frames + name, positions, triangles, uv); !e.empty() && frames_error.empty())
+                frames_error = e;
+            ++frames_written;
+        };
+    }
     // On a terminal (and without --json) a bar names the stage; meshing and cooking a garment take seconds.
     progress::Bar bar("weft-bake " + pattern_path, 4, progress::wanted(as_json));
     options.on_stage = [&](const char* stage, uint32_t index, uint32_t) { bar.update(index, stage); };
@@ -170,6 +201,7 @@ int main(int argc, char** argv) {
     const bake::Status baked_status = bake::bake_pattern(text, options, &baked);
     bar.finish();
     if (!baked_status.ok()) return fail(pattern_path + ": " + baked_status.error);
+    if (!frames_error.empty()) return fail("--sewing-frames: " + frames_error);
     const std::vector<std::byte>& bytes = baked.bytes;
     const bake::MeshedGarment& garment = baked.garment;
 
@@ -215,6 +247,7 @@ int main(int argc, char** argv) {
         j["max_skin_penetration_m"] = r.max_skin_penetration_m;
         j["particles_inside_body"] = r.particles_inside_body;
         j["final_mean_speed_m_s"] = r.mean_speed_m_s;
+        if (!sewing_frames.empty()) j["sewing_frames_written"] = frames_written;
     }
     if (as_json) {
         std::printf("%s\n", j.dump().c_str());

@@ -148,8 +148,17 @@ Status sew_garment(const ClothMeshDesc& unsewn, const std::vector<uint32_t>& att
         if (Status s = open_body_world(cooked.asset(), body, o, o.sewing_gravity_m_s2, o.sewing_damping_per_s, &w); !s.ok())
             return s;
         // The sources reach their targets, then the cloth settles around the closed seams.
+        const auto watch = [&](bool last) {
+            if (!o.on_frame || (!last && rep.sewing_frames % std::max(o.frame_every, 1u) != 0)) return;
+            float gap = 0.0f;
+            for (size_t k = 0; k < groups.size(); ++k)
+                for (uint32_t p : groups[k]) gap = std::max(gap, length(sub(x[p], target[k])));
+            o.on_frame({"sewing", rep.sewing_frames, last, x.data(), n, unsewn.triangles, unsewn.triangle_count,
+                        unsewn.uv, gap});
+        };
         for (uint32_t settled = 0; settled < o.settle_frames;) {
             if (Result r = read_positions(w.world, w.cloth, x.data(), n); !r.ok()) return {r.message};
+            watch(false);
             const float gap = close_seams(w.world, w.cloth, groups, target, x, o.sewing_speed_m_s * o.dt_s);
             if (gap == 0.0f) ++settled;
             if (rep.sewing_frames == o.max_sewing_frames)
@@ -159,6 +168,7 @@ Status sew_garment(const ClothMeshDesc& unsewn, const std::vector<uint32_t>& att
             ++rep.sewing_frames;
         }
         if (Result r = read_positions(w.world, w.cloth, x.data(), n); !r.ok()) return {r.message};
+        watch(true);
         for (size_t k = 0; k < groups.size(); ++k)
             for (uint32_t p : groups[k]) rep.max_seam_gap_m = std::max(rep.max_seam_gap_m, double(length(sub(x[p], target[k]))));
     }
@@ -297,6 +307,12 @@ Status sew_garment(const ClothMeshDesc& unsewn, const std::vector<uint32_t>& att
         BodyWorld w;
         if (Status s = open_body_world(sewn.asset(), body, o, o.gravity_m_s2, o.drape_damping_per_s, &w); !s.ok()) return s;
         std::vector<Vec3> now(m), before(g.positions);
+        const auto watch = [&](const std::vector<Vec3>& pose, bool last) {
+            if (o.on_frame && (last || rep.drape_frames % std::max(o.frame_every, 1u) == 0))
+                o.on_frame({"drape", rep.drape_frames, last, pose.data(), m, g.triangles.data(),
+                            uint32_t(g.triangles.size() / 3), g.uv.empty() ? nullptr : g.uv.data(), 0.0f});
+        };
+        watch(before, false);
         uint32_t calm = 0;
         while (rep.drape_frames < o.max_drape_frames && calm < o.rest_frames) {
             if (Result r = step(w.world, o.dt_s); !r.ok()) return {r.message};
@@ -306,10 +322,12 @@ Status sew_garment(const ClothMeshDesc& unsewn, const std::vector<uint32_t>& att
             for (uint32_t q = 0; q < m; ++q) sum += length(sub(now[q], before[q]));
             rep.mean_speed_m_s = sum / m / o.dt_s;
             calm = rep.mean_speed_m_s < o.rest_speed_m_s ? calm + 1 : 0;
+            if (rep.drape_frames < o.max_drape_frames && calm < o.rest_frames) watch(now, false);  // (the last below)
             std::swap(now, before);
         }
         g.positions = before;
         d.positions = g.positions.data();
+        watch(g.positions, true);
         for (uint32_t q = 0; q < m; ++q) {
             BodyContact c;
             if (query_body(w.world, w.body, g.positions[q], &c).ok() && c.found)

@@ -18,6 +18,7 @@
 
 #include <cstdint>
 #include <cstdlib>
+#include <functional>
 #include <memory>
 #include <vector>
 
@@ -31,6 +32,19 @@ namespace weft::bake {
 struct SewBody {
     std::vector<Vec3> positions;      // metres, Y up
     std::vector<uint32_t> triangles;  // 3 per triangle, counter-clockwise seen from outside
+};
+
+// One frame of the sewing world as it steps (seed figure 13): the garment, caller order.
+struct SewFrame {
+    const char* stage = "";          // "sewing": the unsewn panels, seams closing; "drape": merged, under gravity
+    uint32_t frame = 0;              // steps taken in this stage (0: before its first)
+    bool last = false;               // the stage's final frame (the drape's is the asset's start state)
+    const Vec3* positions = nullptr;
+    uint32_t particle_count = 0;
+    const uint32_t* triangles = nullptr;  // 3 per triangle, counter-clockwise seen from the front
+    uint32_t triangle_count = 0;
+    const float* uv = nullptr;            // 2 per particle (metres on the flat panel), or null
+    float max_seam_gap_m = 0.0f;          // sewing: the largest source-to-target distance now; 0 after merging
 };
 
 struct SewOptions {
@@ -50,6 +64,10 @@ struct SewOptions {
     float drape_damping_per_s = 2.0f;
     float body_thickness_m = 0.004f;    // the body's offset hull (BodyDesc::thickness_m)
     float body_friction = 0.5f;
+    // Watching (weft-bake --sewing-frames): called with frame 0, every frame_every-th and the last
+    // frame of each stage. It only reads, so the bake is the same with it or without it.
+    std::function<void(const SewFrame&)> on_frame;
+    uint32_t frame_every = 10;
 };
 
 struct SewReport {

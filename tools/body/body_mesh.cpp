@@ -5,6 +5,7 @@
 #include <cmath>
 #include <cstring>
 #include <fstream>
+#include <limits>
 #include <map>
 #include <utility>
 
@@ -34,6 +35,13 @@ std::string load_obj(const std::string& path, BodyMesh* out) {
         for (const tinyobj::index_t& index : shape.mesh.indices) {
             if (index.vertex_index < 0) return "'" + path + "': a face refers to a missing vertex";
             out->triangles.push_back(uint32_t(index.vertex_index));
+            if (index.texcoord_index >= 0 && size_t(2 * index.texcoord_index + 1) < a.texcoords.size()) {
+                out->uv.resize(2 * out->positions.size());  // a cloth frame (save_obj with uv): one vt per vertex
+                if (size_t(index.vertex_index) < out->positions.size()) {
+                    out->uv[2 * size_t(index.vertex_index)] = a.texcoords[2 * size_t(index.texcoord_index)];
+                    out->uv[2 * size_t(index.vertex_index) + 1] = a.texcoords[2 * size_t(index.texcoord_index) + 1];
+                }
+            }
         }
     return {};
 }
@@ -171,11 +179,22 @@ std::string load_body_mesh(const std::string& path, BodyMesh* out) {
     return {};
 }
 
-std::string save_obj(const std::string& path, const std::vector<Vec3>& positions, const std::vector<uint32_t>& triangles) {
+std::string save_obj(const std::string& path, const std::vector<Vec3>& positions, const std::vector<uint32_t>& triangles,
+                     const std::vector<float>& uv) {
     std::ofstream file(path);
+    file.precision(std::numeric_limits<float>::max_digits10);
     for (const Vec3& p : positions) file << "v " << p.x << ' ' << p.y << ' ' << p.z << '\n';
-    for (size_t t = 0; t + 2 < triangles.size(); t += 3)
-        file << "f " << triangles[t] + 1 << ' ' << triangles[t + 1] + 1 << ' ' << triangles[t + 2] + 1 << '\n';
+    const bool with_uv = uv.size() == 2 * positions.size();
+    if (with_uv)
+        for (size_t v = 0; v < positions.size(); ++v) file << "vt " << uv[2 * v] << ' ' << uv[2 * v + 1] << '\n';
+    for (size_t t = 0; t + 2 < triangles.size(); t += 3) {
+        file << 'f';
+        for (size_t k = 0; k < 3; ++k) {
+            file << ' ' << triangles[t + k] + 1;
+            if (with_uv) file << '/' << triangles[t + k] + 1;
+        }
+        file << '\n';
+    }
     return file ? std::string() : "cannot write '" + path + "'";
 }
 

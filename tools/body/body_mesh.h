@@ -13,6 +13,7 @@ namespace weft::body {
 struct BodyMesh {
     std::vector<Vec3> positions;      // metres, as stored in the file (glTF: node transforms applied)
     std::vector<uint32_t> triangles;  // 3 per triangle (polygons are fanned into triangles)
+    std::vector<float> uv;            // OBJ with vt: 2 per vertex (a face corner's vt), else empty
     uint32_t vertex_count() const { return uint32_t(positions.size()); }
     uint32_t triangle_count() const { return uint32_t(triangles.size() / 3); }
 };
@@ -21,8 +22,10 @@ struct BodyMesh {
 // Returns the failure message (empty on success); `out` is only written on success.
 std::string load_body_mesh(const std::string& path, BodyMesh* out);
 
-// Writes positions and triangles as an OBJ file.
-std::string save_obj(const std::string& path, const std::vector<Vec3>& positions, const std::vector<uint32_t>& triangles);
+// Writes positions (to the float's last digit: they read back exactly), triangles and, when `uv`
+// has 2 per vertex, texture coordinates (vt, one per vertex).
+std::string save_obj(const std::string& path, const std::vector<Vec3>& positions, const std::vector<uint32_t>& triangles,
+                     const std::vector<float>& uv = {});
 
 // A sphere of `radius` around `centre`: an icosahedron subdivided `subdivisions` times.
 BodyMesh make_icosphere(Vec3 centre, float radius, uint32_t subdivisions);

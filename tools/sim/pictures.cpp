@@ -31,10 +31,13 @@ std::string parse_size(const std::string& text, PictureOptions* options) {
 PictureRecorder::PictureRecorder(const PictureOptions& options, uint32_t scene_frames, float dt_s)
     : options_(options), png_frame_(options.png_frame == 0 ? scene_frames : options.png_frame), dt_s_(dt_s) {}
 
+PictureRecorder::Frame PictureRecorder::frame_of(const scenes::SceneWorld& world) {
+    return {scenes::cloth_positions(world), world.body ? world.body->pose : std::vector<Vec3>{}};
+}
+
 void PictureRecorder::after_frame(uint32_t frame, const scenes::SceneWorld& world) {
-    if (!options_.png.empty() && frame == png_frame_) png_positions_ = scenes::cloth_positions(world);
-    if (!options_.animation.empty() && frame % options_.every == 0)
-        animation_frames_.push_back(scenes::cloth_positions(world));
+    if (!options_.png.empty() && frame == png_frame_) png_frame_state_ = frame_of(world);
+    if (!options_.animation.empty() && frame % options_.every == 0) animation_frames_.push_back(frame_of(world));
     if (!options_.gltf.empty() && frame % options_.gltf_every == 0) {
         gltf_frames_.push_back(scenes::cloth_positions(world));
         gltf_times_s_.push_back(float(frame) * dt_s_);

@@ -43,10 +43,15 @@ public:
 
 private:
     using Positions = std::vector<std::vector<Vec3>>;  // per cloth, caller order
+    struct Frame {
+        Positions cloths;
+        std::vector<Vec3> body;  // the body's pose (empty: no body, or still at rest)
+    };
+    static Frame frame_of(const scenes::SceneWorld& world);
     PictureOptions options_;
     uint32_t png_frame_ = 0;
-    Positions png_positions_;
-    std::vector<Positions> animation_frames_;
+    Frame png_frame_state_;
+    std::vector<Frame> animation_frames_;
     std::vector<Positions> gltf_frames_;
     std::vector<float> gltf_times_s_;
     float dt_s_ = 0.0f;

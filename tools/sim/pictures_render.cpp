@@ -51,8 +51,9 @@ std::string PictureRecorder::write(const scenes::Scene& scene, const scenes::Sce
     const std::unique_ptr<render::Renderer> renderer = render::Renderer::create(&error);
     if (!renderer) return error;
 
-    const auto show = [&](const Positions& positions) {
-        for (size_t i = 0; i < positions.size(); ++i) snapshot.cloths[i].positions = positions[i];
+    const auto show = [&](const Frame& frame) {
+        for (size_t i = 0; i < frame.cloths.size(); ++i) snapshot.cloths[i].positions = frame.cloths[i];
+        if (!frame.body.empty() && !snapshot.bodies.empty()) snapshot.bodies[0].positions = frame.body;
     };
     const auto draw = [&](const render::Camera& camera) {
         context->begin_frame();
@@ -63,14 +64,14 @@ std::string PictureRecorder::write(const scenes::Scene& scene, const scenes::Sce
     const float aspect = float(width) / float(height);
 
     if (!options_.png.empty()) {
-        show(png_positions_);
+        show(png_frame_state_);
         const render::Camera camera = render::frame_box(render::bounds(snapshot), angles, aspect);
         if (!render::write_png(options_.png, draw(camera))) return "cannot write " + options_.png;
     }
     if (!options_.animation.empty()) {
         // One camera for the whole animation, framing every recorded frame.
         render::Box box;
-        for (const Positions& frame : animation_frames_) {
+        for (const Frame& frame : animation_frames_) {
             show(frame);
             box.add(render::bounds(snapshot));
         }
