@@ -8,6 +8,7 @@
 #include "garment.h"
 
 #include <embree3/rtcore.h>
+#include <unistd.h>
 
 #include <algorithm>
 #include <chrono>
@@ -166,8 +167,14 @@ int run_garment(uint32_t steps, bool as_json) {
     if (std::filesystem::exists(shared + "/bodies/mean_all.obj"))
         cases.push_back({std::string(WEFT_SOURCE_DIR) + "/tests/scenes/dress-garmentcode.json",
                          shared + "/patterns/garmentcode/dress_pencil_specification.json", false});
-    const std::filesystem::path dir = std::filesystem::temp_directory_path() / "weft_bench_garment";
+    // One folder per process: two runs at once (a Release and a sanitizer test suite) must not
+    // read each other's half-written assets.
+    const std::filesystem::path dir = std::filesystem::temp_directory_path() / ("weft_bench_garment_" + std::to_string(getpid()));
     std::filesystem::create_directories(dir);
+    struct RemoveDir {
+        std::filesystem::path dir;
+        ~RemoveDir() { std::error_code ignored; std::filesystem::remove_all(dir, ignored); }
+    } remove_dir{dir};
     bake::SewBody mannequin, mean_all;
     {
         body::Mannequin m;
