@@ -3,6 +3,7 @@
 #pragma once
 
 #include <cstdint>
+#include <functional>
 #include <string>
 #include <vector>
 
@@ -81,6 +82,10 @@ struct Reference {
 };
 std::string compute_reference(scenes::SeedScene scene, const scenes::SceneOptions& physics, const Sampling& sampling,
                               const ReferenceOptions& options, Reference* out);
+// The same for any scene: `run_plain(substeps, iterations, out)` runs it with the plain method at
+// that split (the garment: garment_sweep.h).
+using RunPlain = std::function<std::string(uint32_t substeps, uint32_t iterations, Trajectory* out)>;
+std::string compute_reference(const RunPlain& run_plain, const ReferenceOptions& options, Reference* out);
 
 // The seed's plain method at an explicit split, keeping every physical setting of `physics`.
 scenes::SceneOptions plain_split(const scenes::SceneOptions& physics, uint32_t substeps, uint32_t iterations);

@@ -7,6 +7,7 @@
 #include <string>
 
 #include "accuracy.h"
+#include "garment_sweep.h"
 
 namespace weft::bench {
 
@@ -20,5 +21,13 @@ bool bullet_available();
 // run_trajectory; returns the failure message (empty on success).
 std::string run_bullet(scenes::SeedScene scene, const scenes::SceneOptions& options, uint32_t iterations,
                        const Sampling& sampling, Trajectory* out);
+
+// The dressed garment (garment_sweep.h) as a btSoftBody: the same particles, masses and springs (at
+// Weft's rest lengths, hard), the attached waistband as mass-0 nodes moved every step to where
+// Weft's attachments put them, the fabric's damping, and with `collide_body` the body's offset hull
+// as a btBvhTriangleMeshShape on a kinematic body, refitted to the walk's pose every step (timed
+// with the step). Penetration is measured against the same hull as Weft's.
+std::string run_bullet_garment(const GarmentSweepScene& garment, uint32_t iterations, bool collide_body,
+                               const Sampling& sampling, Trajectory* out);
 
 }  // namespace weft::bench

@@ -20,6 +20,9 @@ namespace weft::bench {
 
 struct SweepOptions {
     scenes::SeedScene scene = scenes::SeedScene::drape;
+    // The dressed garment instead (garment_sweep.h: the skirt on the walking mannequin, dt 1/60 s,
+    // the fabric's own compliance and damping); `scene` and `sizes` are then unused.
+    bool garment = false;
     std::vector<uint32_t> sizes{100};
     std::vector<float> winds_m_s{20.0f};  // flag only
     Sampling sampling;
