@@ -61,6 +61,9 @@ std::string run_trajectory(scenes::SeedScene scene, const scenes::SceneOptions& 
 //   - the cap is the runtime's 64 substeps per step: splitting a frame into shorter steps does not
 //     refine further, because float positions then lose gravity's g h^2 to rounding (at 512
 //     substeps per 0.033 s the 2 m high drape does not fall at all).
+//   - past the cap nothing converges either: a double-precision solver of the same model
+//     (reference_double.h) stops at the same change, because from about 64 substeps on the run
+//     amplifies a 1e-9 m change of its start to 1e-3 of the diagonal (docs/accuracy.md).
 // The 1e-4 tolerance is therefore not reached at the cap; the last change is reported with every
 // result and bounds the reference's own error (first-order convergence: about equal to it).
 struct ReferenceOptions {

@@ -548,6 +548,8 @@ int main(int argc, char** argv) {
     sweep->add_flag("--no-csv", sweep_csv_off, "write no CSV");
     sweep->add_option("--plot", sweep_o.plot_path, "PNG plot via gnuplot (one per size / wind when several)");
     sweep->add_flag("--no-peer", sweep_no_peer, "leave Bullet out");
+    bool sweep_peer_no_body = false;
+    sweep->add_flag("--peer-no-body", sweep_peer_no_body, "garment: Bullet without the body collider (its cloth's own cost)");
     sweep->add_flag("--quick", sweep_quick, "a tiny grid (tests): 2 x 2 configurations, one Bullet budget, reference capped at 4 substeps");
     CLI::App* baked = bench::add_baked_subcommand(app);
 
@@ -620,6 +622,7 @@ int main(int argc, char** argv) {
         }
         for (size_t k = 0; k < sweep_compliance.size() && k < 3; ++k) sweep_o.compliance_m_per_n[k] = sweep_compliance[k];
         sweep_o.peer = !sweep_no_peer;
+        sweep_o.peer_body = !sweep_peer_no_body;
         if (sweep_o.csv_path.empty() && !sweep_csv_off) sweep_o.csv_path = "sweep-" + sweep_scene + ".csv";
         if (sweep_csv_off) sweep_o.csv_path.clear();
         return bench::run_sweep(sweep_o);

@@ -188,6 +188,7 @@ nlohmann::ordered_json to_json(const SweepOptions& o, const Group& g, const Row&
     j["substeps"] = r.substeps;
     j["tethers"] = r.tethers;
     j["coarse_level"] = r.coarse_level;
+    if (o.garment && r.solver == "bullet") j["body_collider"] = o.peer_body;  // --peer-no-body: false
     j["relaxation"] = rounded(r.relaxation, 3);
     j["us_per_step"] = json_number(r.us_per_step);
     j["wall_us_per_step"] = json_number(r.wall_us_per_step);
@@ -462,7 +463,7 @@ int run_sweep(const SweepOptions& o) {
                     const std::string err = measure_row(
                         o,
                         [&](Trajectory* out) {
-                            return o.garment ? run_bullet_garment(garment, iterations, true, o.sampling, out)
+                            return o.garment ? run_bullet_garment(garment, iterations, o.peer_body, o.sampling, out)
                                              : run_bullet(o.scene, physics, iterations, o.sampling, out);
                         },
                         &t, &timing);

@@ -30,7 +30,8 @@ struct SweepOptions {
     std::vector<uint32_t> substeps{1, 2, 4};
     std::vector<bool> long_range{false, true};  // tethers (pinned scenes) or coarse level (sphere)
     std::vector<std::string> paths{"avx2"};
-    bool peer = true;  // Bullet, when this build has it (drape and sphere)
+    bool peer = true;  // Bullet, when this build has it (drape, sphere and garment)
+    bool peer_body = true;  // garment: Bullet collides with the body (off: its cloth alone, for its cost)
     std::vector<uint32_t> peer_iterations{1, 2, 4, 8, 16, 32};
     ReferenceOptions reference;
     float friction = 0.5f;  // sphere
