@@ -548,6 +548,9 @@ int main(int argc, char** argv) {
     sweep->add_flag("--no-csv", sweep_csv_off, "write no CSV");
     sweep->add_option("--plot", sweep_o.plot_path, "PNG plot via gnuplot (one per size / wind when several)");
     sweep->add_flag("--no-peer", sweep_no_peer, "leave Bullet out");
+    sweep->add_option("--peer-voxel", sweep_o.peer_voxel_m, "Bullet: its sparse distance field's voxel, m")
+        ->check(CLI::Range(0.001f, 10.0f))
+        ->capture_default_str();
     bool sweep_peer_no_body = false;
     sweep->add_flag("--peer-no-body", sweep_peer_no_body, "garment: Bullet without the body collider (its cloth's own cost)");
     sweep->add_flag("--quick", sweep_quick, "a tiny grid (tests): 2 x 2 configurations, one Bullet budget, reference capped at 4 substeps");

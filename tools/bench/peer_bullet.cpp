@@ -57,20 +57,22 @@ struct BulletWorld {
     btDbvtBroadphase broadphase;
     btSequentialImpulseConstraintSolver constraint_solver;
     btSoftRigidDynamicsWorld world{&dispatcher, &broadphase, &constraint_solver, &configuration};
-    explicit BulletWorld(const scenes::Scene& scene) {
+    BulletWorld(const scenes::Scene& scene, float voxel_m) {
         const Vec3 g = scene.gravity_m_s2;
         world.setGravity(btVector3(g.x, g.y, g.z));
         btSoftBodyWorldInfo& info = world.getWorldInfo();
         info.m_gravity = btVector3(g.x, g.y, g.z);  // the soft body reads gravity here, not from the world
         info.air_density = scene.air_density_kg_m3;
-        info.m_sparsesdf.Initialize();
+        info.m_sparsesdf.Initialize();  // sets the voxel to 0.25 m ...
+        info.m_sparsesdf.setDefaultVoxelsz(voxel_m);
+        info.m_sparsesdf.Reset();  // ... which Reset replaces
     }
 };
 
 }  // namespace
 
 std::string run_bullet(scenes::SeedScene scene, const scenes::SceneOptions& options, uint32_t iterations,
-                       const Sampling& sampling, Trajectory* out) {
+                       const Sampling& sampling, Trajectory* out, float voxel_m) {
     *out = Trajectory{};
     if (iterations == 0) return "bullet needs at least one position iteration";
     // The Weft world of the same scene gives the particles (caller order), masses, pins and springs.
@@ -82,7 +84,7 @@ std::string run_bullet(scenes::SeedScene scene, const scenes::SceneOptions& opti
     out->start.resize(count);
     if (Result r = read_positions(sw.world, sw.cloth, out->start.data(), count); !r.ok()) return r.message;
 
-    BulletWorld bw(description);
+    BulletWorld bw(description, voxel_m);
     btSoftRigidDynamicsWorld& world = bw.world;
     btSoftBodyWorldInfo& info = world.getWorldInfo();
 
@@ -140,7 +142,7 @@ std::string run_bullet(scenes::SeedScene scene, const scenes::SceneOptions& opti
 }
 
 std::string run_bullet_garment(const GarmentSweepScene& garment, uint32_t iterations, bool collide_body,
-                               const Sampling& sampling, Trajectory* out) {
+                               const Sampling& sampling, Trajectory* out, float voxel_m) {
     *out = Trajectory{};
     if (iterations == 0) return "bullet needs at least one position iteration";
     // The shadow: the Weft garment at 1 x 1, stepped untimed beside Bullet. It poses the body (its
@@ -161,7 +163,7 @@ std::string run_bullet_garment(const GarmentSweepScene& garment, uint32_t iterat
     if (Result r = read_positions(shadow.world, cloth, weft_x.data(), count); !r.ok()) return r.message;
     out->start = weft_x;
 
-    BulletWorld bw(garment.scene);
+    BulletWorld bw(garment.scene, voxel_m);
     btSoftRigidDynamicsWorld& world = bw.world;
     btSoftBodyWorldInfo& info = world.getWorldInfo();
     std::vector<btVector3> x(count);
@@ -266,12 +268,12 @@ namespace weft::bench {
 
 bool bullet_available() { return false; }
 
-std::string run_bullet(scenes::SeedScene, const scenes::SceneOptions&, uint32_t, const Sampling&, Trajectory* out) {
+std::string run_bullet(scenes::SeedScene, const scenes::SceneOptions&, uint32_t, const Sampling&, Trajectory* out, float) {
     *out = Trajectory{};
     return "this build has no Bullet (install libbullet-dev and reconfigure)";
 }
 
-std::string run_bullet_garment(const GarmentSweepScene&, uint32_t, bool, const Sampling&, Trajectory* out) {
+std::string run_bullet_garment(const GarmentSweepScene&, uint32_t, bool, const Sampling&, Trajectory* out, float) {
     *out = Trajectory{};
     return "this build has no Bullet (install libbullet-dev and reconfigure)";
 }

@@ -189,6 +189,7 @@ nlohmann::ordered_json to_json(const SweepOptions& o, const Group& g, const Row&
     j["tethers"] = r.tethers;
     j["coarse_level"] = r.coarse_level;
     if (o.garment && r.solver == "bullet") j["body_collider"] = o.peer_body;  // --peer-no-body: false
+    if (r.solver == "bullet") j["peer_voxel_m"] = rounded(o.peer_voxel_m, 3);
     j["relaxation"] = rounded(r.relaxation, 3);
     j["us_per_step"] = json_number(r.us_per_step);
     j["wall_us_per_step"] = json_number(r.wall_us_per_step);
@@ -463,8 +464,9 @@ int run_sweep(const SweepOptions& o) {
                     const std::string err = measure_row(
                         o,
                         [&](Trajectory* out) {
-                            return o.garment ? run_bullet_garment(garment, iterations, o.peer_body, o.sampling, out)
-                                             : run_bullet(o.scene, physics, iterations, o.sampling, out);
+                            return o.garment ? run_bullet_garment(garment, iterations, o.peer_body, o.sampling, out,
+                                                                  o.peer_voxel_m)
+                                             : run_bullet(o.scene, physics, iterations, o.sampling, out, o.peer_voxel_m);
                         },
                         &t, &timing);
                     ++done;

@@ -32,6 +32,7 @@ struct SweepOptions {
     std::vector<std::string> paths{"avx2"};
     bool peer = true;  // Bullet, when this build has it (drape, sphere and garment)
     bool peer_body = true;  // garment: Bullet collides with the body (off: its cloth alone, for its cost)
+    float peer_voxel_m = 0.25f;  // Bullet's btSparseSdf voxel (its default 0.25 m), all scenes
     std::vector<uint32_t> peer_iterations{1, 2, 4, 8, 16, 32};
     ReferenceOptions reference;
     float friction = 0.5f;  // sphere
