@@ -76,6 +76,14 @@ scenes::SceneOptions plain_split(const scenes::SceneOptions& physics, uint32_t s
 
 std::string compute_reference(scenes::SeedScene scene, const scenes::SceneOptions& physics, const Sampling& sampling,
                               const ReferenceOptions& options, Reference* out) {
+    return compute_reference(
+        [&](uint32_t substeps, uint32_t iterations, Trajectory* run) {
+            return run_trajectory(scene, plain_split(physics, substeps, iterations), sampling, run);
+        },
+        options, out);
+}
+
+std::string compute_reference(const RunPlain& run_plain, const ReferenceOptions& options, Reference* out) {
     *out = Reference{};
     Trajectory previous;
     const uint32_t iterations = 1;
@@ -83,9 +91,7 @@ std::string compute_reference(scenes::SeedScene scene, const scenes::SceneOption
     for (;;) {
         Trajectory run;
         const auto t0 = Clock::now();
-        if (std::string err = run_trajectory(scene, plain_split(physics, substeps, iterations), sampling, &run);
-            !err.empty())
-            return err;
+        if (std::string err = run_plain(substeps, iterations, &run); !err.empty()) return err;
         ReferenceStep step;
         step.substeps = substeps;
         step.iterations = iterations;

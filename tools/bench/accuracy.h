@@ -3,6 +3,7 @@
 #pragma once
 
 #include <cstdint>
+#include <functional>
 #include <string>
 #include <vector>
 
@@ -60,6 +61,9 @@ std::string run_trajectory(scenes::SeedScene scene, const scenes::SceneOptions& 
 //   - the cap is the runtime's 64 substeps per step: splitting a frame into shorter steps does not
 //     refine further, because float positions then lose gravity's g h^2 to rounding (at 512
 //     substeps per 0.033 s the 2 m high drape does not fall at all).
+//   - past the cap nothing converges either: a double-precision solver of the same model
+//     (reference_double.h) stops at the same change, because from about 64 substeps on the run
+//     amplifies a 1e-9 m change of its start to 1e-3 of the diagonal (docs/accuracy.md).
 // The 1e-4 tolerance is therefore not reached at the cap; the last change is reported with every
 // result and bounds the reference's own error (first-order convergence: about equal to it).
 struct ReferenceOptions {
@@ -81,6 +85,10 @@ struct Reference {
 };
 std::string compute_reference(scenes::SeedScene scene, const scenes::SceneOptions& physics, const Sampling& sampling,
                               const ReferenceOptions& options, Reference* out);
+// The same for any scene: `run_plain(substeps, iterations, out)` runs it with the plain method at
+// that split (the garment: garment_sweep.h).
+using RunPlain = std::function<std::string(uint32_t substeps, uint32_t iterations, Trajectory* out)>;
+std::string compute_reference(const RunPlain& run_plain, const ReferenceOptions& options, Reference* out);
 
 // The seed's plain method at an explicit split, keeping every physical setting of `physics`.
 scenes::SceneOptions plain_split(const scenes::SceneOptions& physics, uint32_t substeps, uint32_t iterations);

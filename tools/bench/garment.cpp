@@ -158,6 +158,26 @@ struct Case {
 
 }  // namespace
 
+std::string mannequin_sew_body(bake::SewBody* out) {
+    body::Mannequin m;
+    if (std::string e = body::make_mannequin(body::Measurements{}, body::MannequinOptions{}, &m); !e.empty())
+        return "mannequin: " + e;
+    *out = {m.positions, m.triangles};
+    return {};
+}
+
+std::string dress_scene(const std::string& scene_file, const std::string& pattern, const bake::SewBody& body,
+                        const std::filesystem::path& dir, scenes::Scene* scene, bake::Baked* baked) {
+    if (std::string e = scenes::load_scene_file(scene_file, scene); !e.empty()) return e;
+    bake::BakeOptions options;
+    options.body = &body;
+    if (bake::Status s = bake::bake_pattern(read_text(pattern), options, baked); !s.ok()) return pattern + ": " + s.error;
+    std::filesystem::create_directories(dir);
+    std::ofstream f((dir / scene->cloths[0].asset_path).string(), std::ios::binary);
+    f.write(reinterpret_cast<const char*>(baked->bytes.data()), std::streamsize(baked->bytes.size()));
+    return f ? std::string() : "cannot write " + (dir / scene->cloths[0].asset_path).string();
+}
+
 int run_garment(uint32_t steps, bool as_json) {
     const std::string shared = WEFT_SHARED_DATA_DIR;
     std::vector<Case> cases = {{std::string(WEFT_SOURCE_DIR) + "/samples/scenes/skirt-walk.json",
@@ -177,10 +197,8 @@ int run_garment(uint32_t steps, bool as_json) {
     } remove_dir{dir};
     bake::SewBody mannequin, mean_all;
     {
-        body::Mannequin m;
-        if (std::string e = body::make_mannequin(body::Measurements{}, body::MannequinOptions{}, &m); !e.empty())
-            return std::fprintf(stderr, "weft-bench garment: mannequin: %s\n", e.c_str()), 1;
-        mannequin = {m.positions, m.triangles};
+        if (std::string e = mannequin_sew_body(&mannequin); !e.empty())
+            return std::fprintf(stderr, "weft-bench garment: %s\n", e.c_str()), 1;
         body::BodyMesh b;
         if (cases.size() > 2 && body::load_body_mesh(shared + "/bodies/mean_all.obj", &b).empty())
             mean_all = {b.positions, b.triangles};
@@ -189,15 +207,10 @@ int run_garment(uint32_t steps, bool as_json) {
         std::printf("weft-bench garment: %u steps per scene after the walk's 1 s ramp, one thread; us per step (medians)\n", steps);
     for (const Case& c : cases) {
         scenes::Scene scene;
-        if (std::string e = scenes::load_scene_file(c.scene_file, &scene); !e.empty())
-            return std::fprintf(stderr, "weft-bench garment: %s\n", e.c_str()), 1;
-        bake::BakeOptions options;
-        options.body = c.mannequin ? &mannequin : &mean_all;
         bake::Baked baked;
-        if (bake::Status s = bake::bake_pattern(read_text(c.pattern), options, &baked); !s.ok())
-            return std::fprintf(stderr, "weft-bench garment: %s: %s\n", c.pattern.c_str(), s.error.c_str()), 1;
-        std::ofstream((dir / scene.cloths[0].asset_path).string(), std::ios::binary)
-            .write(reinterpret_cast<const char*>(baked.bytes.data()), std::streamsize(baked.bytes.size()));
+        if (std::string e = dress_scene(c.scene_file, c.pattern, c.mannequin ? mannequin : mean_all, dir, &scene, &baked);
+            !e.empty())
+            return std::fprintf(stderr, "weft-bench garment: %s\n", e.c_str()), 1;
         scene.profile = true;
         scenes::SceneWorld sw;
         if (std::string e = scenes::build_scene(scene, &sw, {dir.string()}); !e.empty())

@@ -2,6 +2,11 @@
 #pragma once
 
 #include <cstdint>
+#include <filesystem>
+#include <string>
+
+#include "bake.h"
+#include "scene.h"
 
 namespace weft::bench {
 
@@ -9,5 +14,13 @@ namespace weft::bench {
 // ../shared/data is there), runs their scene files and prints per-pass costs per step, the plain
 // Embree point-query baseline measured in the same run, and the deepest penetration.
 int run_garment(uint32_t steps, bool as_json);
+
+// The project's mannequin (default measurements, rest pose) as a body to sew onto.
+std::string mannequin_sew_body(bake::SewBody* out);
+
+// Loads `scene_file`, dresses `pattern` on `body` (weft-bake --body) and writes the asset the scene
+// names into `dir` (build the scene with `dir` among its asset folders). Returns the failure message.
+std::string dress_scene(const std::string& scene_file, const std::string& pattern, const bake::SewBody& body,
+                        const std::filesystem::path& dir, scenes::Scene* scene, bake::Baked* baked);
 
 }  // namespace weft::bench

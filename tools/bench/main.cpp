@@ -31,6 +31,7 @@
 #include "body.h"
 #include "garment.h"
 #include "levers.h"
+#include "reference_double.h"
 #include "sweep.h"
 
 namespace {
@@ -490,8 +491,8 @@ int main(int argc, char** argv) {
     bool sweep_quick = false, sweep_no_peer = false, sweep_csv_off = false;
     CLI::App* sweep = app.add_subcommand(
         "sweep", "run time against error: a grid of budgets against a converged reference, Bullet beside (docs/accuracy.md)");
-    sweep->add_option("scene", sweep_scene, "drape, flag or sphere")
-        ->check(CLI::IsMember({"drape", "flag", "sphere"}))
+    sweep->add_option("scene", sweep_scene, "drape, flag, sphere or garment (the skirt on the walking mannequin)")
+        ->check(CLI::IsMember({"drape", "flag", "sphere", "garment"}))
         ->required();
     sweep->add_option("--sizes", sweep_o.sizes, "grid sizes n, comma separated")
         ->delimiter(',')
@@ -501,7 +502,7 @@ int main(int argc, char** argv) {
         ->delimiter(',')
         ->check(CLI::Range(0.0f, 500.0f))
         ->capture_default_str();
-    sweep->add_option("--frames", sweep_o.sampling.frames, "steps per run (dt 0.033 s)")
+    sweep->add_option("--frames", sweep_o.sampling.frames, "steps per run (dt 0.033 s; the garment: 1/60 s)")
         ->check(CLI::Range(1u, 100000u))
         ->capture_default_str();
     sweep->add_option("--sample-every", sweep_o.sampling.sample_every, "frames between sampled frames")
@@ -547,6 +548,11 @@ int main(int argc, char** argv) {
     sweep->add_flag("--no-csv", sweep_csv_off, "write no CSV");
     sweep->add_option("--plot", sweep_o.plot_path, "PNG plot via gnuplot (one per size / wind when several)");
     sweep->add_flag("--no-peer", sweep_no_peer, "leave Bullet out");
+    sweep->add_option("--peer-voxel", sweep_o.peer_voxel_m, "Bullet: its sparse distance field's voxel, m")
+        ->check(CLI::Range(0.001f, 10.0f))
+        ->capture_default_str();
+    bool sweep_peer_no_body = false;
+    sweep->add_flag("--peer-no-body", sweep_peer_no_body, "garment: Bullet without the body collider (its cloth's own cost)");
     sweep->add_flag("--quick", sweep_quick, "a tiny grid (tests): 2 x 2 configurations, one Bullet budget, reference capped at 4 substeps");
     CLI::App* baked = bench::add_baked_subcommand(app);
 
@@ -566,7 +572,38 @@ int main(int argc, char** argv) {
     body->add_flag("--scalar", body_o.scalar, "the scalar path instead of AVX2");
     body->add_flag("--json", body_o.json, "one JSON object");
 
+    bench::ReferenceStudyOptions reference_o;
+    CLI::App* reference = app.add_subcommand(
+        "reference", "drape: the double-precision plain solver against the float runtime, substeps doubled (docs/accuracy.md)");
+    std::string reference_scene = "drape";
+    float reference_offset_m = 1e-6f;
+    reference->add_option("scene", reference_scene, "drape (double solver beside the float runtime) or sphere (float only)")
+        ->check(CLI::IsMember({"drape", "sphere"}))
+        ->capture_default_str();
+    reference->add_option("--offset", reference_offset_m, "sphere: m off-centre for the sensitivity column")
+        ->capture_default_str();
+    reference->add_option("--sizes", reference_o.sizes, "grid sizes n")->delimiter(',')->check(CLI::Range(2u, 4096u))
+        ->capture_default_str();
+    reference->add_option("--frames", reference_o.sampling.frames, "steps per run (dt 0.033 s)")
+        ->check(CLI::Range(1u, 100000u))->capture_default_str();
+    reference->add_option("--sample-every", reference_o.sampling.sample_every, "frames between sampled frames")
+        ->check(CLI::Range(1u, 100000u))->capture_default_str();
+    reference->add_option("--cap", reference_o.cap, "most substeps per step for the double solver")
+        ->check(CLI::Range(1u, 1u << 20))->capture_default_str();
+    reference->add_option("--perturb", reference_o.perturb_m, "m: the start moved this much for the sensitivity column")
+        ->capture_default_str();
+    std::vector<float> reference_compliance;
+    reference->add_option("--compliance", reference_compliance, "stretch, shear, bend compliance, m/N (default hard)")
+        ->delimiter(',')->expected(3)->check(CLI::Range(0.0f, 1e6f));
+    reference->add_flag("--json", reference_o.json, "one JSON object per split");
+
     CLI11_PARSE(app, argc, argv);
+    if (reference->parsed()) {
+        for (size_t k = 0; k < reference_compliance.size() && k < 3; ++k)
+            reference_o.compliance_m_per_n[k] = reference_compliance[k];
+        return reference_scene == "sphere" ? bench::run_sphere_sensitivity(reference_o, reference_offset_m)
+                                           : bench::run_reference_study(reference_o);
+    }
     if (body->parsed()) return bench::run_body(body_o);
     if (garment->parsed()) return bench::run_garment(garment_steps, garment_json);
 
@@ -575,7 +612,8 @@ int main(int argc, char** argv) {
     if (flag->parsed()) return run({SeedScene::flag}, flag_o, true);
     if (sphere->parsed()) return run({SeedScene::sphere}, sphere_o, true);
     if (sweep->parsed()) {
-        sweep_o.scene = sweep_scene == "drape" ? SeedScene::drape : sweep_scene == "flag" ? SeedScene::flag : SeedScene::sphere;
+        sweep_o.scene = sweep_scene == "flag" ? SeedScene::flag : sweep_scene == "sphere" ? SeedScene::sphere : SeedScene::drape;
+        sweep_o.garment = sweep_scene == "garment";
         if (sweep_quick) {  // the quick grid, except what was given explicitly
             bench::SweepOptions quick = sweep_o;
             bench::make_quick(quick);
@@ -587,6 +625,7 @@ int main(int argc, char** argv) {
         }
         for (size_t k = 0; k < sweep_compliance.size() && k < 3; ++k) sweep_o.compliance_m_per_n[k] = sweep_compliance[k];
         sweep_o.peer = !sweep_no_peer;
+        sweep_o.peer_body = !sweep_peer_no_body;
         if (sweep_o.csv_path.empty() && !sweep_csv_off) sweep_o.csv_path = "sweep-" + sweep_scene + ".csv";
         if (sweep_csv_off) sweep_o.csv_path.clear();
         return bench::run_sweep(sweep_o);

@@ -7,6 +7,7 @@
 #include <string>
 
 #include "accuracy.h"
+#include "garment_sweep.h"
 
 namespace weft::bench {
 
@@ -19,6 +20,15 @@ bool bullet_available();
 // Config::piterations = `iterations`. Fills positions per sampled frame and per-step times like
 // run_trajectory; returns the failure message (empty on success).
 std::string run_bullet(scenes::SeedScene scene, const scenes::SceneOptions& options, uint32_t iterations,
-                       const Sampling& sampling, Trajectory* out);
+                       const Sampling& sampling, Trajectory* out, float voxel_m = 0.25f);
+
+// The dressed garment (garment_sweep.h) as a btSoftBody: the same particles, masses and springs (at
+// Weft's rest lengths, hard), the attached waistband as mass-0 nodes moved every step to where
+// Weft's attachments put them, the fabric's damping, and with `collide_body` the body's offset hull
+// as a btBvhTriangleMeshShape on a kinematic body, refitted to the walk's pose every step (timed
+// with the step). Penetration is measured against the same hull as Weft's.
+// `voxel_m`: the cell of Bullet's sparse signed distance field (btSparseSdf, default 0.25 m).
+std::string run_bullet_garment(const GarmentSweepScene& garment, uint32_t iterations, bool collide_body,
+                               const Sampling& sampling, Trajectory* out, float voxel_m = 0.25f);
 
 }  // namespace weft::bench

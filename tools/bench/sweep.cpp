@@ -8,6 +8,7 @@
 #include <limits>
 
 #include "bench_run.h"
+#include "garment_sweep.h"
 #include "peer_bullet.h"
 #include "progress.h"
 
@@ -45,7 +46,10 @@ struct Group {
     std::vector<Row> rows;
 };
 
-bool comes_to_rest(SeedScene scene) { return scene != SeedScene::flag; }
+// The flag flaps and the garment walks; the drape and the sphere come to rest.
+bool comes_to_rest(const SweepOptions& o) { return !o.garment && o.scene != SeedScene::flag; }
+
+const char* scene_label(const SweepOptions& o) { return o.garment ? "garment" : scenes::scene_name(o.scene); }
 
 double median(std::vector<double> v) {
     if (v.empty()) return 0.0;
@@ -68,12 +72,12 @@ struct Timing {
     std::vector<double> cpu_us, wall_us;  // one median per repeat
 };
 
-void score(const Trajectory& t, const Reference& ref, const ClothAsset& asset, SeedScene scene, const Timing& timing,
+void score(const Trajectory& t, const Reference& ref, const ClothAsset& asset, bool rest, const Timing& timing,
            Row* row) {
     row->us_per_step = median(timing.cpu_us);
     row->wall_us_per_step = median(timing.wall_us);
     row->trajectory_error = metrics::trajectory_error(t.frames, ref.trajectory.frames, ref.diagonal_m);
-    if (comes_to_rest(scene)) row->rest_error = metrics::rest_state_error(t.frames, ref.trajectory.frames, ref.diagonal_m);
+    if (rest) row->rest_error = metrics::rest_state_error(t.frames, ref.trajectory.frames, ref.diagonal_m);
     if (!t.frames.empty()) row->strain = metrics::stretch_strain(asset, t.frames.back());
     row->max_penetration_m = t.max_penetration_m;
     row->finite = t.finite;
@@ -175,7 +179,7 @@ nlohmann::ordered_json json_number(double v, int significant = 4) {
 nlohmann::ordered_json to_json(const SweepOptions& o, const Group& g, const Row& r) {
     nlohmann::ordered_json j;
     j["bench"] = "sweep";
-    j["scene"] = scenes::scene_name(o.scene);
+    j["scene"] = scene_label(o);
     j["solver"] = r.solver;
     j["n"] = r.n;
     if (o.scene == SeedScene::flag) j["wind_m_s"] = r.wind_m_s;
@@ -184,6 +188,8 @@ nlohmann::ordered_json to_json(const SweepOptions& o, const Group& g, const Row&
     j["substeps"] = r.substeps;
     j["tethers"] = r.tethers;
     j["coarse_level"] = r.coarse_level;
+    if (o.garment && r.solver == "bullet") j["body_collider"] = o.peer_body;  // --peer-no-body: false
+    if (r.solver == "bullet") j["peer_voxel_m"] = rounded(o.peer_voxel_m, 3);
     j["relaxation"] = rounded(r.relaxation, 3);
     j["us_per_step"] = json_number(r.us_per_step);
     j["wall_us_per_step"] = json_number(r.wall_us_per_step);
@@ -207,7 +213,7 @@ nlohmann::ordered_json to_json(const SweepOptions& o, const Group& g, const Row&
 }
 
 void print_reference(const SweepOptions& o, const Group& g) {
-    std::printf("\n%s n=%u", scenes::scene_name(o.scene), g.n);
+    std::printf("\n%s n=%u", scene_label(o), g.n);
     if (o.scene == SeedScene::flag) std::printf(" wind %g m/s", double(g.wind_m_s));
     std::printf(": %u frames, every %u-th sampled; diagonal %.3f m\n", o.sampling.frames, o.sampling.sample_every,
                 g.reference.diagonal_m);
@@ -264,7 +270,7 @@ bool write_csv(const SweepOptions& o, const std::vector<Group>& groups) {
     for (const Group& g : groups)
         for (const Row& r : g.rows)
             std::fprintf(f, "%s,%s,%u,%g,%s,%u,%u,%d,%d,%g,%.3f,%.3f,%.6g,%s,%.6g,%.6g,%.6g,%d,%d,%u,%u,%d\n",
-                         scenes::scene_name(o.scene), r.solver.c_str(), r.n, double(r.wind_m_s), r.simd.c_str(),
+                         scene_label(o), r.solver.c_str(), r.n, double(r.wind_m_s), r.simd.c_str(),
                          r.substeps, r.iterations, r.tethers, r.coarse_level, double(r.relaxation), r.us_per_step,
                          r.wall_us_per_step,
                          r.trajectory_error, r.rest_error ? std::to_string(*r.rest_error).c_str() : "", r.strain.max,
@@ -303,7 +309,7 @@ bool write_plot(const SweepOptions& o, const Group& g, const std::string& path) 
     char title[256];
     std::snprintf(title, sizeof title,
                   "%s n = %u%s: run time against error (reference %ux%u%s, %u frames, one thread)",
-                  scenes::scene_name(o.scene), g.n,
+                  scene_label(o), g.n,
                   o.scene == SeedScene::flag ? (" wind " + std::to_string(int(g.wind_m_s)) + " m/s").c_str() : "",
                   g.reference.substeps, g.reference.iterations, g.reference.converged ? "" : " not converged",
                   o.sampling.frames);
@@ -376,46 +382,63 @@ int run_sweep(const SweepOptions& o) {
     }
     SweepOptions options = o;
     options.paths = paths;
-    const bool peer = o.peer && bullet_available() && o.scene != SeedScene::flag;
+    const bool peer = o.peer && bullet_available() && (o.garment || o.scene != SeedScene::flag);
     if (o.peer && !bullet_available() && !o.json)
         std::printf("bullet peer: not in this build (libbullet-dev not found at configure time); skipped\n");
 
     std::vector<Group> groups;
     bool ok = true;
     const std::vector<float> winds = o.scene == SeedScene::flag ? o.winds_m_s : std::vector<float>{0.0f};
+    // The garment is one scene (the skirt on the walking mannequin, dressed once): no sizes.
+    GarmentSweepScene garment;
+    if (o.garment) {
+        if (std::string err = make_garment_sweep_scene(&garment); !err.empty()) {
+            std::fprintf(stderr, "weft-bench sweep: garment: %s\n", err.c_str());
+            return 1;
+        }
+    }
+    const std::vector<uint32_t> sizes = o.garment ? std::vector<uint32_t>{garment.asset().particle_count} : o.sizes;
+    // One run of the scene at a split (a Weft configuration or the reference's plain method).
+    auto run_weft = [&](const scenes::SceneOptions& so, Trajectory* out) {
+        return o.garment ? run_garment_trajectory(garment, so, o.sampling, out) : run_trajectory(o.scene, so, o.sampling, out);
+    };
     // Progress on a terminal: one step per reference, Weft configuration and Bullet run.
     const size_t weft_rows = options.paths.size() * o.long_range.size() * o.substeps.size() * o.iterations.size();
     const size_t per_group = 1 + weft_rows + (peer ? o.peer_iterations.size() : 0);
-    progress::Bar bar("weft-bench sweep", o.sizes.size() * winds.size() * per_group, progress::wanted(o.json));
+    progress::Bar bar("weft-bench sweep", sizes.size() * winds.size() * per_group, progress::wanted(o.json));
     uint64_t done = 0;
-    for (uint32_t n : o.sizes) {
+    for (uint32_t n : sizes) {
         for (float wind : winds) {
             Group g;
             g.n = n;
             g.wind_m_s = wind;
             const scenes::SceneOptions physics = physics_of(o, n, wind);
             bar.update(done, "n = " + std::to_string(n) + ": reference");
-            if (std::string err = compute_reference(o.scene, physics, o.sampling, o.reference, &g.reference);
-                !err.empty()) {
+            const RunPlain run_plain = [&](uint32_t substeps, uint32_t iterations, Trajectory* out) {
+                return run_weft(plain_split(physics, substeps, iterations), out);
+            };
+            if (std::string err = compute_reference(run_plain, o.reference, &g.reference); !err.empty()) {
                 bar.finish();
                 std::fprintf(stderr, "weft-bench sweep: reference: %s\n", err.c_str());
                 return 1;
             }
             ++done;
             scenes::SeedWorld asset_world;  // the asset every configuration shares (for the strain)
-            if (std::string err = scenes::make_seed_world(o.scene, physics, &asset_world); !err.empty()) {
-                bar.finish();
-                std::fprintf(stderr, "weft-bench sweep: %s\n", err.c_str());
-                return 1;
-            }
+            if (!o.garment)
+                if (std::string err = scenes::make_seed_world(o.scene, physics, &asset_world); !err.empty()) {
+                    bar.finish();
+                    std::fprintf(stderr, "weft-bench sweep: %s\n", err.c_str());
+                    return 1;
+                }
+            const ClothAsset& asset = o.garment ? garment.asset() : asset_world.asset();
             if (!g.reference.trajectory.frames.empty())
-                g.reference_strain = metrics::stretch_strain(asset_world.asset(), g.reference.trajectory.frames.back());
+                g.reference_strain = metrics::stretch_strain(asset, g.reference.trajectory.frames.back());
             for (auto& [row, so] : weft_grid(options, physics)) {
                 bar.update(done, "n = " + std::to_string(n) + ": " + split_name(row));
                 Trajectory t;
                 Timing timing;
                 const std::string err = measure_row(
-                    o, [&](Trajectory* out) { return run_trajectory(o.scene, so, o.sampling, out); }, &t, &timing);
+                    o, [&](Trajectory* out) { return run_weft(so, out); }, &t, &timing);
                 ++done;
                 if (!err.empty()) {
                     bar.finish();
@@ -425,7 +448,7 @@ int run_sweep(const SweepOptions& o) {
                 }
                 row.n = n;
                 row.wind_m_s = wind;
-                score(t, g.reference, asset_world.asset(), o.scene, timing, &row);
+                score(t, g.reference, asset, comes_to_rest(o), timing, &row);
                 g.rows.push_back(row);
             }
             if (peer) {
@@ -439,7 +462,12 @@ int run_sweep(const SweepOptions& o) {
                     Trajectory t;
                     Timing timing;
                     const std::string err = measure_row(
-                        o, [&](Trajectory* out) { return run_bullet(o.scene, physics, iterations, o.sampling, out); },
+                        o,
+                        [&](Trajectory* out) {
+                            return o.garment ? run_bullet_garment(garment, iterations, o.peer_body, o.sampling, out,
+                                                                  o.peer_voxel_m)
+                                             : run_bullet(o.scene, physics, iterations, o.sampling, out, o.peer_voxel_m);
+                        },
                         &t, &timing);
                     ++done;
                     if (!err.empty()) {
@@ -448,7 +476,7 @@ int run_sweep(const SweepOptions& o) {
                         ok = false;
                         continue;
                     }
-                    score(t, g.reference, asset_world.asset(), o.scene, timing, &row);
+                    score(t, g.reference, asset, comes_to_rest(o), timing, &row);
                     g.rows.push_back(row);
                 }
             }

@@ -20,6 +20,9 @@ namespace weft::bench {
 
 struct SweepOptions {
     scenes::SeedScene scene = scenes::SeedScene::drape;
+    // The dressed garment instead (garment_sweep.h: the skirt on the walking mannequin, dt 1/60 s,
+    // the fabric's own compliance and damping); `scene` and `sizes` are then unused.
+    bool garment = false;
     std::vector<uint32_t> sizes{100};
     std::vector<float> winds_m_s{20.0f};  // flag only
     Sampling sampling;
@@ -27,7 +30,9 @@ struct SweepOptions {
     std::vector<uint32_t> substeps{1, 2, 4};
     std::vector<bool> long_range{false, true};  // tethers (pinned scenes) or coarse level (sphere)
     std::vector<std::string> paths{"avx2"};
-    bool peer = true;  // Bullet, when this build has it (drape and sphere)
+    bool peer = true;  // Bullet, when this build has it (drape, sphere and garment)
+    bool peer_body = true;  // garment: Bullet collides with the body (off: its cloth alone, for its cost)
+    float peer_voxel_m = 0.25f;  // Bullet's btSparseSdf voxel (its default 0.25 m), all scenes
     std::vector<uint32_t> peer_iterations{1, 2, 4, 8, 16, 32};
     ReferenceOptions reference;
     float friction = 0.5f;  // sphere

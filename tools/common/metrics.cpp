@@ -175,14 +175,28 @@ Vec3 particle_position(const ClothView& c, uint32_t particle) {
     return {c.x[s], c.y[s], c.z[s]};
 }
 
+namespace {
+double body_depth_m(const World* world, BodyId body, Vec3 point) {
+    BodyContact c;
+    return query_body(world, body, point, &c).ok() && c.found ? std::max(0.0, double(c.penetration_m)) : 0.0;
+}
+}  // namespace
+
 double max_body_penetration_m(const World* world, BodyId body, const ClothView& cloth) {
     double deepest = 0.0;
     for (uint32_t s = 0; s < cloth.asset->slot_count; ++s) {
         if (!(cloth.inverse_mass[s] > 0.0f)) continue;  // pinned (attached) and padding slots
-        BodyContact c;
-        if (query_body(world, body, {cloth.x[s], cloth.y[s], cloth.z[s]}, &c).ok() && c.found)
-            deepest = std::max(deepest, double(c.penetration_m));
+        deepest = std::max(deepest, body_depth_m(world, body, {cloth.x[s], cloth.y[s], cloth.z[s]}));
     }
+    return deepest;
+}
+
+double max_body_penetration_m(const World* world, BodyId body, const ClothAsset& asset,
+                              const std::vector<Vec3>& positions) {
+    double deepest = 0.0;
+    for (uint32_t p = 0; p < asset.particle_count && p < positions.size(); ++p)
+        if (asset.inverse_mass[asset.slot_of_particle[p]] > 0.0f)
+            deepest = std::max(deepest, body_depth_m(world, body, positions[p]));
     return deepest;
 }
 
