@@ -340,7 +340,8 @@ inline uint32_t search_cluster(const BodyHierarchy& h, float reach, Cluster& q, 
     collect_leaves<F>(h, lo, hi, c, flush);
     const uint32_t last = c.count;
     if (last > 0) flush();
-    if (flushes == 1) c.count = last, c.whole = true;  // kept for search_again
+    // Kept for search_again unless the walk filled the list and flushed it on the way.
+    if (flushes == (last > 0 ? 1u : 0u)) c.count = last, c.whole = true;
     return met;
 }
 
