@@ -137,11 +137,20 @@ Status sew_garment(const ClothMeshDesc& unsewn, const std::vector<uint32_t>& att
         }
     }
     std::vector<Vec3> x(unsewn.positions, unsewn.positions + n), target(groups.size());
+    BodyWorld probe;  // a query reach of 0.5 m finds the closest hull point of any garment particle
+    if (Status s = open_body_world(cooked.asset(), body, o, 0.0f, 1.0f, &probe, 0.5f); !s.ok()) return s;
     for (size_t k = 0; k < groups.size(); ++k) {  // eq. (10): the mean of the sources as placed
         Vec3 sum{};
         for (uint32_t p : groups[k]) sum = {sum.x + x[p].x, sum.y + x[p].y, sum.z + x[p].z};
         const float inv = 1.0f / float(groups[k].size());
         target[k] = {sum.x * inv, sum.y * inv, sum.z * inv};
+        // A target inside the body (the mean of a front and a back source placed around an arm
+        // lies in it) goes to the closest hull point: the sources are held kinematic while they
+        // move, so nothing else would stop them there, and the merged particle would start too
+        // deep for the drape's contacts to find (the pencil dress: 4 particles in mean_all's arms).
+        BodyContact c;
+        if (query_body(probe.world, probe.body, target[k], &c).ok() && c.found && c.penetration_m > 0.0f)
+            target[k] = c.hull_point;
     }
     {
         BodyWorld w;
@@ -182,8 +191,6 @@ Status sew_garment(const ClothMeshDesc& unsewn, const std::vector<uint32_t>& att
     };
     std::vector<Binding> bindings;
     if (!attached.empty()) {
-        BodyWorld probe;  // a query reach of 0.5 m finds the closest hull point of any garment particle
-        if (Status s = open_body_world(cooked.asset(), body, o, 0.0f, 1.0f, &probe, 0.5f); !s.ok()) return s;
         BodyView view;
         view_body(probe.world, probe.body, &view);
         for (uint32_t p : attached) {

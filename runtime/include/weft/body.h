@@ -13,8 +13,10 @@
 // body vertices at this step (a moving arm sweeps over resting cloth), through a box hierarchy of
 // Weft's own over the hull (refitted when the body moves, docs/architecture.md); a
 // particle inside the hull is projected back onto it along the contact normal, with friction
-// relative to the moving surface. A particle that moved further than the thickness in one substep
-// is also checked by a ray from its old to its new position, so it cannot cross a thin limb.
+// relative to the moving surface, then searched once more and projected again (no friction) if
+// that landed it inside another part of the hull (a crease: between the thighs, the armpit). A
+// particle that moved further than the thickness in one substep is also checked by a ray from its
+// old to its new position, so it cannot cross a thin limb.
 //
 // The rays go through Embree, whose BVH is refitted only at a step that casts one.
 //

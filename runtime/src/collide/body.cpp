@@ -298,6 +298,7 @@ void collide_body(const Particles& particles, const BodyState& body, uint32_t su
     const float share = 1.0f / float(substeps);
     if (body.desc.reference_queries) return collide_body_reference(p, body, share, counts);
     const SearchCluster search = path_for(path).search;
+    const SearchAgain search_again = path_for(path).search_again;
     const float thickness = body.desc.thickness_m;
     const float reach = base_reach(body);
     ColliderKernelArgs args{};
@@ -334,6 +335,7 @@ void collide_body(const Particles& particles, const BodyState& body, uint32_t su
         if (q.active == 0) continue;
         const uint32_t met = search(body.hierarchy, reach, q, candidates);
         counts.queried += uint64_t(__builtin_popcount(met));
+        uint32_t pushed = 0;
         for (uint32_t k = 0; k < n; ++k) {
             if (!(q.active >> k & 1u)) continue;
             const uint32_t i = c0 + k;
@@ -363,10 +365,38 @@ void collide_body(const Particles& particles, const BodyState& body, uint32_t su
                 triangle = best.triangle;
             }
             counts.contacts += 1;
+            pushed |= 1u << k;
             args.motion = surface_motion(body, triangle, w, share);
             const Vec3W<F> xw{{x[0]}, {x[1]}, {x[2]}};
             const Vec3W<F> nw{{normal[0]}, {normal[1]}, {normal[2]}};
             resolve_contact(p, i, xw, nw, F{penetration}, simd::Mask1{true}, args);
+        }
+        if (pushed == 0) continue;
+        // In a crease of the hull (between the thighs, in the armpit) the push out of one surface
+        // can land inside the other: the pushed particles are searched once more from where they
+        // landed and projected out of the closest surface again, without friction (alternating
+        // projections onto the two sides converge; friction would pull back toward the first).
+        // skirt-walk: the hem under the crotch 1.65 mm below the hull before, 0.58 mm after.
+        q.active = pushed, q.rays = 0;
+        for (uint32_t k = 0; k < n; ++k) {
+            if (!(pushed >> k & 1u)) continue;
+            q.point[k][0] = p.x[c0 + k], q.point[k][1] = p.y[c0 + k], q.point[k][2] = p.z[c0 + k];
+        }
+        search_again(body.hierarchy, reach, q, candidates);
+        for (uint32_t k = 0; k < n; ++k) {
+            if (!(pushed >> k & 1u)) continue;
+            const Best& best = q.best[k];
+            if (!(best.distance2 < std::numeric_limits<float>::infinity())) continue;
+            const Barycentric w{1.0f - best.v - best.w, best.v, best.w};
+            float hull_point[3], normal[3], to_hull[3];
+            interpolate(body, best.triangle, w, hull_point, normal);
+            sub3(hull_point, q.point[k], to_hull);
+            const float penetration = dot3(to_hull, normal);
+            if (!(penetration > 0.0f)) continue;
+            const uint32_t i = c0 + k;
+            p.x[i] = q.point[k][0] + normal[0] * penetration;
+            p.y[i] = q.point[k][1] + normal[1] * penetration;
+            p.z[i] = q.point[k][2] + normal[2] * penetration;
         }
     }
 }

@@ -166,6 +166,7 @@ inline uint32_t intersect_leaf(const float* corners, const float* org, const flo
 // The leaves one cluster may touch, with their boxes copied into local arrays (eight-wide tests).
 struct Candidates {
     uint32_t count = 0;
+    bool whole = false;  // after search_cluster: the list holds every leaf the cluster's walk met
     uint32_t leaf[kMaxCandidates + 8];
     alignas(32) float min_x[kMaxCandidates + 8], min_y[kMaxCandidates + 8], min_z[kMaxCandidates + 8];
     alignas(32) float max_x[kMaxCandidates + 8], max_y[kMaxCandidates + 8], max_z[kMaxCandidates + 8];
@@ -317,9 +318,11 @@ inline uint32_t search_cluster(const BodyHierarchy& h, float reach, Cluster& q, 
             hi[a] = q.origin[k][a] > hi[a] ? q.origin[k][a] : hi[a];
         }
     }
+    c.whole = false;
     if (q.active == 0) return 0;
-    uint32_t met = 0;
+    uint32_t met = 0, flushes = 0;
     auto flush = [&] {
+        ++flushes;
         // Pad the copy so eight-wide loads past the end read empty boxes.
         for (uint32_t n = c.count; n < c.count + 8; ++n) {
             c.min_x[n] = c.min_y[n] = c.min_z[n] = inf;
@@ -335,8 +338,27 @@ inline uint32_t search_cluster(const BodyHierarchy& h, float reach, Cluster& q, 
     };
     c.count = 0;
     collect_leaves<F>(h, lo, hi, c, flush);
-    if (c.count > 0) flush();
+    const uint32_t last = c.count;
+    if (last > 0) flush();
+    // Kept for search_again unless the walk filled the list and flushed it on the way.
+    if (flushes == (last > 0 ? 1u : 0u)) c.count = last, c.whole = true;
     return met;
+}
+
+// The closest triangles of the cluster's active points again, after the response moved them (the
+// crease pass, collide/body.cpp): against the leaves the last search_cluster collected when it kept
+// them all (no second walk; a leaf beyond the reach of every point before the push is not looked
+// at, which only leaves a second correction undone), else through a new walk.
+template <class F>
+inline void search_again(const BodyHierarchy& h, float reach, Cluster& q, Candidates& c) {
+    if (!c.whole) {
+        search_cluster<F>(h, reach, q, c);
+        return;
+    }
+    for (uint32_t k = 0; k < kClusterSlots; ++k) {
+        q.best[k] = {std::numeric_limits<float>::infinity(), 0, 0.0f, 0.0f};
+        if (q.active >> k & 1u) search_candidates<F>(h, c, q.point[k], reach, q.best[k]);
+    }
 }
 
 inline float lowest(simd::Float1 a) { return a.v; }
@@ -429,9 +451,11 @@ inline void refit_leaves(BodyHierarchy& h, const float* hull) {
 
 // One path's search and refit: the templates for the scalar or the AVX2 path (null when unavailable).
 using SearchCluster = uint32_t (*)(const BodyHierarchy&, float, Cluster&, Candidates&);
+using SearchAgain = void (*)(const BodyHierarchy&, float, Cluster&, Candidates&);
 using RefitLeaves = void (*)(BodyHierarchy&, const float*);
 struct Path {
     SearchCluster search;
+    SearchAgain search_again;
     RefitLeaves refit;
 };
 const Path& scalar_path();
