@@ -151,8 +151,9 @@ std::string write_gltf(const std::string& path, const GltfRun& run,
     model.defaultScene = 0;
     // The renderer's colours (samples/render): brick-red cloth, grey colliders.
     const int cloth_material = add_material(&model, "cloth", {0.85, 0.36, 0.22, 1.0}, true);
+    const bool has_body = std::any_of(run.cloths.begin(), run.cloths.end(), [](const GltfSurface& c) { return c.is_body; });
     const int collider_material =
-        run.stills.empty() ? -1 : add_material(&model, "collider", {0.62, 0.64, 0.66, 1.0}, false);
+        run.stills.empty() && !has_body ? -1 : add_material(&model, "collider", {0.62, 0.64, 0.66, 1.0}, false);
     model.materials[size_t(cloth_material)].pbrMetallicRoughness.baseColorTexture.index = add_checker_texture(&model);
 
     const size_t targets = run.frames.size() - 1;  // the first frame is the base shape
@@ -176,7 +177,7 @@ std::string write_gltf(const std::string& path, const GltfRun& run,
         const std::vector<Vec3> base_normals = render::smooth_normals(base, cloth.triangles);
         tinygltf::Primitive primitive;
         primitive.mode = TINYGLTF_MODE_TRIANGLES;
-        primitive.material = cloth_material;
+        primitive.material = cloth.is_body ? collider_material : cloth_material;
         primitive.indices = add_indices(&model, cloth.triangles);
         primitive.attributes["POSITION"] = add_vec3(&model, base, true);
         primitive.attributes["NORMAL"] = add_vec3(&model, base_normals, false);

@@ -3,7 +3,8 @@
 // (positions and normals as differences from the base); one STEP animation channel per cloth sets
 // the weight of frame k to 1 at frame k's time, so any glTF viewer plays the run back exactly as it
 // was simulated. Texture coordinates are the renderer's (metres on the flat cloth) with its checker
-// as a repeating texture. Colliders are separate, still meshes.
+// as a repeating texture. A body (the scene's mannequin or mesh, posed every frame) is one more
+// mesh of that kind, in the colliders' grey and without texture. Colliders are separate, still meshes.
 #pragma once
 
 #include <functional>
@@ -16,8 +17,9 @@ namespace weft::sim {
 
 struct GltfSurface {
     std::string name;
-    std::vector<uint32_t> triangles;  // 3 particle indices per triangle
-    std::vector<float> uv;            // 2 per particle
+    std::vector<uint32_t> triangles;  // 3 particle (or body vertex) indices per triangle
+    std::vector<float> uv;            // 2 per particle; empty for a body
+    bool is_body = false;             // drawn grey and untextured
 };
 
 struct GltfStill {  // a mesh that does not move (a collider)
@@ -27,8 +29,8 @@ struct GltfStill {  // a mesh that does not move (a collider)
 };
 
 struct GltfRun {
-    std::vector<GltfSurface> cloths;
-    // frames[f][c] = cloth c's positions (caller order) in recorded frame f, at times_s[f].
+    std::vector<GltfSurface> cloths;  // the cloths, then the body if the scene has one
+    // frames[f][c] = surface c's positions (caller order) in recorded frame f, at times_s[f].
     std::vector<std::vector<std::vector<Vec3>>> frames;
     std::vector<float> times_s;
     std::vector<GltfStill> stills;

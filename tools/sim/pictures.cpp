@@ -40,6 +40,7 @@ void PictureRecorder::after_frame(uint32_t frame, const scenes::SceneWorld& worl
     if (!options_.animation.empty() && frame % options_.every == 0) animation_frames_.push_back(frame_of(world));
     if (!options_.gltf.empty() && frame % options_.gltf_every == 0) {
         gltf_frames_.push_back(scenes::cloth_positions(world));
+        if (world.body) gltf_frames_.back().push_back(world.body->pose.empty() ? world.body->rest : world.body->pose);
         gltf_times_s_.push_back(float(frame) * dt_s_);
     }
 }

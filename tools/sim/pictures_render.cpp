@@ -23,6 +23,8 @@ std::string export_gltf(const std::string& path, const scenes::Scene& scene, con
         for (const auto& frame : frames)
             for (const Vec3& p : frame[i]) box.add({p.x, p.y, p.z});
     }
+    if (!snapshot.bodies.empty() && !frames.empty() && frames[0].size() > snapshot.cloths.size())
+        run.cloths.push_back({"body", snapshot.bodies[0].triangles, {}, true});  // posed per frame (pictures.cpp)
     for (size_t i = 0; i < snapshot.colliders.size(); ++i) {
         render::SurfaceMesh m = render::collider_surface(snapshot.colliders[i], box);
         run.stills.push_back({"collider " + std::to_string(i), std::move(m.positions), std::move(m.normals),
