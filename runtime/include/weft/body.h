@@ -11,7 +11,7 @@
 // area-weighted normal by `thickness_m`, recomputed whenever the vertices move. Each substep every
 // particle looks for the closest hull point within thickness + margin + the motion of the nearby
 // body vertices at this step (a moving arm sweeps over resting cloth), through a box hierarchy of
-// Weft's own over the hull (refitted when the body moves, docs/architecture.md); a
+// Weft's own over the hull (refitted when the body moves, docs/garments.md); a
 // particle inside the hull is projected back onto it along the contact normal, with friction
 // relative to the moving surface, then searched once more and projected again (no friction) if
 // that landed it inside another part of the hull (a crease: between the thighs, the armpit). A
@@ -47,7 +47,7 @@ struct BodyDesc {
     float friction = 0.5f;       // Coulomb coefficient against the moving surface; 0 = frictionless
     // Diagnostics and benchmarks: the plain pass, one Embree rtcPointQuery per particle (radius
     // thickness + margin + the body's largest vertex motion) and an Embree refit every moving step,
-    // instead of the step's own hierarchy (docs/architecture.md, body colliders).
+    // instead of the step's own hierarchy (docs/garments.md, body colliders).
     bool reference_queries = false;
 };
 
