@@ -77,6 +77,7 @@ struct IntegrateArgs {
     float velocity_scale;  // (h / h_prev) * exp(-damping h): time-corrected, damped
     Vec3 gravity;          // m/s^2
     bool wind;             // add the wind arrays
+    bool planes_free;      // no slot of the lattice planes is pinned or empty (ClothInstance::held_plane_slots)
 };
 
 // XPBD distance projection over one batch (seed section 1.1, Macklin et al. 2016).

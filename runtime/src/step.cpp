@@ -59,7 +59,7 @@ IntegrateArgs integrate_args(const World& world, const ClothInstance& cloth, flo
     const bool first = !(cloth.previous_substep_s > 0.0f);
     const float ratio = first ? 1.0f : h / cloth.previous_substep_s;
     return {(first ? 0.5f : 1.0f) * h * h, ratio * std::exp(-cloth.settings.damping_per_s * h), world.gravity_m_s2,
-            world.desc.wind};
+            world.desc.wind, cloth.held_plane_slots == 0};
 }
 
 bool has_coarse_level(const ClothInstance& cloth) {

@@ -164,6 +164,9 @@ Result check_collider(const ColliderDesc& desc) {
     return {};
 }
 
+// Slots [0, this) are the lattice's four parity planes (none without a lattice).
+uint32_t lattice_plane_slots(const ClothAsset& a) { return 4 * a.lattice_plane_rows * a.lattice_plane_cols; }
+
 void place_at_start(ClothInstance& cloth) {
     const ClothAsset& a = *cloth.asset;
     const Particles& p = cloth.particles;
@@ -174,6 +177,8 @@ void place_at_start(ClothInstance& cloth) {
         p.z[i] = p.previous_z[i] = a.start_z[i] + t.z;
         p.inverse_mass[i] = a.inverse_mass[i];
     }
+    cloth.held_plane_slots = 0;
+    for (uint32_t i = 0; i < lattice_plane_slots(a); ++i) cloth.held_plane_slots += !(p.inverse_mass[i] > 0.0f);
     if (p.wind_x != nullptr) {
         std::memset(p.wind_x, 0, sizeof(float) * a.slot_count);
         std::memset(p.wind_y, 0, sizeof(float) * a.slot_count);
@@ -461,6 +466,8 @@ Result set_particle(World* world, ClothId cloth, uint32_t particle, Vec3 positio
     p.x[s] = p.previous_x[s] = position_m.x;
     p.y[s] = p.previous_y[s] = position_m.y;
     p.z[s] = p.previous_z[s] = position_m.z;
+    if (s < lattice_plane_slots(*c.asset))
+        c.held_plane_slots += uint32_t(!(inverse_mass_per_kg > 0.0f)) - uint32_t(!(p.inverse_mass[s] > 0.0f));
     p.inverse_mass[s] = inverse_mass_per_kg;
     return {};
 }

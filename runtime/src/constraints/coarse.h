@@ -22,6 +22,8 @@
 
 namespace weft {
 
+// The node passes read the particle arrays at scattered slots, one scalar load per lane
+// (gather_by_loads: faster than the hardware gather here).
 // Step 1 for the node slots k..k+width: their nodes' Verlet prediction, straight into the node
 // slots the sweep works on (st.x) and, kept for the displacement, into st.dx (by node slot until
 // step 2 is done). Padding node slots predict some particle and are never moved (inverse mass 0).
@@ -32,15 +34,15 @@ inline void predict_coarse_nodes(const Particles& p, const IntegrateArgs& args, 
     const F h2 = splat(args.h2_s2, F{}), velocity_scale = splat(args.velocity_scale, F{});
     F ax = splat(args.gravity.x, F{}), ay = splat(args.gravity.y, F{}), az = splat(args.gravity.z, F{});
     if (args.wind) {
-        ax = ax + gather(p.wind_x, slot, F{});
-        ay = ay + gather(p.wind_y, slot, F{});
-        az = az + gather(p.wind_z, slot, F{});
+        ax = ax + gather_by_loads(p.wind_x, slot, F{});
+        ay = ay + gather_by_loads(p.wind_y, slot, F{});
+        az = az + gather_by_loads(p.wind_z, slot, F{});
     }
-    const auto is_free = gather(p.inverse_mass, slot, F{}) > splat(0.0f, F{});
-    const F x = gather(p.x, slot, F{}), y = gather(p.y, slot, F{}), z = gather(p.z, slot, F{});
-    const F px = select(is_free, verlet_predict(x, gather(p.previous_x, slot, F{}), ax, velocity_scale, h2), x);
-    const F py = select(is_free, verlet_predict(y, gather(p.previous_y, slot, F{}), ay, velocity_scale, h2), y);
-    const F pz = select(is_free, verlet_predict(z, gather(p.previous_z, slot, F{}), az, velocity_scale, h2), z);
+    const auto is_free = gather_by_loads(p.inverse_mass, slot, F{}) > splat(0.0f, F{});
+    const F x = gather_by_loads(p.x, slot, F{}), y = gather_by_loads(p.y, slot, F{}), z = gather_by_loads(p.z, slot, F{});
+    const F px = select(is_free, verlet_predict(x, gather_by_loads(p.previous_x, slot, F{}), ax, velocity_scale, h2), x);
+    const F py = select(is_free, verlet_predict(y, gather_by_loads(p.previous_y, slot, F{}), ay, velocity_scale, h2), y);
+    const F pz = select(is_free, verlet_predict(z, gather_by_loads(p.previous_z, slot, F{}), az, velocity_scale, h2), z);
     store(st.x + k, px);
     store(st.y + k, py);
     store(st.z + k, pz);
@@ -63,9 +65,9 @@ template <class F>
 inline void coarse_displacement(const ClothAsset& a, const CoarseState& st, uint32_t j) {
     using namespace simd;
     const uint32_t* slot = a.coarse_slot_of_node + j;
-    store(st.dx + j, gather(st.x, slot, F{}));
-    store(st.dy + j, gather(st.y, slot, F{}));
-    store(st.dz + j, gather(st.z, slot, F{}));
+    store(st.dx + j, gather_by_loads(st.x, slot, F{}));
+    store(st.dy + j, gather_by_loads(st.y, slot, F{}));
+    store(st.dz + j, gather_by_loads(st.z, slot, F{}));
 }
 
 // Steps 1 and 2; leaves each node's displacement in state.dx/dy/dz (added to every particle by the

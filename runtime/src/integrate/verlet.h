@@ -17,12 +17,14 @@
 
 namespace weft {
 
-// One lane group at slot i: x(t+h) from x(t), x(t-h) and the coarse displacement c.
+// One lane group at slot i: x(t+h) from x(t), x(t-h) and the coarse displacement c. kPinned: some
+// slot of the pass may be pinned (or empty), so each lane checks its inverse mass; without, the
+// inverse-mass load, compare and three selects are skipped (same bits: every lane is free).
 template <class F>
 struct Predicted {
     F x, y, z;
 };
-template <class F, bool kWind>
+template <class F, bool kWind, bool kPinned = true>
 inline Predicted<F> predict_lanes(const Particles& p, const IntegrateArgs& args, uint32_t i, F cx, F cy, F cz) {
     using namespace simd;
     const F h2 = splat(args.h2_s2, F{});
@@ -33,12 +35,17 @@ inline Predicted<F> predict_lanes(const Particles& p, const IntegrateArgs& args,
         ay = ay + load(p.wind_y + i, F{});
         az = az + load(p.wind_z + i, F{});
     }
-    const auto is_free = load(p.inverse_mass + i, F{}) > splat(0.0f, F{});  // pinned particles stay put
     const F x = load(p.x + i, F{}), y = load(p.y + i, F{}), z = load(p.z + i, F{});
     const F px = load(p.previous_x + i, F{}), py = load(p.previous_y + i, F{}), pz = load(p.previous_z + i, F{});
-    return {select(is_free, verlet_predict(x, px, ax, velocity_scale, h2) + cx, x),
-            select(is_free, verlet_predict(y, py, ay, velocity_scale, h2) + cy, y),
-            select(is_free, verlet_predict(z, pz, az, velocity_scale, h2) + cz, z)};
+    const Predicted<F> n{verlet_predict(x, px, ax, velocity_scale, h2) + cx,
+                         verlet_predict(y, py, ay, velocity_scale, h2) + cy,
+                         verlet_predict(z, pz, az, velocity_scale, h2) + cz};
+    if constexpr (kPinned) {
+        const auto is_free = load(p.inverse_mass + i, F{}) > splat(0.0f, F{});  // pinned particles stay put
+        return {select(is_free, n.x, x), select(is_free, n.y, y), select(is_free, n.z, z)};
+    } else {
+        return n;
+    }
 }
 
 // x(t+h) overwrites x(t-h), which is no longer needed; the caller then swaps the two arrays, so
@@ -89,18 +96,18 @@ void integrate_with_coarse_weights(const Particles& particles, const IntegrateAr
 
 // Lattice coarse form: plane row by plane row, blending the two coarse rows around it (each
 // already interpolated to every plane column) with contiguous loads: L + frac * (U - L).
-template <class F, bool kWind>
+template <class F, bool kWind, bool kPinned>
 inline Predicted<F> predict_lattice_lanes(const Particles& p, const IntegrateArgs& args, const float* lower,
                                           const float* delta, uint32_t stride, F frac, uint32_t slot, uint32_t c) {
     using namespace simd;
     const float* l = lower + c;
     const float* d = delta + c;
-    return predict_lanes<F, kWind>(p, args, slot, mul_add(frac, load(d, F{}), load(l, F{})),
+    return predict_lanes<F, kWind, kPinned>(p, args, slot, mul_add(frac, load(d, F{}), load(l, F{})),
                                    mul_add(frac, load(d + stride, F{}), load(l + stride, F{})),
                                    mul_add(frac, load(d + 2 * stride, F{}), load(l + 2 * stride, F{})));
 }
 
-template <class F, bool kWind>
+template <class F, bool kWind, bool kPinned>
 void integrate_with_coarse_lattice(const Particles& particles, const IntegrateArgs& integrate_args,
                                    const ClothAsset& a, const CoarseState& st) {
     // Local copies: the pass's stores cannot alias them, so the array pointers and the constants stay
@@ -138,15 +145,15 @@ void integrate_with_coarse_lattice(const Particles& particles, const IntegrateAr
                     const F frac = simd::splat(a.coarse_row_frac[row_parity][r], F{});
                     const uint32_t last = cols - F::width;
                     const Predicted<F> tail =
-                        predict_lattice_lanes<F, kWind>(p, args, lower, delta, stride, frac, base + last, last);
+                        predict_lattice_lanes<F, kWind, kPinned>(p, args, lower, delta, stride, frac, base + last, last);
                     for (uint32_t c = 0; c < last; c += F::width)
-                        store_predicted(p, base + c, predict_lattice_lanes<F, kWind>(p, args, lower, delta, stride,
+                        store_predicted(p, base + c, predict_lattice_lanes<F, kWind, kPinned>(p, args, lower, delta, stride,
                                                                                      frac, base + c, c));
                     store_predicted(p, base + last, tail);
                 } else {  // rows narrower than a lane group
                     const simd::Float1 frac{a.coarse_row_frac[row_parity][r]};
                     for (uint32_t c = 0; c < cols; ++c)
-                        store_predicted(p, base + c, predict_lattice_lanes<simd::Float1, kWind>(
+                        store_predicted(p, base + c, predict_lattice_lanes<simd::Float1, kWind, kPinned>(
                                                          p, args, lower, delta, stride, frac, base + c, c));
                 }
             }
@@ -159,8 +166,10 @@ template <class F, bool kWind>
 void integrate_dispatch(const Particles& p, const IntegrateArgs& args, const ClothAsset& a, const CoarseState* st) {
     if (st == nullptr) {
         integrate_slots<F, kWind>(p, args, 0, p.slot_count);
+    } else if (a.coarse_lattice_cols > 0 && args.planes_free) {
+        integrate_with_coarse_lattice<F, kWind, false>(p, args, a, *st);
     } else if (a.coarse_lattice_cols > 0) {
-        integrate_with_coarse_lattice<F, kWind>(p, args, a, *st);
+        integrate_with_coarse_lattice<F, kWind, true>(p, args, a, *st);
     } else {
         integrate_with_coarse_weights<F, kWind>(p, args, a, *st);
     }
