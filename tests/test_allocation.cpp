@@ -200,9 +200,11 @@ std::vector<SimdPath> available_paths() {
     return paths;
 }
 
-std::unique_ptr<scenes::SeedWorld> make_scene(SeedScene scene, SimdPath path, bool profile, uint32_t n = 50) {
+std::unique_ptr<scenes::SeedWorld> make_scene(SeedScene scene, SimdPath path, bool profile, uint32_t n = 50,
+                                              bool contact_tethers = false) {
     scenes::SceneOptions o;
     o.n = n;
+    o.contact_tethers = contact_tethers;
     o.simd = path;
     o.profile = profile;
     o.sphere_friction = 0.5f;  // friction exercises the collider's second code path
@@ -230,13 +232,13 @@ LoopResult count_stepping(const scenes::SeedWorld& w, uint32_t steps) {
     return r;
 }
 
-void check_no_allocation(SeedScene scene) {
+void check_no_allocation(SeedScene scene, bool contact_tethers = false) {
     for (SimdPath path : available_paths()) {
         for (bool profile : {false, true}) {
             const std::string label = std::string(scenes::scene_name(scene)) + ", " + simd_path_name(path) +
                                       (profile ? ", profile" : "");
             CAPTURE(label);
-            auto w = make_scene(scene, path, profile);
+            auto w = make_scene(scene, path, profile, 50, contact_tethers);
             REQUIRE(world_simd_path(w->world) == path);
             const LoopResult r = count_stepping(*w, 1000);
             CHECK(r.failed_steps == 0);
@@ -280,6 +282,9 @@ TEST_CASE("stepping the drape 1000 times allocates nothing") { check_no_allocati
 TEST_CASE("stepping the flag in wind 1000 times allocates nothing") { check_no_allocation(SeedScene::flag); }
 TEST_CASE("stepping the sphere with friction 0.5 1000 times allocates nothing") {
     check_no_allocation(SeedScene::sphere);
+}
+TEST_CASE("stepping the sphere with contact tethers 1000 times allocates nothing") {
+    check_no_allocation(SeedScene::sphere, true);
 }
 
 TEST_CASE("a frame's calls allocate nothing: set_wind, set_collider, step, read_positions, view_cloth") {

@@ -61,10 +61,14 @@ TEST_CASE("determinism: drape, 300 steps, bit-identical") { check_determinism(Se
 TEST_CASE("determinism: flag, 300 steps, bit-identical") { check_determinism(SeedScene::flag); }
 TEST_CASE("determinism: sphere, 300 steps, bit-identical") { check_determinism(SeedScene::sphere); }
 
-TEST_CASE("determinism: sphere with friction 0.5 and an off-centre drop") {
+namespace {
+
+// Two sphere worlds with friction 0.5, dropped `offset_m` off-centre: bit-identical after 300 steps.
+void check_sphere_determinism(float offset_m, bool contact_tethers) {
     scenes::SceneOptions o = scene_options(kGrid);
     o.sphere_friction = 0.5f;
-    o.sphere_offset_m = 0.3f;
+    o.sphere_offset_m = offset_m;
+    o.contact_tethers = contact_tethers;
     for (SimdPath path : available_paths()) {
         const std::string path_name = simd_path_name(path);
         CAPTURE(path_name);
@@ -77,6 +81,11 @@ TEST_CASE("determinism: sphere with friction 0.5 and an off-centre drop") {
     }
 }
 
+}  // namespace
+
+TEST_CASE("determinism: sphere with friction 0.5 and an off-centre drop") { check_sphere_determinism(0.3f, false); }
+TEST_CASE("determinism: contact tethers on the sphere, 300 steps") { check_sphere_determinism(0.25f, true); }
+
 TEST_CASE("scalar vs avx2: drape after 100 steps") { check_parity(SeedScene::drape, 100); }
 TEST_CASE("scalar vs avx2: flag after 100 steps") { check_parity(SeedScene::flag, 100); }
 TEST_CASE("scalar vs avx2: sphere after 100 steps") { check_parity(SeedScene::sphere, 100); }
@@ -84,7 +93,7 @@ TEST_CASE("scalar vs avx2: sphere after 100 steps") { check_parity(SeedScene::sp
 namespace {
 
 // The sphere with friction on both paths: bit-identical after `steps` steps.
-void check_sphere_parity(uint32_t n, float offset_m, uint32_t steps) {
+void check_sphere_parity(uint32_t n, float offset_m, uint32_t steps, bool contact_tethers = false) {
     if (!simd_path_available(SimdPath::avx2)) {
         MESSAGE("AVX2 is not available in this build or CPU: scalar vs SIMD parity not tested");
         return;
@@ -93,6 +102,7 @@ void check_sphere_parity(uint32_t n, float offset_m, uint32_t steps) {
     scenes::SceneOptions o = scene_options(n);
     o.sphere_friction = 0.5f;
     o.sphere_offset_m = offset_m;
+    o.contact_tethers = contact_tethers;
     o.simd = SimdPath::scalar;
     auto scalar = make_scene(SeedScene::sphere, o);
     o.simd = SimdPath::avx2;
@@ -111,6 +121,13 @@ void check_sphere_parity(uint32_t n, float offset_m, uint32_t steps) {
 }  // namespace
 
 TEST_CASE("scalar vs avx2: sphere with friction 0.5 after 100 steps") { check_sphere_parity(kGrid, 0.3f, 100); }
+
+TEST_CASE("scalar vs avx2: contact tethers on the sphere") {
+    // Anchored nodes on both paths: the per-step anchors are scalar code, the ball projection runs
+    // on the coarse solve's lane groups (gathers on AVX2).
+    check_sphere_parity(kGrid, 0.3f, 100, true);
+    check_sphere_parity(37, 0.1f, 60, true);
+}
 
 TEST_CASE("scalar vs avx2: the coarse lattice's row tails and narrow rows on the sphere") {
     // n = 37: plane rows of 19 columns (two lane groups and one overlapping tail group); n = 12: rows

@@ -97,49 +97,66 @@ void make_world(const DiscMesh& mesh, const ClothDesc& settings, DiscWorld& out)
     REQUIRE(add_collider(out.world, sphere, &id).ok());
 }
 
-}  // namespace
+// Drops the disc `offset` m off the sphere's top with `settings` and checks the grid's targets:
+// finite, nothing below y = -1 m, at rest (mean speed below 1 cm/s), the middle particle on the
+// inflated sphere.
+void check_disc_stays(float offset, const ClothDesc& settings) {
+    CAPTURE(offset);
+    const DiscMesh mesh = make_disc(0.7f, 2.0f / 99.0f, 1.0f, offset);
+    DiscWorld w;
+    make_world(mesh, settings, w);
+    const ClothAsset& asset = w.cooked.asset();
+    REQUIRE(asset.coarse_node_count > 0);
+    CHECK(asset.coarse_lattice_cols == 0);  // no lattice: the general form
+    SolverSplit split;
+    REQUIRE(cloth_solver_split(w.world, w.cloth, &split).ok());
+    CHECK(split.coarse_level);
+    CHECK(split.substeps == 3);
 
-// Dropped centred. (Dropped 0.25 m off-centre the 1.4 m disc slides off at 3 sweeps: docs/solver.md.)
-TEST_CASE("irregular disc on the sphere: the default keeps it on, with the general coarse level") {
-    for (float offset : {0.0f}) {
-        CAPTURE(offset);
-        const DiscMesh mesh = make_disc(0.7f, 2.0f / 99.0f, 1.0f, offset);
-        DiscWorld w;
-        make_world(mesh, ClothDesc{}, w);
-        const ClothAsset& asset = w.cooked.asset();
-        REQUIRE(asset.coarse_node_count > 0);
-        CHECK(asset.coarse_lattice_cols == 0);  // no lattice: the general form
-        SolverSplit split;
-        REQUIRE(cloth_solver_split(w.world, w.cloth, &split).ok());
-        CHECK(split.coarse_level);
-        CHECK(split.substeps == 3);
-
-        // The particle nearest the disc's centre.
-        uint32_t middle = 0;
-        for (uint32_t i = 1; i < mesh.positions.size(); ++i)
-            if (std::hypot(mesh.positions[i].x - offset, mesh.positions[i].z) <
-                std::hypot(mesh.positions[middle].x - offset, mesh.positions[middle].z))
-                middle = i;
-        bool finite = true;
-        for (int i = 0; i < 330; ++i) {
-            REQUIRE(step(w.world, scenes::kSeedTimeStep_s).ok());
-            ClothView v;
-            REQUIRE(view_cloth(w.world, w.cloth, &v).ok());
-            finite = finite && metrics::bounds(v).finite;
-        }
+    // The particle nearest the disc's centre.
+    uint32_t middle = 0;
+    for (uint32_t i = 1; i < mesh.positions.size(); ++i)
+        if (std::hypot(mesh.positions[i].x - offset, mesh.positions[i].z) <
+            std::hypot(mesh.positions[middle].x - offset, mesh.positions[middle].z))
+            middle = i;
+    bool finite = true;
+    for (int i = 0; i < 330; ++i) {
+        REQUIRE(step(w.world, scenes::kSeedTimeStep_s).ok());
         ClothView v;
         REQUIRE(view_cloth(w.world, w.cloth, &v).ok());
-        const Vec3 m = metrics::particle_position(v, middle);
-        const double gap = std::sqrt(double(m.x) * m.x + double(m.y) * m.y + double(m.z) * m.z) - 0.51;
-        const metrics::Bounds b = metrics::bounds(v);
-        const metrics::Strain s = metrics::stretch_strain(v);
-        MESSAGE("disc (", mesh.positions.size(), " particles, ", asset.coarse_node_count, " coarse nodes), offset ",
-                offset, " m: middle y ", m.y, ", gap to the inflated sphere ", gap, " m, lowest y ", b.min.y,
-                ", mean speed ", metrics::mean_speed(v), " m/s, strain mean ", s.mean, " max ", s.max);
-        CHECK(finite);
-        CHECK(b.min.y > -1.0f);                 // it did not slide off
-        CHECK(metrics::mean_speed(v) < 0.01);   // and it is at rest
-        CHECK(gap > -0.001);                    // the middle rests on the sphere
-        CHECK(gap < 0.02);
+        finite = finite && metrics::bounds(v).finite;
     }
+    ClothView v;
+    REQUIRE(view_cloth(w.world, w.cloth, &v).ok());
+    const Vec3 m = metrics::particle_position(v, middle);
+    const double gap = std::sqrt(double(m.x) * m.x + double(m.y) * m.y + double(m.z) * m.z) - 0.51;
+    const metrics::Bounds b = metrics::bounds(v);
+    const metrics::Strain s = metrics::stretch_strain(v);
+    MESSAGE("disc (", mesh.positions.size(), " particles, ", asset.coarse_node_count, " coarse nodes), offset ",
+            offset, " m, contact tethers ", settings.contact_tethers, ": middle y ", m.y,
+            ", gap to the inflated sphere ", gap, " m, lowest y ", b.min.y, ", mean speed ", metrics::mean_speed(v),
+            " m/s, strain mean ", s.mean, " max ", s.max);
+    CHECK(finite);
+    CHECK(b.min.y > -1.0f);                 // it did not slide off
+    CHECK(metrics::mean_speed(v) < 0.01);   // and it is at rest
+    CHECK(gap > -0.001);                    // the middle rests on the sphere
+    CHECK(gap < 0.02);
+}
+
+}  // namespace
+
+// Dropped centred. Dropped 0.25 m off-centre the default lets the 1.4 m disc slide off at 3 (and 6)
+// sweeps: not because the mesh is irregular (a 1.4 m square Delaunay-meshed the same way stays, a
+// disc of unjittered points slides) but because its near edge, 0.45 m from the sphere's axis, hangs
+// over nothing to balance the far side; at friction 0.7 it stays (docs/solver.md).
+TEST_CASE("irregular disc on the sphere: the default keeps it on, with the general coarse level") {
+    check_disc_stays(0.0f, ClothDesc{});
+}
+
+// With contact tethers (ClothDesc::contact_tethers) the disc stays at both offsets the grid is held
+// to: the nodes touching the sphere anchor the rest of the coarse level.
+TEST_CASE("irregular disc on the sphere: contact tethers keep it on centred and 0.25 m off-centre") {
+    ClothDesc settings;
+    settings.contact_tethers = true;
+    for (float offset : {0.0f, 0.25f}) check_disc_stays(offset, settings);
 }

@@ -61,6 +61,12 @@ struct CoarseState {
     // column, as kCoarseColumnRows rows of `column_stride` floats: two coarse rows (x, y, z each)
     // and their difference (integrate/verlet.h).
     uint32_t* particle_slot = nullptr;  // [coarse_slot_count] the particle slot of each node slot
+    // Contact tethers (ClothDesc::contact_tethers, constraints/contact_tethers.h), by node slot: the
+    // node slot of the anchor (a node in contact or pinned; itself when none) and the
+    // tether's rest length, metres (+inf: none). Null in the state handed to the solve when off.
+    uint32_t* anchor = nullptr;
+    float* anchor_rest = nullptr;
+    uint32_t* holds = nullptr;  // 1 when the node touches a collider or is pinned (after the last step)
     float* column_rows = nullptr;
     uint32_t column_stride = 0;  // floats, at least lattice_plane_cols + kSimdWidth
 };

@@ -2,7 +2,8 @@
 //
 //   1. external forces: gravity and damping (folded into Verlet), wind drag and lift (eq. 2-4)
 //   2. Verlet integration
-//   3. spring correction: a) one sweep of the coarse level (if any), b) `iterations` sweeps over
+//   3. spring correction: a) one sweep of the coarse level (if any; with contact tethers, which the
+//      end of each step re-anchors), b) `iterations` sweeps over
 //      every constraint batch, c) the tethers once (measured: tethers after every sweep cost 2x the
 //      pass for a smaller max strain, docs/solver.md)
 //   4. collision test and response against the inflated colliders, then the bodies' offset hulls
@@ -20,6 +21,7 @@
 
 #include "aerodynamics/wind.h"
 #include "constraints/attachments.h"
+#include "constraints/contact_tethers.h"
 #include "world_internal.h"
 
 namespace weft {
@@ -66,12 +68,19 @@ bool has_coarse_level(const ClothInstance& cloth) {
     return cloth.split.coarse_level;
 }
 
+bool has_contact_tethers(const ClothInstance& cloth) {
+    return cloth.settings.contact_tethers && has_coarse_level(cloth);
+}
+
 // The coarse level's sweep on its nodes' Verlet prediction; the integration pass then adds the
 // resulting displacement to every particle.
+
 void correct_coarse_level(World& world, ClothInstance& cloth, float h) {
     if (!has_coarse_level(cloth)) return;
     PassTimer timer(world, Pass::coarse);
-    world.kernels->solve_coarse_level(cloth.particles, integrate_args(world, cloth, h), *cloth.asset, cloth.coarse,
+    CoarseState state = cloth.coarse;
+    if (!has_contact_tethers(cloth)) state.anchor = nullptr;  // the solve then skips them
+    world.kernels->solve_coarse_level(cloth.particles, integrate_args(world, cloth, h), *cloth.asset, state,
                                       cloth.split.relaxation);
 }
 
@@ -134,6 +143,20 @@ void collide(World& world, ClothInstance& cloth, uint32_t substeps) {
         args.motion = {c.motion_m.x * share, c.motion_m.y * share, c.motion_m.z * share};
         world.kernels->collide(cloth.particles, args);
     }
+}
+
+// After the step's last collision pass: which coarse nodes hold the cloth (in contact with a
+// collider that has friction, or pinned), and each other node's anchor among them, for the next
+// step's coarse solves (constraints/contact_tethers.h). Timed with the coarse level.
+void find_contact_anchors(World& world, ClothInstance& cloth) {
+    if (!has_contact_tethers(cloth)) return;
+    PassTimer timer(world, Pass::coarse);
+    const ClothAsset& asset = *cloth.asset;
+    begin_holding_nodes(cloth.particles, asset, cloth.coarse);
+    for (uint32_t i = 0; i < world.collider_count; ++i)
+        if (world.colliders[i].desc.friction > 0.0f)
+            mark_contact_nodes(cloth.particles, asset, cloth.coarse, world.colliders[i].desc);
+    update_contact_anchors(asset, cloth.coarse, (world.stats.steps & 1u) == 0);
 }
 
 // Bodies the game moved since the last step: refit Weft's hierarchy (or, for the plain reference
@@ -199,6 +222,7 @@ void step_cloth(World& world, ClothInstance& cloth, float dt) {
         collide_bodies(world, cloth, cloth.split.substeps);    //    then bodies
         cloth.previous_substep_s = h;
     }
+    find_contact_anchors(world, cloth);
 }
 
 uint64_t count_projections(const World& world, BatchLayout layout) {

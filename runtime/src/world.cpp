@@ -3,6 +3,7 @@
 #include <cstdarg>
 #include <cstdio>
 #include <cstring>
+#include <limits>
 #include <new>
 
 #include "world_internal.h"
@@ -78,6 +79,7 @@ ArenaSizer size_world(const WorldDesc& desc) {
     sizer.add(kCoarseColumnRows * (sizeof(float) * (size_t(desc.max_particles) / 4 + 2 * kSimdWidth * desc.max_cloths)) +
               kCacheLine * desc.max_cloths);
     sizer.add(sizeof(uint32_t) * size_t(desc.max_coarse_nodes) + kCacheLine * desc.max_cloths);  // particle_slot
+    sizer.add(3 * (sizeof(uint32_t) * size_t(desc.max_coarse_nodes) + kCacheLine * desc.max_cloths));  // anchors
     // Bodies: hull and previous hull (4 floats a vertex), normals (3), triangles (3 indices); each
     // array may waste a cache line per body, and Embree reads its buffers 16 bytes past the end.
     sizer.add(sizeof(BodyState) * desc.max_bodies);
@@ -166,6 +168,14 @@ Result check_collider(const ColliderDesc& desc) {
 
 // Slots [0, this) are the lattice's four parity planes (none without a lattice).
 uint32_t lattice_plane_slots(const ClothAsset& a) { return 4 * a.lattice_plane_rows * a.lattice_plane_cols; }
+// No contact anchors (ClothDesc::contact_tethers): the first step's end finds them.
+void clear_contact_anchors(ClothInstance& cloth) {
+    for (uint32_t k = 0; k < cloth.asset->coarse_slot_count; ++k) {
+        cloth.coarse.anchor[k] = k;
+        cloth.coarse.anchor_rest[k] = std::numeric_limits<float>::infinity();
+        cloth.coarse.holds[k] = 0;
+    }
+}
 
 void place_at_start(ClothInstance& cloth) {
     const ClothAsset& a = *cloth.asset;
@@ -179,6 +189,7 @@ void place_at_start(ClothInstance& cloth) {
     }
     cloth.held_plane_slots = 0;
     for (uint32_t i = 0; i < lattice_plane_slots(a); ++i) cloth.held_plane_slots += !(p.inverse_mass[i] > 0.0f);
+    clear_contact_anchors(cloth);
     if (p.wind_x != nullptr) {
         std::memset(p.wind_x, 0, sizeof(float) * a.slot_count);
         std::memset(p.wind_y, 0, sizeof(float) * a.slot_count);
@@ -324,7 +335,12 @@ Result add_cloth(World* world, const ClothDesc& desc, ClothId* out_cloth) {
         }
     }
     uint32_t* const node_particle_slot = world->arena.allocate_array<uint32_t>(asset.coarse_slot_count);
-    if (node_particle_slot == nullptr && asset.coarse_slot_count > 0) {
+    uint32_t* const node_anchor = world->arena.allocate_array<uint32_t>(asset.coarse_slot_count);
+    float* const node_anchor_rest = world->arena.allocate_array<float>(asset.coarse_slot_count);
+    uint32_t* const node_holds = world->arena.allocate_array<uint32_t>(asset.coarse_slot_count);
+    if ((node_particle_slot == nullptr || node_anchor == nullptr || node_anchor_rest == nullptr ||
+         node_holds == nullptr) &&
+        asset.coarse_slot_count > 0) {
         world->arena = saved;
         return make_error(ErrorCode::capacity_exceeded, "world memory exhausted");
     }
@@ -355,6 +371,9 @@ Result add_cloth(World* world, const ClothDesc& desc, ClothId* out_cloth) {
     c.dy = arrays[count + 4];
     c.dz = arrays[count + 5];
     c.particle_slot = node_particle_slot;
+    c.anchor = node_anchor;
+    c.anchor_rest = node_anchor_rest;
+    c.holds = node_holds;
     for (uint32_t k = 0; k < asset.coarse_slot_count; ++k)
         node_particle_slot[k] = asset.coarse_node_slot[asset.coarse_node_of_slot[k]];
     c.column_rows = arrays[count + 6];
@@ -425,6 +444,7 @@ Result set_cloth_settings(World* world, ClothId cloth, const ClothDesc& desc) {
     ClothInstance& c = world->cloths[cloth.index];
     if (desc.asset != c.asset)
         return make_error(ErrorCode::invalid_argument, "a cloth's asset cannot change");
+    if (desc.contact_tethers && !c.settings.contact_tethers) clear_contact_anchors(c);  // none are current
     c.settings = desc;
     c.split = resolve_split(desc, *c.asset);
     return {};

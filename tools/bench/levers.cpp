@@ -45,6 +45,9 @@ std::vector<Lever> levers(uint32_t sweeps) {
     out.push_back(split("coarse level (iterations)", 1, 1.0f, false, true));
     out.push_back(split("coarse level (substeps, 0.8)", sweeps, 0.8f, false, true));
     out.push_back(split("coarse level + tethers (substeps, 0.8)", sweeps, 0.8f, true, true));
+    Lever contact = split("coarse + contact tethers (substeps, 0.8)", sweeps, 0.8f, false, true);
+    contact.options.contact_tethers = true;
+    out.push_back(contact);
     Lever d;
     d.name = "default (automatic policy)";
     scenes::apply_config(scenes::Config::default_config, sweeps, d.options);

@@ -65,6 +65,8 @@ struct CliOptions {
     uint32_t repeat = 1;
     bool json = false;
     bool no_tethers = false;
+    bool contact_tethers = false;     // ClothDesc::contact_tethers on (the config's otherwise)
+    bool no_contact_tethers = false;  // ... off
     bool no_passes = false;
     std::string json_out;  // also append the JSON lines to this file
     std::vector<std::string> paths{"scalar", "avx2"};
@@ -105,6 +107,8 @@ void add_common_options(CLI::App* app, CliOptions& o) {
     app->add_flag("--json", o.json, "one JSON object per line (per size x path)");
     app->add_option("--json-out", o.json_out, "also append the JSON lines to this file (with the tables on stdout)");
     app->add_flag("--no-tethers", o.no_tethers, "disable the long-range attachments");
+    app->add_flag("--contact-tethers", o.contact_tethers, "tethers to coarse nodes in contact (ClothDesc::contact_tethers)");
+    app->add_flag("--no-contact-tethers", o.no_contact_tethers, "no tethers to coarse nodes in contact");
     app->add_flag("--no-passes", o.no_passes, "skip the second, profiled run (no per-pass costs)");
 }
 
@@ -321,6 +325,8 @@ bool run_scene(SeedScene scene, const CliOptions& o, std::FILE* json_file, std::
         ro.scene_options.sweeps = ro.scene_options.substeps * ro.scene_options.iterations;
     }
     if (o.no_tethers) ro.scene_options.tethers = false;
+    if (o.contact_tethers) ro.scene_options.contact_tethers = true;
+    if (o.no_contact_tethers) ro.scene_options.contact_tethers = false;
     ro.scene_options.wind_m_s = o.wind_m_s;
     ro.scene_options.sphere_inflation_m = o.inflation_m;
     ro.scene_options.sphere_friction = o.friction;

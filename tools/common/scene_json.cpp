@@ -109,7 +109,7 @@ GridSource parse_grid(const json& j, const std::string& where) {
 
 void parse_solver(const json& j, const std::string& where, ClothDesc* d) {
     object(j, where, {"sweeps", "substeps", "iterations", "relaxation", "coarse_level", "projection", "tethers",
-                      "tethers_before_sweeps", "tether_slack"});
+                      "tethers_before_sweeps", "tether_slack", "contact_tethers"});
     read(j, "sweeps", where, 1, 1000, &d->sweeps);
     // Naming substeps or iterations makes the split explicit (BudgetPolicy::explicit_split).
     if (j.contains("substeps") || j.contains("iterations")) {
@@ -123,6 +123,7 @@ void parse_solver(const json& j, const std::string& where, ClothDesc* d) {
     read_bool(j, "coarse_level", where, &d->coarse_level);
     read_bool(j, "tethers", where, &d->tethers);
     read_bool(j, "tethers_before_sweeps", where, &d->tethers_before_sweeps);
+    read_bool(j, "contact_tethers", where, &d->contact_tethers);
     read(j, "tether_slack", where, 0.0, 10.0, &d->tether_slack);
     if (j.contains("projection")) {
         const std::string p = text(j["projection"], where + ".projection");

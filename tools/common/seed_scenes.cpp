@@ -59,6 +59,7 @@ void apply_config(Config config, uint32_t sweeps, SceneOptions& o) {
         o.relaxation = 1.0f;
         o.tethers = false;
         o.coarse_level = false;
+        o.contact_tethers = false;
     } else {
         o.explicit_split = false;
         o.tethers = true;
@@ -116,6 +117,7 @@ Scene seed_scene(SeedScene which, const SceneOptions& o) {
     cd.tethers_before_sweeps = o.tethers_before_sweeps;
     cd.relaxation = o.relaxation;
     cd.coarse_level = o.coarse_level;
+    cd.contact_tethers = o.contact_tethers;
     cd.damping_per_s = o.damping_per_s;
     cd.projection = o.projection;
     cd.compliance_m_per_n[0] = o.stretch_compliance_m_per_n;

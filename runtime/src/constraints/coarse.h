@@ -15,6 +15,7 @@
 
 #include <utility>
 
+#include "constraints/contact_tethers.h"
 #include "constraints/distance.h"
 #include "integrate/predict.h"
 #include "kernels.h"
@@ -94,6 +95,8 @@ void solve_coarse_level(const Particles& particles, const IntegrateArgs& integra
             project_indexed<false>(points, constraints, batch, distance);
         }
     }
+    if (st.anchor != nullptr)  // contact tethers, when the cloth uses them (constraints/contact_tethers.h)
+        for (uint32_t k = 0; k < a.coarse_slot_count; k += F::width) project_contact_tethers<F>(a, st, k);
 
     for (uint32_t k = 0; k < a.coarse_slot_count; k += F::width) coarse_slot_displacement<F>(st, k);
     uint32_t j = 0;
