@@ -41,6 +41,10 @@ Strain stretch_strain(const ClothAsset& a, const std::vector<Vec3>& positions) {
     return strain_of(a, [&](uint32_t s) { return positions[a.particle_of_slot[s]]; });
 }
 
+Strain start_strain(const ClothAsset& a) {
+    return strain_of(a, [&](uint32_t s) { return Vec3{a.start_x[s], a.start_y[s], a.start_z[s]}; });
+}
+
 double mean_speed(const ClothView& c) {
     const ClothAsset& a = *c.asset;
     if (!(c.last_substep_s > 0.0f)) return 0.0;
