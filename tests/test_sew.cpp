@@ -192,6 +192,10 @@ TEST_CASE("sewing: the skirt's waistband is attached to the body and pinned") {
     const ClothAsset& a = d->loaded.asset;
     REQUIRE(a.attachment_count > 0);
     CHECK(a.attachment_count == d->baked.sew_report.attached);
+    // Its tethers hold every free particle to two of the band's 46 pinned particles: per-lane
+    // anchors pad their batches like the other passes (one anchor pair per batch: 79% padding).
+    CHECK(a.tethered_particles > 0);
+    CHECK(lane_padding(a).tethers.ratio() < 0.12);  // measured 9.9%
     const uint32_t triangles = uint32_t(mannequin().triangles.size() / 3);
     for (uint32_t k = 0; k < a.attachment_count; ++k) {
         CHECK(a.inverse_mass[a.slot_of_particle[a.attached_particle[k]]] == 0.0f);
