@@ -193,7 +193,7 @@ TEST_CASE("slot permutation maps both ways and padding slots are pinned") {
             ++tethered[s];
             CHECK(a.inverse_mass[s] > 0.0f);
             for (int side = 0; side < 2; ++side) {
-                const uint32_t q = t.anchor[side];
+                const uint32_t q = tether_anchor(a, t, k, uint32_t(side));
                 CHECK(a.inverse_mass[q] == 0.0f);
                 const double dx = double(a.start_x[s]) - a.start_x[q], dy = double(a.start_y[s]) - a.start_y[q],
                              dz = double(a.start_z[s]) - a.start_z[q];
@@ -230,4 +230,56 @@ TEST_CASE("cook: lattice_plane_stride lays the parity planes' rows at any stride
         if (stride == 13) CHECK(contiguous > 0.95);  // holes of 3 slots between rows, mostly bridged
         if (stride == 13) CHECK(lane_padding(a).constraints.ratio() > lane_padding(box.asset()).constraints.ratio());
     }
+}
+
+// Per-lane anchors (a tether batch whose lanes hold different anchor pairs, kTetherLaneAnchors)
+// project exactly as a batch with one pair: a hanging grid pinned at every third particle of its
+// top and bottom rows (neighbouring particles mostly have different anchor pairs, as a dressed
+// garment's near its band), cooked as is and re-batched with one real lane per batch (each batch
+// its lane's pair), steps to the same bits, on the scalar and the AVX2 path alike.
+TEST_CASE("tethers: per-lane anchor batches step to the bits of one-pair batches on every path") {
+    scenes::GridMesh grid = scenes::make_grid(24, 1.0f, 1.0f, true, 2.0f);
+    for (uint32_t c = 0; c < grid.n; c += 3) grid.masses[grid.index(0, c)] = grid.masses[grid.index(grid.n - 1, c)] = 0.0f;
+    const ClothMeshDesc mesh = grid.desc();
+    CookedCloth lanes = cook(mesh), pairs = cook(mesh);
+    const ClothAsset& a = lanes.asset();
+    const uint32_t width = a.simd_width;
+    uint32_t per_lane = 0;
+    for (uint32_t b = 0; b < a.tether_batch_count; ++b) per_lane += a.tether_batches[b].anchor[0] == kTetherLaneAnchors;
+    REQUIRE(per_lane > 0);
+    REQUIRE(a.tether_anchor_lane_count == a.tether_lane_count);
+    std::vector<float> rest[2];
+    std::vector<TetherBatch> batches;
+    for (uint32_t b = 0; b < a.tether_batch_count; ++b) {
+        const TetherBatch& t = a.tether_batches[b];
+        for (uint32_t k = 0; k < t.lane_count; ++k) {
+            if (std::isinf(a.tether_rest[0][t.first_lane + k])) continue;  // padding
+            const uint32_t s = t.particle0 + k, first = std::min(s, a.slot_count - width);
+            batches.push_back({uint32_t(rest[0].size()), width, first, {tether_anchor(a, t, k, 0), tether_anchor(a, t, k, 1)}});
+            for (uint32_t j = 0; j < width; ++j)
+                for (int side = 0; side < 2; ++side)
+                    rest[side].push_back(first + j == s ? a.tether_rest[side][t.first_lane + k] : INFINITY);
+        }
+    }
+    for (int side = 0; side < 2; ++side) pairs.tether_rest[side] = rest[side], pairs.tether_anchor[side].clear();
+    pairs.tether_batches = batches;
+    pairs.refresh_asset();
+    REQUIRE(validate_asset(pairs.asset()).ok());
+    REQUIRE(pairs.asset().tether_anchor_lane_count == 0);
+
+    std::vector<std::vector<Vec3>> results;
+    for (const ClothAsset* asset : {&lanes.asset(), &pairs.asset()})
+        for (SimdPath path : available_paths()) {
+            OwnedWorld world;
+            REQUIRE(make_world(world_for({asset}, 0, path), &world).ok());
+            ClothDesc cd;
+            cd.asset = asset;
+            cd.tethers_before_sweeps = true;  // two tether passes a step
+            ClothId id;
+            REQUIRE(add_cloth(world.world, cd, &id).ok());
+            for (int i = 0; i < 100; ++i) REQUIRE(step(world.world, 1.0f / 30.0f).ok());
+            results.push_back(read_all(world.world, id, asset->particle_count));
+        }
+    CHECK(!same_bits(results[0], grid.positions));  // it moved
+    for (const std::vector<Vec3>& r : results) CHECK(same_bits(r, results[0]));
 }

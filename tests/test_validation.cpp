@@ -20,6 +20,7 @@ struct AssetCopy {
     std::vector<ConstraintBatch> batches;
     std::vector<float> tether_rest[2];
     std::vector<TetherBatch> tether_batches;
+    std::vector<uint32_t> tether_anchor[2];
     std::vector<uint32_t> triangles;
     std::vector<uint32_t> coarse_node_slot, coarse_slot_of_node, coarse_node_of_slot;
     std::vector<float> coarse_inverse_mass, coarse_rest_length, coarse_lane_weight;
@@ -57,6 +58,7 @@ struct AssetCopy {
         for (int side = 0; side < 2; ++side)
             tether_rest[side].assign(a.tether_rest[side], a.tether_rest[side] + a.tether_lane_count);
         tether_batches.assign(a.tether_batches, a.tether_batches + a.tether_batch_count);
+        for (int side = 0; side < 2; ++side) copy(tether_anchor[side], a.tether_anchor[side], a.tether_anchor_lane_count);
         triangles.assign(a.triangles, a.triangles + 3 * a.triangle_count);
         copy(wind_runs, a.wind_runs, a.wind_run_count);
         copy(wind_lane_weight, a.wind_lane_weight, a.wind_lane_count);
@@ -104,6 +106,7 @@ struct AssetCopy {
         asset.tether_lane_count = uint32_t(tether_rest[0].size());
         asset.tether_batches = tether_batches.data();
         asset.tether_batch_count = uint32_t(tether_batches.size());
+        for (int side = 0; side < 2; ++side) repoint(asset.tether_anchor[side], tether_anchor[side]);
         asset.triangles = triangles.data();
         repoint(asset.wind_runs, wind_runs);
         repoint(asset.wind_lane_weight, wind_lane_weight);
@@ -330,6 +333,13 @@ TEST_CASE("corrupt asset: tether anchor not pinned (anchor given an inverse mass
     expect_corrupt([](AssetCopy& c) {
         REQUIRE(!c.tether_batches.empty());
         c.inverse_mass[c.tether_batches[0].anchor[0]] = 1.0f;
+    });
+}
+
+TEST_CASE("corrupt asset: tether batch with per-lane anchors the asset does not hold") {
+    expect_corrupt([](AssetCopy& c) {
+        REQUIRE(c.asset.tether_anchor_lane_count == 0);
+        c.tether_batches[0].anchor[0] = c.tether_batches[0].anchor[1] = kTetherLaneAnchors;
     });
 }
 

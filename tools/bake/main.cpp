@@ -21,6 +21,7 @@
 #include "bake.h"
 #include "body_mesh.h"
 #include "mannequin.h"
+#include "metrics.h"
 #include "progress.h"
 #include "run_report.h"
 
@@ -57,6 +58,7 @@ std::string depfile_path(const std::string& path) {
 json describe(const ClothAsset& a, uint64_t bytes) {
     const LanePadding padding = lane_padding(a);
     const uint32_t total = a.total_constraints();
+    const metrics::Strain start = metrics::start_strain(a);  // a dressed garment's stored pose
     return {{"particles", a.particle_count},
             {"slots", a.slot_count},
             {"triangles", a.triangle_count},
@@ -75,6 +77,8 @@ json describe(const ClothAsset& a, uint64_t bytes) {
               {"tethers", padding.tethers.ratio()},
               {"wind", padding.wind.ratio()}}},
             {"contiguous_fraction", total > 0 ? double(a.constraints_on_runs) / total : 0.0},
+            {"start_max_strain", start.max},
+            {"start_mean_strain", start.mean},
             {"tethered_particles", a.tethered_particles},
             {"coarse_nodes", a.coarse_node_count},
             {"bytes", bytes}};

@@ -152,6 +152,46 @@ Status sew_garment(const ClothMeshDesc& unsewn, const std::vector<uint32_t>& att
         if (query_body(probe.world, probe.body, target[k], &c).ok() && c.found && c.penetration_m > 0.0f)
             target[k] = c.hull_point;
     }
+    // The attachments (the skirt's waistband) move with the cloth while the seams close; then,
+    // while the cloth settles, each (a seam point among them as one, its sources at their mean) is
+    // pulled every frame toward the closest hull point by at most a sewing step and left dynamic,
+    // so the band slides along the body to where its springs and the cloth below balance, and is
+    // bound where it is. Snapped to the hull only after the merge (the band 7 cm in at the side
+    // seams, the waist corners, held at their seam targets, 1.7 cm above the band beside them, which
+    // had slid down) the skirt kept a spring stretched 142% at the waist through its drape.
+    std::vector<std::vector<uint32_t>> attached_sets;
+    for (const std::vector<uint32_t>& group : groups)
+        if (std::any_of(group.begin(), group.end(), [&](uint32_t p) { return std::find(attached.begin(), attached.end(), p) != attached.end(); }))
+            attached_sets.push_back(group);
+    for (uint32_t p : attached)
+        if (std::count(root.begin(), root.end(), root[p]) == 1) attached_sets.push_back({p});
+    // How far the sources are from closing: from their target until the attachments slide, then
+    // (a seam point on the band slides with it) from the first source of their own seam point.
+    bool attaching = false;
+    const auto seam_gap = [&] {
+        float gap = 0.0f;
+        for (size_t k = 0; k < groups.size(); ++k)
+            for (uint32_t p : groups[k]) gap = std::max(gap, length(sub(x[p], attaching ? x[groups[k][0]] : target[k])));
+        return gap;
+    };
+    const auto slide_attachments = [&](World* world, ClothId cloth, float step_m) -> Status {
+        for (const std::vector<uint32_t>& set : attached_sets) {
+            Vec3 mean{};
+            for (uint32_t p : set) mean = {mean.x + x[p].x, mean.y + x[p].y, mean.z + x[p].z};
+            const float inv = 1.0f / float(set.size());
+            mean = {mean.x * inv, mean.y * inv, mean.z * inv};
+            BodyContact c;
+            if (!query_body(probe.world, probe.body, mean, &c).ok() || !c.found)
+                return {"attached particle " + std::to_string(set[0]) + " is more than 0.5 m from the body"};
+            const Vec3 d = sub(c.hull_point, mean);
+            const float l = length(d), t = l > step_m ? step_m / l : 1.0f;
+            for (uint32_t p : set) {
+                x[p] = {mean.x + d.x * t, mean.y + d.y * t, mean.z + d.z * t};
+                set_particle(world, cloth, p, x[p], 1.0f / unsewn.masses[p]);
+            }
+        }
+        return {};
+    };
     {
         BodyWorld w;
         if (Status s = open_body_world(cooked.asset(), body, o, o.sewing_gravity_m_s2, o.sewing_damping_per_s, &w); !s.ok())
@@ -159,17 +199,21 @@ Status sew_garment(const ClothMeshDesc& unsewn, const std::vector<uint32_t>& att
         // The sources reach their targets, then the cloth settles around the closed seams.
         const auto watch = [&](bool last) {
             if (!o.on_frame || (!last && rep.sewing_frames % std::max(o.frame_every, 1u) != 0)) return;
-            float gap = 0.0f;
-            for (size_t k = 0; k < groups.size(); ++k)
-                for (uint32_t p : groups[k]) gap = std::max(gap, length(sub(x[p], target[k])));
             o.on_frame({"sewing", rep.sewing_frames, last, x.data(), n, unsewn.triangles, unsewn.triangle_count,
-                        unsewn.uv, gap});
+                        unsewn.uv, seam_gap()});
         };
         for (uint32_t settled = 0; settled < o.settle_frames;) {
             if (Result r = read_positions(w.world, w.cloth, x.data(), n); !r.ok()) return {r.message};
             watch(false);
-            const float gap = close_seams(w.world, w.cloth, groups, target, x, o.sewing_speed_m_s * o.dt_s);
-            if (gap == 0.0f) ++settled;
+            float gap = 0.0f;
+            if (!attaching) {  // every seam closes on its target
+                gap = close_seams(w.world, w.cloth, groups, target, x, o.sewing_speed_m_s * o.dt_s);
+                attaching = gap == 0.0f;
+            }
+            if (attaching) {  // closed (the other seam points stay held): the attachments slide onto the body
+                if (Status s = slide_attachments(w.world, w.cloth, o.sewing_speed_m_s * o.dt_s); !s.ok()) return s;
+                ++settled;
+            }
             if (rep.sewing_frames == o.max_sewing_frames)
                 return {"a seam is still " + std::to_string(gap * 100.0) + " cm open after " +
                         std::to_string(o.max_sewing_frames) + " sewing frames"};
@@ -177,9 +221,11 @@ Status sew_garment(const ClothMeshDesc& unsewn, const std::vector<uint32_t>& att
             ++rep.sewing_frames;
         }
         if (Result r = read_positions(w.world, w.cloth, x.data(), n); !r.ok()) return {r.message};
+        // The last step moved the attachments a little off the hull: back on it, each seam point's
+        // sources together.
+        if (Status s = slide_attachments(w.world, w.cloth, HUGE_VALF); !s.ok()) return s;
         watch(true);
-        for (size_t k = 0; k < groups.size(); ++k)
-            for (uint32_t p : groups[k]) rep.max_seam_gap_m = std::max(rep.max_seam_gap_m, double(length(sub(x[p], target[k]))));
+        rep.max_seam_gap_m = seam_gap();
     }
 
     // Attachments: each attached particle goes to the closest point of the body's offset hull and

@@ -6,7 +6,9 @@
 //      point's sources move geometrically (held kinematic) toward their target, the mean of the
 //      sources as placed (eq. 10), by at most sewing_speed * dt; the cloth follows by physics and
 //      settles for settle_frames once every seam is closed;
-//   1b. attaching: the pattern's body attachments are bound to the closest hull point and pinned;
+//   1b. attaching: once the seams are closed, the pattern's body attachments slide onto the body's
+//      offset hull while the cloth settles (pulled toward the closest hull point every frame, left
+//      dynamic), then are bound where they are and pinned;
 //   2. merging: each seam point becomes one particle at its target with the summed mass; its
 //      sources' texture coordinates are all kept (ClothAsset::sewn_*); triangles keep their flat
 //      corners (ClothMeshDesc::rest_corners) so rest lengths still come from the flat panels;
@@ -99,8 +101,8 @@ struct SewnGarment {
 };
 
 // Sews `unsewn` (a garment as cook_cloth takes it, with seam points, uv and flat rest positions)
-// onto `body`. The `attached` particles (the pattern's body attachments) are bound, once the seams
-// are closed, to the closest point of the body's offset hull: pinned there, stored as attachments. Fails with a message when the body is empty or a seam does not close.
+// onto `body`. The `attached` particles (the pattern's body attachments) slide onto the body's
+// offset hull once the seams are closed and are bound there: pinned, stored as attachments. Fails with a message when the body is empty or a seam does not close.
 Status sew_garment(const ClothMeshDesc& unsewn, const std::vector<uint32_t>& attached, const SewBody& body,
                    const SewOptions& options, SewnGarment* out, SewReport* report);
 

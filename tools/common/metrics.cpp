@@ -41,6 +41,10 @@ Strain stretch_strain(const ClothAsset& a, const std::vector<Vec3>& positions) {
     return strain_of(a, [&](uint32_t s) { return positions[a.particle_of_slot[s]]; });
 }
 
+Strain start_strain(const ClothAsset& a) {
+    return strain_of(a, [&](uint32_t s) { return Vec3{a.start_x[s], a.start_y[s], a.start_z[s]}; });
+}
+
 double mean_speed(const ClothView& c) {
     const ClothAsset& a = *c.asset;
     if (!(c.last_substep_s > 0.0f)) return 0.0;
@@ -81,7 +85,7 @@ double max_tether_excess(const ClothView& c) {
             for (int side = 0; side < 2; ++side) {
                 const float rest = a.tether_rest[side][t.first_lane + k];
                 if (std::isinf(rest) || rest <= 0.0f) continue;
-                const uint32_t q = t.anchor[side];
+                const uint32_t q = tether_anchor(a, t, k, uint32_t(side));
                 const double dx = double(c.x[p]) - c.x[q], dy = double(c.y[p]) - c.y[q], dz = double(c.z[p]) - c.z[q];
                 worst = std::max(worst, std::sqrt(dx * dx + dy * dy + dz * dz) / rest - 1.0);
             }

@@ -15,6 +15,8 @@ struct Strain {
 Strain stretch_strain(const ClothView& cloth);
 // The same over positions in caller order (a peer solver's output, a stored frame).
 Strain stretch_strain(const ClothAsset& asset, const std::vector<Vec3>& positions);
+// The same over the asset's start state (a dressed garment's stored pose: weft-bake reports it).
+Strain start_strain(const ClothAsset& asset);
 
 // Mean particle speed over the last substep, m/s (real, free particles only).
 double mean_speed(const ClothView& cloth);

@@ -85,7 +85,7 @@ struct AssetFileHeader {
     uint32_t sewn_point_count;
     uint32_t sewn_uv_count;
     uint32_t attachment_count;  // body attachments (ClothAsset::attached_*)
-    uint32_t reserved_1_1;      // 0: keeps the header a multiple of 8 bytes without hidden padding
+    uint32_t tether_anchor_lane_count;  // per-lane tether anchors (0 in files written before them)
 };
 
 // One entry of the section table (header_size + i * 32).
@@ -156,8 +156,10 @@ enum class AssetSectionKind : uint32_t {
     attached_particle,  // 54 (1.1)
     attached_triangle,
     attached_weight,
+    tether_anchor_0,  // 57 (1.1, in place of the header's reserved word)
+    tether_anchor_1,
 };
-inline constexpr uint32_t kAssetSectionKindCount = 56;  // known kinds: 1..kAssetSectionKindCount
+inline constexpr uint32_t kAssetSectionKindCount = 58;  // known kinds: 1..kAssetSectionKindCount
 
 // Name of a section kind ("unknown" for kinds this runtime does not know).
 const char* asset_section_name(uint32_t kind);
@@ -218,6 +220,8 @@ void visit_asset_sections(const AssetFileHeader& h, Asset& a, Visit&& visit) {
     visit(K::attached_particle, a.attached_particle, uint64_t(h.attachment_count));
     visit(K::attached_triangle, a.attached_triangle, uint64_t(h.attachment_count));
     visit(K::attached_weight, a.attached_weight, 3 * uint64_t(h.attachment_count));
+    visit(K::tether_anchor_0, a.tether_anchor[0], uint64_t(h.tether_anchor_lane_count));
+    visit(K::tether_anchor_1, a.tether_anchor[1], uint64_t(h.tether_anchor_lane_count));
 }
 
 // Copies ClothAsset's scalar fields between the header and an asset, in either direction:
@@ -256,6 +260,7 @@ void pair_asset_scalars(Header& h, Asset& a, Copy&& copy) {
     copy(h.sewn_point_count, a.sewn_point_count);
     copy(h.sewn_uv_count, a.sewn_uv_count);
     copy(h.attachment_count, a.attachment_count);
+    copy(h.tether_anchor_lane_count, a.tether_anchor_lane_count);
 }
 
 // ---------------------------------------------------------------------------------------------

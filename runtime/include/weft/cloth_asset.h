@@ -54,11 +54,14 @@ struct ConstraintBatch {
 // tether_rest[1][first_lane + k] from anchor[1] (its nearest and its farthest pinned particle, in
 // either order; the same particle and length when it has one tether). Both limits are met exactly by one projection onto the
 // intersection of the two balls, so the pass leaves no particle beyond either tether.
+// anchor[0] == kTetherLaneAnchors: each lane has its own anchors, tether_anchor[side][first_lane + k]
+// (tether_anchor() reads either kind).
+inline constexpr uint32_t kTetherLaneAnchors = 0xFFFFFFFFu;
 struct TetherBatch {
     uint32_t first_lane = 0;
     uint32_t lane_count = 0;  // a multiple of the asset's simd_width; padding lanes: infinite lengths
     uint32_t particle0 = 0;
-    uint32_t anchor[2] = {0, 0};
+    uint32_t anchor[2] = {0, 0};  // slots, or kTetherLaneAnchors (both)
 };
 
 // Triangles as a run for the wind pass: lane k is the triangle (a0 + k, b0 + k, c0 + k), so a lattice
@@ -118,6 +121,10 @@ struct ClothAsset {
     uint32_t tether_batch_count = 0;
     const TetherBatch* tether_batches = nullptr;
     uint32_t tethered_particles = 0;  // real lanes
+    // Per-lane anchors (slots, pinned; padding lanes repeat a real one) for the batches whose
+    // anchor[0] is kTetherLaneAnchors: tether_lane_count entries when any batch is one, else 0.
+    uint32_t tether_anchor_lane_count = 0;
+    const uint32_t* tether_anchor[2] = {nullptr, nullptr};
 
     uint32_t triangle_count = 0;
     const uint32_t* triangles = nullptr;  // [3 * triangle_count] slots, caller winding
@@ -210,6 +217,11 @@ struct ClothAsset {
     }
 };
 
+// The pinned slot that lane k of tether batch t holds its particle to (side 0 or 1).
+inline uint32_t tether_anchor(const ClothAsset& a, const TetherBatch& t, uint32_t k, uint32_t side) {
+    return t.anchor[0] == kTetherLaneAnchors ? a.tether_anchor[side][t.first_lane + k] : t.anchor[side];
+}
+
 // ---------------------------------------------------------------------------------------------
 // Cooking: an in-memory triangle mesh -> a ClothAsset. Allocates (it is creation-time work, the
 // in-memory twin of weft-bake); the result owns its arrays.
@@ -298,6 +310,7 @@ public:
     std::vector<ConstraintBatch> batches;
     std::vector<float> tether_rest[2];
     std::vector<TetherBatch> tether_batches;
+    std::vector<uint32_t> tether_anchor[2];
     std::vector<uint32_t> triangles;
     std::vector<TriangleRun> wind_runs;
     std::vector<float> wind_lane_weight, wind_rest_area;

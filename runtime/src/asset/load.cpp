@@ -58,7 +58,8 @@ const char* asset_section_name(uint32_t kind) {
         "coarse_row_frac_0", "coarse_row_frac_1", "coarse_col_node_0", "coarse_col_node_1",
         "coarse_col_frac_0", "coarse_col_frac_1", "uv", "seam_first", "seam_source", "panel",
         "coarse_slot_of_node", "coarse_node_of_slot", "coarse_rest_length", "coarse_lane_weight", "coarse_index_a",
-        "coarse_index_b", "coarse_batches", "wind_rest_area", "sewn_particle", "sewn_uv_first", "sewn_uv", "attached_particle", "attached_triangle", "attached_weight"};
+        "coarse_index_b", "coarse_batches", "wind_rest_area", "sewn_particle", "sewn_uv_first", "sewn_uv", "attached_particle", "attached_triangle", "attached_weight",
+        "tether_anchor_0", "tether_anchor_1"};
     return kind <= kAssetSectionKindCount ? names[kind] : names[0];
 }
 

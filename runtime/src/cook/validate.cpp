@@ -168,6 +168,9 @@ Result check_springs(const ClothAsset& a, uint32_t* scratch) {
 Result check_tethers(const ClothAsset& a) {
     if (a.tether_batch_count > 0 && (!a.tether_batches || !a.tether_rest[0] || !a.tether_rest[1]))
         return make_error(ErrorCode::corrupt_asset, "asset is missing its tether arrays");
+    if (a.tether_anchor_lane_count != 0 &&
+        (a.tether_anchor_lane_count != a.tether_lane_count || !a.tether_anchor[0] || !a.tether_anchor[1]))
+        return make_error(ErrorCode::corrupt_asset, "asset's per-lane tether anchors do not match its tether lanes");
     uint32_t next_lane = 0, real = 0;
     for (uint32_t i = 0; i < a.tether_batch_count; ++i) {
         const TetherBatch& t = a.tether_batches[i];
@@ -175,11 +178,18 @@ Result check_tethers(const ClothAsset& a) {
             t.lane_count > a.tether_lane_count - t.first_lane)
             return make_error(ErrorCode::corrupt_asset, "tether batch %u does not tile the lanes", i);
         next_lane += t.lane_count;
-        if (t.anchor[0] >= a.slot_count || t.anchor[1] >= a.slot_count || t.lane_count > a.slot_count ||
-            t.particle0 > a.slot_count - t.lane_count)
+        const bool per_lane = t.anchor[0] == kTetherLaneAnchors;
+        if (per_lane && (t.anchor[1] != kTetherLaneAnchors || a.tether_anchor_lane_count == 0))
+            return make_error(ErrorCode::corrupt_asset, "tether batch %u has per-lane anchors the asset does not hold", i);
+        if (t.lane_count > a.slot_count || t.particle0 > a.slot_count - t.lane_count)
             return make_error(ErrorCode::corrupt_asset, "tether batch %u reaches past the slots", i);
-        if (a.inverse_mass[t.anchor[0]] != 0.0f || a.inverse_mass[t.anchor[1]] != 0.0f)
-            return make_error(ErrorCode::corrupt_asset, "tether batch %u anchors to a free particle", i);
+        for (uint32_t k = 0; k < (per_lane ? t.lane_count : 1); ++k) {
+            const uint32_t q0 = tether_anchor(a, t, k, 0), q1 = tether_anchor(a, t, k, 1);
+            if (q0 >= a.slot_count || q1 >= a.slot_count)
+                return make_error(ErrorCode::corrupt_asset, "tether batch %u reaches past the slots", i);
+            if (a.inverse_mass[q0] != 0.0f || a.inverse_mass[q1] != 0.0f)
+                return make_error(ErrorCode::corrupt_asset, "tether batch %u anchors to a free particle", i);
+        }
         for (uint32_t k = 0; k < t.lane_count; ++k) {
             const float r0 = a.tether_rest[0][t.first_lane + k], r1 = a.tether_rest[1][t.first_lane + k];
             const bool pad0 = std::isinf(r0) && r0 > 0.0f, pad1 = std::isinf(r1) && r1 > 0.0f;
