@@ -335,7 +335,7 @@ void collide_body(const Particles& particles, const BodyState& body, uint32_t su
         if (q.active == 0) continue;
         const uint32_t met = search(body.hierarchy, reach, q, candidates);
         counts.queried += uint64_t(__builtin_popcount(met));
-        uint32_t pushed = 0;
+        uint32_t pushed = 0, pushed_from[kClusterSlots];
         for (uint32_t k = 0; k < n; ++k) {
             if (!(q.active >> k & 1u)) continue;
             const uint32_t i = c0 + k;
@@ -366,6 +366,7 @@ void collide_body(const Particles& particles, const BodyState& body, uint32_t su
             }
             counts.contacts += 1;
             pushed |= 1u << k;
+            pushed_from[k] = triangle;
             args.motion = surface_motion(body, triangle, w, share);
             const Vec3W<F> xw{{x[0]}, {x[1]}, {x[2]}};
             const Vec3W<F> nw{{normal[0]}, {normal[1]}, {normal[2]}};
@@ -377,10 +378,21 @@ void collide_body(const Particles& particles, const BodyState& body, uint32_t su
         // landed and projected out of the closest surface again, without friction (alternating
         // projections onto the two sides converge; friction would pull back toward the first).
         // skirt-walk: the hem under the crotch 1.65 mm below the hull before, 0.58 mm after.
+        // Each search starts from the triangle the particle was pushed out of, at its distance from
+        // where the particle landed (about zero): only a strictly closer triangle, the other side of a
+        // crease, can change the answer, so every leaf whose box lies further away is skipped.
         q.active = pushed, q.rays = 0;
         for (uint32_t k = 0; k < n; ++k) {
             if (!(pushed >> k & 1u)) continue;
-            q.point[k][0] = p.x[c0 + k], q.point[k][1] = p.y[c0 + k], q.point[k][2] = p.z[c0 + k];
+            float* landed = q.point[k];
+            landed[0] = p.x[c0 + k], landed[1] = p.y[c0 + k], landed[2] = p.z[c0 + k];
+            const uint32_t* t = body.triangles + 3 * pushed_from[k];
+            const float *a = body.hull + 4 * t[0], *b = body.hull + 4 * t[1], *c = body.hull + 4 * t[2];
+            const Barycentric on = closest_on_triangle(landed, a, b, c);
+            float away[3];
+            for (int axis = 0; axis < 3; ++axis)
+                away[axis] = landed[axis] - (on.w0 * a[axis] + on.w1 * b[axis] + on.w2 * c[axis]);
+            q.best[k] = {dot3(away, away), pushed_from[k], on.w1, on.w2};
         }
         search_again(body.hierarchy, reach, q, candidates);
         for (uint32_t k = 0; k < n; ++k) {

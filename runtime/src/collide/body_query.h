@@ -346,19 +346,18 @@ inline uint32_t search_cluster(const BodyHierarchy& h, float reach, Cluster& q, 
 }
 
 // The closest triangles of the cluster's active points again, after the response moved them (the
-// crease pass, collide/body.cpp): against the leaves the last search_cluster collected when it kept
+// crease pass, collide/body.cpp), each starting from the best the caller seeded (only a strictly
+// closer triangle replaces it): against the leaves the last search_cluster collected when it kept
 // them all (no second walk; a leaf beyond the reach of every point before the push is not looked
-// at, which only leaves a second correction undone), else through a new walk.
+// at, which only leaves a second correction undone), else through a new walk from scratch.
 template <class F>
 inline void search_again(const BodyHierarchy& h, float reach, Cluster& q, Candidates& c) {
     if (!c.whole) {
         search_cluster<F>(h, reach, q, c);
         return;
     }
-    for (uint32_t k = 0; k < kClusterSlots; ++k) {
-        q.best[k] = {std::numeric_limits<float>::infinity(), 0, 0.0f, 0.0f};
+    for (uint32_t k = 0; k < kClusterSlots; ++k)
         if (q.active >> k & 1u) search_candidates<F>(h, c, q.point[k], reach, q.best[k]);
-    }
 }
 
 inline float lowest(simd::Float1 a) { return a.v; }
