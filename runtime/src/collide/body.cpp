@@ -228,7 +228,8 @@ BodyContact closest_hull_point(const BodyState& body, const float* point) {
 namespace {
 
 // The plain pass (BodyDesc::reference_queries): one rtcPointQuery per particle, radius thickness +
-// margin + the body's largest vertex motion. The baseline the step's own hierarchy is measured against.
+// margin (the plain pass: not widened by the body's motion, so a surface sweeping over resting
+// cloth can leave it deeper than Weft's pass). The baseline the step's own hierarchy is measured against.
 void collide_body_reference(const Particles& p, const BodyState& body, float share, BodyPassCounts& counts) {
     using F = simd::Float1;
     const float thickness2 = body.desc.thickness_m * body.desc.thickness_m;
