@@ -180,12 +180,14 @@ Barycentric closest_on_triangle(const float* p, const float* a, const float* b, 
     return {1.0f - v - w, v, w};
 }
 
-void compute_offset_hull(BodyState& body, const Vec3* positions) {
+void compute_offset_hull(BodyState& body, const Vec3* positions, const float* previous) {
     // Area-weighted normals: the sum of the unnormalised face normals (each |e1 x e2| = 2 area).
-    float* n = body.normals;
+    // The arrays do not overlap (restrict: the sums stay in registers between the corners).
+    float* __restrict n = body.normals;
+    const uint32_t* __restrict triangles = body.triangles;
     for (uint32_t i = 0; i < 3 * body.vertex_count; ++i) n[i] = 0.0f;
     for (uint32_t f = 0; f < body.triangle_count; ++f) {
-        const uint32_t* t = body.triangles + 3 * f;
+        const uint32_t* t = triangles + 3 * f;
         const Vec3 a = positions[t[0]], b = positions[t[1]], c = positions[t[2]];
         const float e1[3] = {b.x - a.x, b.y - a.y, b.z - a.z};
         const float e2[3] = {c.x - a.x, c.y - a.y, c.z - a.z};
@@ -205,7 +207,11 @@ void compute_offset_hull(BodyState& body, const Vec3* positions) {
         h[0] = positions[v].x + thickness * nv[0];
         h[1] = positions[v].y + thickness * nv[1];
         h[2] = positions[v].z + thickness * nv[2];
-        h[3] = 0.0f;  // the vertex's motion this step: set_body_vertices
+        h[3] = 0.0f;  // the vertex's motion since `previous`: widens its leaves (BodyHierarchy)
+        if (previous == nullptr) continue;
+        const float* q = previous + 4 * v;
+        const float d2 = (h[0] - q[0]) * (h[0] - q[0]) + (h[1] - q[1]) * (h[1] - q[1]) + (h[2] - q[2]) * (h[2] - q[2]);
+        h[3] = std::sqrt(d2);
     }
 }
 
