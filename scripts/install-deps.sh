@@ -12,6 +12,7 @@ packages=(
   clang libclang-rt-14-dev                      # fuzzing (clang -fsanitize=fuzzer)
   libbullet-dev gnuplot-nox                     # weft-bench sweep: the Bullet peer, the Pareto plot
   libtinyobjloader-dev libtinygltf-dev          # tools/body: body meshes from OBJ and glTF
+  libmeshoptimizer-dev                          # weft-bench body --simplify: simplified collision hulls
   libepoxy-dev libegl-dev libegl-mesa0          # samples/render: OpenGL loader, EGL (surfaceless)
   libgl1-mesa-dri libstb-dev ffmpeg             # llvmpipe, PNG writing, weft-sim --gif/--mp4, figures
   libglfw3-dev libimgui-dev fonts-dejavu-core   # samples/viewer: window, panel, the panel's font

@@ -149,13 +149,7 @@ Result set_body_vertices(World* world, BodyId id, const Vec3* positions, uint32_
     if (Result r = check_positions(positions, count); !r.ok()) return r;
     // The previous hull is the one the last step used: keep it across several calls before a step.
     if (!body.refit_pending) std::memcpy(body.previous_hull, body.hull, sizeof(float) * 4 * size_t(count));
-    compute_offset_hull(body, positions);
-    for (uint32_t v = 0; v < count; ++v) {
-        const float* h = body.hull + 4 * v;
-        const float* q = body.previous_hull + 4 * v;
-        const float d2 = (h[0] - q[0]) * (h[0] - q[0]) + (h[1] - q[1]) * (h[1] - q[1]) + (h[2] - q[2]) * (h[2] - q[2]);
-        body.hull[4 * v + 3] = std::sqrt(d2);  // the vertex's motion: widens its leaves (BodyHierarchy)
-    }
+    compute_offset_hull(body, positions, body.previous_hull);  // with each vertex's motion
     body.refit_pending = true;
     return {};
 }

@@ -12,6 +12,9 @@ struct BodyBenchOptions {
     bool random_order = false;   // points in random order instead of neighbours next to each other
     bool scalar = false;         // the scalar path instead of AVX2
     bool json = false;           // one JSON object instead of the table
+    // Weft's world collides with the body's triangles simplified by meshoptimizer to this share
+    // (0: the full body), its hull pushed out by meshoptimizer's error bound on top of the thickness.
+    float simplify = 0.0f;
 };
 int run_body(const BodyBenchOptions& options);
 

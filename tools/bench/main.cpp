@@ -577,6 +577,8 @@ int main(int argc, char** argv) {
     body->add_flag("--random-order", body_o.random_order, "points in random order (no neighbours next to each other)");
     body->add_flag("--scalar", body_o.scalar, "the scalar path instead of AVX2");
     body->add_flag("--json", body_o.json, "one JSON object");
+    body->add_option("--simplify", body_o.simplify, "Weft's world: the body's triangles simplified to this share (meshoptimizer), 0: full")
+        ->capture_default_str();
 
     bench::ReferenceStudyOptions reference_o;
     CLI::App* reference = app.add_subcommand(

@@ -46,7 +46,7 @@ struct BodyDesc {
     float margin_m = 0.002f;     // query reach beyond the thickness (deeper particles go by the ray)
     float friction = 0.5f;       // Coulomb coefficient against the moving surface; 0 = frictionless
     // Diagnostics and benchmarks: the plain pass, one Embree rtcPointQuery per particle (radius
-    // thickness + margin + the body's largest vertex motion) and an Embree refit every moving step,
+    // thickness + margin, not widened by the body's motion) and an Embree refit every moving step,
     // instead of the step's own hierarchy (docs/garments.md, body colliders).
     bool reference_queries = false;
 };

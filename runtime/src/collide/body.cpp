@@ -180,12 +180,14 @@ Barycentric closest_on_triangle(const float* p, const float* a, const float* b, 
     return {1.0f - v - w, v, w};
 }
 
-void compute_offset_hull(BodyState& body, const Vec3* positions) {
+void compute_offset_hull(BodyState& body, const Vec3* positions, const float* previous) {
     // Area-weighted normals: the sum of the unnormalised face normals (each |e1 x e2| = 2 area).
-    float* n = body.normals;
+    // The arrays do not overlap (restrict: the sums stay in registers between the corners).
+    float* __restrict n = body.normals;
+    const uint32_t* __restrict triangles = body.triangles;
     for (uint32_t i = 0; i < 3 * body.vertex_count; ++i) n[i] = 0.0f;
     for (uint32_t f = 0; f < body.triangle_count; ++f) {
-        const uint32_t* t = body.triangles + 3 * f;
+        const uint32_t* t = triangles + 3 * f;
         const Vec3 a = positions[t[0]], b = positions[t[1]], c = positions[t[2]];
         const float e1[3] = {b.x - a.x, b.y - a.y, b.z - a.z};
         const float e2[3] = {c.x - a.x, c.y - a.y, c.z - a.z};
@@ -205,7 +207,11 @@ void compute_offset_hull(BodyState& body, const Vec3* positions) {
         h[0] = positions[v].x + thickness * nv[0];
         h[1] = positions[v].y + thickness * nv[1];
         h[2] = positions[v].z + thickness * nv[2];
-        h[3] = 0.0f;  // the vertex's motion this step: set_body_vertices
+        h[3] = 0.0f;  // the vertex's motion since `previous`: widens its leaves (BodyHierarchy)
+        if (previous == nullptr) continue;
+        const float* q = previous + 4 * v;
+        const float d2 = (h[0] - q[0]) * (h[0] - q[0]) + (h[1] - q[1]) * (h[1] - q[1]) + (h[2] - q[2]) * (h[2] - q[2]);
+        h[3] = std::sqrt(d2);
     }
 }
 
@@ -228,7 +234,8 @@ BodyContact closest_hull_point(const BodyState& body, const float* point) {
 namespace {
 
 // The plain pass (BodyDesc::reference_queries): one rtcPointQuery per particle, radius thickness +
-// margin + the body's largest vertex motion. The baseline the step's own hierarchy is measured against.
+// margin (the plain pass: not widened by the body's motion, so a surface sweeping over resting
+// cloth can leave it deeper than Weft's pass). The baseline the step's own hierarchy is measured against.
 void collide_body_reference(const Particles& p, const BodyState& body, float share, BodyPassCounts& counts) {
     using F = simd::Float1;
     const float thickness2 = body.desc.thickness_m * body.desc.thickness_m;
@@ -335,7 +342,7 @@ void collide_body(const Particles& particles, const BodyState& body, uint32_t su
         if (q.active == 0) continue;
         const uint32_t met = search(body.hierarchy, reach, q, candidates);
         counts.queried += uint64_t(__builtin_popcount(met));
-        uint32_t pushed = 0;
+        uint32_t pushed = 0, pushed_from[kClusterSlots];
         for (uint32_t k = 0; k < n; ++k) {
             if (!(q.active >> k & 1u)) continue;
             const uint32_t i = c0 + k;
@@ -366,6 +373,7 @@ void collide_body(const Particles& particles, const BodyState& body, uint32_t su
             }
             counts.contacts += 1;
             pushed |= 1u << k;
+            pushed_from[k] = triangle;
             args.motion = surface_motion(body, triangle, w, share);
             const Vec3W<F> xw{{x[0]}, {x[1]}, {x[2]}};
             const Vec3W<F> nw{{normal[0]}, {normal[1]}, {normal[2]}};
@@ -377,10 +385,21 @@ void collide_body(const Particles& particles, const BodyState& body, uint32_t su
         // landed and projected out of the closest surface again, without friction (alternating
         // projections onto the two sides converge; friction would pull back toward the first).
         // skirt-walk: the hem under the crotch 1.65 mm below the hull before, 0.58 mm after.
+        // Each search starts from the triangle the particle was pushed out of, at its distance from
+        // where the particle landed (about zero): only a strictly closer triangle, the other side of a
+        // crease, can change the answer, so every leaf whose box lies further away is skipped.
         q.active = pushed, q.rays = 0;
         for (uint32_t k = 0; k < n; ++k) {
             if (!(pushed >> k & 1u)) continue;
-            q.point[k][0] = p.x[c0 + k], q.point[k][1] = p.y[c0 + k], q.point[k][2] = p.z[c0 + k];
+            float* landed = q.point[k];
+            landed[0] = p.x[c0 + k], landed[1] = p.y[c0 + k], landed[2] = p.z[c0 + k];
+            const uint32_t* t = body.triangles + 3 * pushed_from[k];
+            const float *a = body.hull + 4 * t[0], *b = body.hull + 4 * t[1], *c = body.hull + 4 * t[2];
+            const Barycentric on = closest_on_triangle(landed, a, b, c);
+            float away[3];
+            for (int axis = 0; axis < 3; ++axis)
+                away[axis] = landed[axis] - (on.w0 * a[axis] + on.w1 * b[axis] + on.w2 * c[axis]);
+            q.best[k] = {dot3(away, away), pushed_from[k], on.w1, on.w2};
         }
         search_again(body.hierarchy, reach, q, candidates);
         for (uint32_t k = 0; k < n; ++k) {

@@ -84,8 +84,9 @@ struct Barycentric {
 };
 Barycentric closest_on_triangle(const float* p, const float* a, const float* b, const float* c);
 
-// Offset hull of `positions`: area-weighted vertex normals, hull = position + thickness * normal.
-void compute_offset_hull(BodyState& body, const Vec3* positions);
+// Offset hull of `positions`: area-weighted vertex normals, hull = position + thickness * normal, and
+// each vertex's motion |hull - previous| (0 without `previous`, the hull before this pose).
+void compute_offset_hull(BodyState& body, const Vec3* positions, const float* previous = nullptr);
 
 // The closest hull point within thickness + margin (BodyContact::found false when none is), by
 // Embree's rtcPointQuery (the reference; the step uses its own hierarchy unless

@@ -346,20 +346,39 @@ inline uint32_t search_cluster(const BodyHierarchy& h, float reach, Cluster& q, 
 }
 
 // The closest triangles of the cluster's active points again, after the response moved them (the
-// crease pass, collide/body.cpp): against the leaves the last search_cluster collected when it kept
+// crease pass, collide/body.cpp), each starting from the best the caller seeded (only a strictly
+// closer triangle replaces it): against the leaves the last search_cluster collected when it kept
 // them all (no second walk; a leaf beyond the reach of every point before the push is not looked
-// at, which only leaves a second correction undone), else through a new walk.
+// at, which only leaves a second correction undone), else through a new walk from scratch.
 template <class F>
 inline void search_again(const BodyHierarchy& h, float reach, Cluster& q, Candidates& c) {
     if (!c.whole) {
         search_cluster<F>(h, reach, q, c);
         return;
     }
-    for (uint32_t k = 0; k < kClusterSlots; ++k) {
-        q.best[k] = {std::numeric_limits<float>::infinity(), 0, 0.0f, 0.0f};
+    for (uint32_t k = 0; k < kClusterSlots; ++k)
         if (q.active >> k & 1u) search_candidates<F>(h, c, q.point[k], reach, q.best[k]);
-    }
 }
+
+// Each lane's vertex (x, y, z, motion) from the hull, at hull[offset[k]], as four wide values: on
+// AVX2 eight 16-byte loads and a transpose (four vgatherdps per corner measured slower).
+inline void load_vertices(const float* hull, const uint32_t* offset, simd::Float1 out[4]) {
+    for (int a = 0; a < 4; ++a) out[a] = {hull[offset[0] + a]};
+}
+#if WEFT_HAVE_AVX2
+inline void load_vertices(const float* hull, const uint32_t* offset, simd::Float8 out[4]) {
+    auto pair = [&](int k) {  // lanes k and k + 4: vertex k in the low half, k + 4 in the high half
+        return _mm256_insertf128_ps(_mm256_castps128_ps256(_mm_loadu_ps(hull + offset[k])), _mm_loadu_ps(hull + offset[k + 4]), 1);
+    };
+    const __m256 a0 = pair(0), a1 = pair(1), a2 = pair(2), a3 = pair(3);
+    const __m256 t0 = _mm256_unpacklo_ps(a0, a1), t1 = _mm256_unpackhi_ps(a0, a1);  // x0 x1 y0 y1, z0 z1 m0 m1
+    const __m256 t2 = _mm256_unpacklo_ps(a2, a3), t3 = _mm256_unpackhi_ps(a2, a3);  // x2 x3 y2 y3, z2 z3 m2 m3
+    out[0] = {_mm256_shuffle_ps(t0, t2, _MM_SHUFFLE(1, 0, 1, 0))};
+    out[1] = {_mm256_shuffle_ps(t0, t2, _MM_SHUFFLE(3, 2, 3, 2))};
+    out[2] = {_mm256_shuffle_ps(t1, t3, _MM_SHUFFLE(1, 0, 1, 0))};
+    out[3] = {_mm256_shuffle_ps(t1, t3, _MM_SHUFFLE(3, 2, 3, 2))};
+}
+#endif
 
 inline float lowest(simd::Float1 a) { return a.v; }
 inline float highest(simd::Float1 a) { return a.v; }
@@ -409,10 +428,12 @@ inline void refit_leaves(BodyHierarchy& h, const float* hull) {
             F* pa[3] = {&a.x, &a.y, &a.z};
             F* pab[3] = {&ab.x, &ab.y, &ab.z};
             F* pac[3] = {&ac.x, &ac.y, &ac.z};
+            F corner_a[4], corner_b[4], corner_c[4];  // x, y, z, motion
+            load_vertices(hull, offset + k, corner_a);
+            load_vertices(hull, offset + kLeafTriangles + k, corner_b);
+            load_vertices(hull, offset + 2 * kLeafTriangles + k, corner_c);
             for (int axis = 0; axis < 3; ++axis) {
-                const F va = gather(hull + axis, offset + k, F{});
-                const F vb = gather(hull + axis, offset + kLeafTriangles + k, F{});
-                const F vc = gather(hull + axis, offset + 2 * kLeafTriangles + k, F{});
+                const F va = corner_a[axis], vb = corner_b[axis], vc = corner_c[axis];
                 *pa[axis] = va;
                 *pab[axis] = vb - va;
                 *pac[axis] = vc - va;
@@ -428,9 +449,7 @@ inline void refit_leaves(BodyHierarchy& h, const float* hull) {
             store(c + 88 + k, ab.x * ac.y - ab.y * ac.x);
             // Rounded up by the slack: the ball test must never cut a triangle that is in reach.
             store(c + 96 + k, sqrt(max(dot(ab, ab), dot(ac, ac))) + slack);
-            const F motion = max(gather(hull + 3, offset + k, F{}),
-                                 max(gather(hull + 3, offset + kLeafTriangles + k, F{}),
-                                     gather(hull + 3, offset + 2 * kLeafTriangles + k, F{})));
+            const F motion = max(corner_a[3], max(corner_b[3], corner_c[3]));
             sweep = k == 0 ? motion : max(sweep, motion);
         }
         // Widened by the leaf's motion (a surface sweeping over resting cloth: the particle lies up
