@@ -236,6 +236,8 @@ TEST_CASE("add_cloth and set_cloth_settings refuse bad settings: substeps 0, rel
          ErrorCode::out_of_range},
         {"substeps 65", [](ClothDesc& d) { d.substeps = 65; }, ErrorCode::out_of_range},
         {"relaxation 2.5", [](ClothDesc& d) { d.relaxation = 2.5f; }, ErrorCode::out_of_range},
+        {"coarse iterations 0", [](ClothDesc& d) { d.coarse_iterations = 0; }, ErrorCode::out_of_range},
+        {"coarse iterations 17", [](ClothDesc& d) { d.coarse_iterations = 17; }, ErrorCode::out_of_range},
         {"relaxation 0", [](ClothDesc& d) { d.relaxation = 0.0f; }, ErrorCode::out_of_range},
         {"relaxation NaN", [](ClothDesc& d) { d.relaxation = kNaN; }, ErrorCode::non_finite},
         {"negative stretch compliance", [](ClothDesc& d) { d.compliance_m_per_n[0] = -1e-6f; }, ErrorCode::out_of_range},

@@ -109,10 +109,10 @@ struct Kernels {
     SimdPath path;
     // Verlet, plus the coarse level's displacement when `coarse` is not null.
     void (*integrate)(const Particles&, const IntegrateArgs&, const ClothAsset&, const CoarseState* coarse);
-    // The coarse level's sweep on its nodes' Verlet prediction; leaves the node displacements in
-    // CoarseState::dx/dy/dz for `integrate`.
+    // The coarse level's sweeps (`sweeps` of them) on its nodes' Verlet prediction; leaves the node
+    // displacements in CoarseState::dx/dy/dz for `integrate`.
     void (*solve_coarse_level)(const Particles&, const IntegrateArgs&, const ClothAsset&, const CoarseState&,
-                               float relaxation);
+                               float relaxation, uint32_t sweeps);
     // [0]: exact, [1]: sqrt_free (SpringProjection)
     void (*project_run[2])(const PointSet&, const ConstraintLanes&, const ConstraintBatch&, const DistanceArgs&);
     void (*project_indexed[2])(const PointSet&, const ConstraintLanes&, const ConstraintBatch&, const DistanceArgs&);

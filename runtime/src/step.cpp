@@ -81,7 +81,7 @@ void correct_coarse_level(World& world, ClothInstance& cloth, float h) {
     CoarseState state = cloth.coarse;
     if (!has_contact_tethers(cloth)) state.anchor = nullptr;  // the solve then skips them
     world.kernels->solve_coarse_level(cloth.particles, integrate_args(world, cloth, h), *cloth.asset, state,
-                                      cloth.split.relaxation);
+                                      cloth.split.relaxation, cloth.split.coarse_iterations);
 }
 
 void integrate(World& world, ClothInstance& cloth, float h) {

@@ -60,6 +60,8 @@ struct CliOptions {
     float offset_m = 0.0f;           // sphere: drop point off the sphere's top, along x
     uint32_t iterations = 0;         // with substeps: an explicit split (0 = the config's)
     uint32_t substeps = 0;
+    uint32_t coarse_iterations = 1;  // coarse sweeps per substep, explicit split
+    float relaxation = 1.0f;         // spring correction scale, explicit split
     uint32_t steps = 300;
     uint32_t warmup = 30;
     uint32_t repeat = 1;
@@ -93,6 +95,11 @@ void add_common_options(CLI::App* app, CliOptions& o) {
         ->check(CLI::Range(1u, 1000u));
     app->add_option("--substeps", o.substeps, "Verlet substeps per step (explicit split, default 1)")
         ->check(CLI::Range(1u, 64u));
+    app->add_option("--coarse-iterations", o.coarse_iterations,
+                    "coarse-level sweeps per substep (explicit split, default 1)")
+        ->check(CLI::Range(1u, 16u));
+    app->add_option("--relaxation", o.relaxation, "scales every spring correction (explicit split, default 1)")
+        ->check(CLI::Range(0.05f, 1.95f));
     app->add_option("--steps", o.steps, "timed steps (the median is reported)")
         ->check(CLI::Range(1u, 10000000u))
         ->capture_default_str();
@@ -154,6 +161,7 @@ nlohmann::ordered_json to_json(const bench::Measurement& m, const CliOptions& o,
     j["relaxation"] = round_to(m.split.relaxation, 4);
     j["tethers"] = m.split.tethers;
     j["coarse_level"] = m.split.coarse_level;
+    j["coarse_iterations"] = m.split.coarse_level ? m.split.coarse_iterations : 0;
     j["coarse_nodes"] = m.coarse_nodes;
     if (m.scene == SeedScene::flag) j["wind_m_s"] = round_to(o.wind_m_s, 3);
     if (m.scene == SeedScene::sphere) {
@@ -236,10 +244,12 @@ void print_header(SeedScene scene, const CliOptions& o, const std::vector<SizeRe
     const SizeResult& first = results.front();
     const bench::Measurement& m = first.path[0] ? *first.path[0] : *first.path[1];
     std::printf("\nconfig %s, %s budget %u sweep(s): %u substep(s) x %u iteration(s), relaxation %g, tethers %s, "
-                "coarse level %s\n",
+                "coarse level %s",
                 o.config.c_str(), explicit_split(o) || o.config == "plain" ? "explicit" : "automatic",
                 m.split.substeps * m.split.iterations, m.split.substeps, m.split.iterations,
                 double(m.split.relaxation), m.split.tethers ? "on" : "off", m.split.coarse_level ? "on" : "off");
+    if (m.split.coarse_level) std::printf(" (%u sweep(s) a substep)", m.split.coarse_iterations);
+    std::printf("\n");
     std::printf("single thread; %u warm-up steps, median of %u timed steps", o.warmup, o.steps);
     if (o.repeat > 1) std::printf(" (lowest of %u runs)", o.repeat);
     std::printf("; cloth metrics after step %u\n", o.warmup + o.steps);
@@ -323,6 +333,8 @@ bool run_scene(SeedScene scene, const CliOptions& o, std::FILE* json_file, std::
         ro.scene_options.substeps = o.substeps > 0 ? o.substeps : 1;
         ro.scene_options.iterations = o.iterations > 0 ? o.iterations : 3;
         ro.scene_options.sweeps = ro.scene_options.substeps * ro.scene_options.iterations;
+        ro.scene_options.coarse_iterations = o.coarse_iterations;
+        ro.scene_options.relaxation = o.relaxation;
     }
     if (o.no_tethers) ro.scene_options.tethers = false;
     if (o.contact_tethers) ro.scene_options.contact_tethers = true;

@@ -108,7 +108,7 @@ GridSource parse_grid(const json& j, const std::string& where) {
 }
 
 void parse_solver(const json& j, const std::string& where, ClothDesc* d) {
-    object(j, where, {"sweeps", "substeps", "iterations", "relaxation", "coarse_level", "projection", "tethers",
+    object(j, where, {"sweeps", "substeps", "iterations", "relaxation", "coarse_level", "coarse_iterations", "projection", "tethers",
                       "tethers_before_sweeps", "tether_slack", "contact_tethers"});
     read(j, "sweeps", where, 1, 1000, &d->sweeps);
     // Naming substeps or iterations makes the split explicit (BudgetPolicy::explicit_split).
@@ -121,6 +121,7 @@ void parse_solver(const json& j, const std::string& where, ClothDesc* d) {
     }
     read(j, "relaxation", where, 0.0, 2.0, &d->relaxation);
     read_bool(j, "coarse_level", where, &d->coarse_level);
+    read(j, "coarse_iterations", where, 1, 16, &d->coarse_iterations);
     read_bool(j, "tethers", where, &d->tethers);
     read_bool(j, "tethers_before_sweeps", where, &d->tethers_before_sweeps);
     read_bool(j, "contact_tethers", where, &d->contact_tethers);

@@ -117,6 +117,7 @@ Scene seed_scene(SeedScene which, const SceneOptions& o) {
     cd.tethers_before_sweeps = o.tethers_before_sweeps;
     cd.relaxation = o.relaxation;
     cd.coarse_level = o.coarse_level;
+    cd.coarse_iterations = o.coarse_iterations;
     cd.contact_tethers = o.contact_tethers;
     cd.damping_per_s = o.damping_per_s;
     cd.projection = o.projection;

@@ -38,6 +38,7 @@ struct SceneOptions {
     bool tethers = true;
     bool tethers_before_sweeps = false;
     bool coarse_level = true;
+    uint32_t coarse_iterations = 1;  // coarse sweeps per substep (explicit split)
     bool contact_tethers = ClothDesc{}.contact_tethers;  // ClothDesc::contact_tethers
     float coarse_spacing_m = CookOptions{}.coarse_spacing_m;
     uint32_t tethers_per_particle = 2;  // nearest pinned particles each particle is tethered to

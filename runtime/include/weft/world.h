@@ -85,6 +85,7 @@ struct ClothDesc {
     uint32_t iterations = 3;   // constraint sweeps per substep (0..1000)
     float relaxation = 1.0f;   // scales every spring correction; 1 = the seed's full correction
     bool coarse_level = true;  // use the asset's coarse level, if it has one
+    uint32_t coarse_iterations = 1;  // coarse-level sweeps per substep (1..16; the policy uses 1)
     SpringProjection projection = SpringProjection::exact;
 
     // XPBD compliance (inverse stiffness) per constraint kind, m/N. 0 = hard (the seed's method).
@@ -192,6 +193,7 @@ struct SolverSplit {
     uint32_t substeps = 0, iterations = 0;
     float relaxation = 0.0f;
     bool coarse_level = false, tethers = false;
+    uint32_t coarse_iterations = 0;  // coarse-level sweeps per substep
 };
 Result cloth_solver_split(const World* world, ClothId cloth, SolverSplit* out);
 

@@ -75,7 +75,7 @@ inline void coarse_displacement(const ClothAsset& a, const CoarseState& st, uint
 // integration pass, integrate/verlet.h).
 template <class F>
 void solve_coarse_level(const Particles& particles, const IntegrateArgs& integrate_args, const ClothAsset& a,
-                        const CoarseState& state, float relaxation) {
+                        const CoarseState& state, float relaxation, uint32_t sweeps) {
     using namespace simd;
     const Particles p = particles;  // local copies: stores cannot alias them
     const IntegrateArgs args = integrate_args;
@@ -87,14 +87,15 @@ void solve_coarse_level(const Particles& particles, const IntegrateArgs& integra
     const PointSet points{st.x, st.y, st.z, a.coarse_inverse_mass};
     const ConstraintLanes constraints = coarse_lanes(a);
     const DistanceArgs distance{0.0f, relaxation};
-    for (uint32_t b = 0; b < a.coarse_batch_count; ++b) {
-        const ConstraintBatch& batch = a.coarse_batches[b];
-        if (batch.layout == BatchLayout::run) {
-            project_run<F, false>(points, constraints, batch, distance);
-        } else {
-            project_indexed<false>(points, constraints, batch, distance);
+    for (uint32_t sweep = 0; sweep < sweeps; ++sweep)
+        for (uint32_t b = 0; b < a.coarse_batch_count; ++b) {
+            const ConstraintBatch& batch = a.coarse_batches[b];
+            if (batch.layout == BatchLayout::run) {
+                project_run<F, false>(points, constraints, batch, distance);
+            } else {
+                project_indexed<false>(points, constraints, batch, distance);
+            }
         }
-    }
     if (st.anchor != nullptr)  // contact tethers, when the cloth uses them (constraints/contact_tethers.h)
         for (uint32_t k = 0; k < a.coarse_slot_count; k += F::width) project_contact_tethers<F>(a, st, k);
 
