@@ -2,8 +2,8 @@
 //
 //   1. external forces: gravity and damping (folded into Verlet), wind drag and lift (eq. 2-4)
 //   2. Verlet integration
-//   3. spring correction: a) one sweep of the coarse level (if any; with contact tethers, which the
-//      end of each step re-anchors), b) `iterations` sweeps over
+//   3. spring correction: a) `coarse_iterations` sweeps of the coarse level (if any; with contact
+//      tethers, which the end of each step re-anchors), b) `iterations` sweeps over
 //      every constraint batch, c) the tethers once (measured: tethers after every sweep cost 2x the
 //      pass for a smaller max strain, docs/solver.md)
 //   4. collision test and response against the inflated colliders, then the bodies' offset hulls
@@ -72,9 +72,8 @@ bool has_contact_tethers(const ClothInstance& cloth) {
     return cloth.settings.contact_tethers && has_coarse_level(cloth);
 }
 
-// The coarse level's sweep on its nodes' Verlet prediction; the integration pass then adds the
+// The coarse level's sweeps on its nodes' Verlet prediction; the integration pass then adds the
 // resulting displacement to every particle.
-
 void correct_coarse_level(World& world, ClothInstance& cloth, float h) {
     if (!has_coarse_level(cloth)) return;
     PassTimer timer(world, Pass::coarse);

@@ -25,6 +25,7 @@ namespace weft {
 
 // The node passes read the particle arrays at scattered slots, one scalar load per lane
 // (gather_by_loads: faster than the hardware gather here).
+//
 // Step 1 for the node slots k..k+width: their nodes' Verlet prediction, straight into the node
 // slots the sweep works on (st.x) and, kept for the displacement, into st.dx (by node slot until
 // step 2 is done). Padding node slots predict some particle and are never moved (inverse mass 0).
