@@ -64,9 +64,10 @@ enum class SpringProjection : uint8_t {
 enum class BudgetPolicy : uint8_t {
     // The measured default (docs/solver.md): a cloth held by pinned particles runs 1 substep of
     // `sweeps` iterations with its tethers (the pins carry the long range; iterations cut strain
-    // most); a cloth held by nothing but colliders runs min(sweeps, 3) substeps of sweeps / substeps
-    // iterations, relaxation 0.8, with the coarse level (friction needs substeps; the coarse level
-    // carries the tension; more than 3 coarse corrections a step kept a draped cloth jittering).
+    // most); a cloth held by nothing but colliders runs 2 substeps (3 from 6 sweeps) of
+    // sweeps / substeps iterations, relaxation 0.8, with the coarse level solved 3 times a substep
+    // (friction needs substeps; the coarse level carries the tension; more than 3 coarse
+    // corrections a step kept a draped cloth jittering).
     automatic,
     // substeps, iterations, relaxation and coarse_level exactly as given below.
     explicit_split,
