@@ -239,6 +239,13 @@ TEST_CASE("add_cloth and set_cloth_settings refuse bad settings: substeps 0, rel
         {"coarse iterations 0", [](ClothDesc& d) { d.coarse_iterations = 0; }, ErrorCode::out_of_range},
         {"coarse iterations 17", [](ClothDesc& d) { d.coarse_iterations = 17; }, ErrorCode::out_of_range},
         {"relaxation 0", [](ClothDesc& d) { d.relaxation = 0.0f; }, ErrorCode::out_of_range},
+        {"relaxation 1.3 (over-relaxation jitters)", [](ClothDesc& d) { d.relaxation = 1.3f; }, ErrorCode::out_of_range},
+        {"relaxation 0.4", [](ClothDesc& d) { d.relaxation = 0.4f; }, ErrorCode::out_of_range},
+        {"coarse level with 16 substeps", [](ClothDesc& d) {
+             d.policy = BudgetPolicy::explicit_split;
+             d.substeps = 16;
+             d.coarse_level = true;
+         }, ErrorCode::out_of_range},
         {"relaxation NaN", [](ClothDesc& d) { d.relaxation = kNaN; }, ErrorCode::non_finite},
         {"negative stretch compliance", [](ClothDesc& d) { d.compliance_m_per_n[0] = -1e-6f; }, ErrorCode::out_of_range},
         {"negative bend compliance", [](ClothDesc& d) { d.compliance_m_per_n[2] = -1.0f; }, ErrorCode::out_of_range},

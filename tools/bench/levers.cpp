@@ -37,7 +37,6 @@ std::vector<Lever> levers(uint32_t sweeps) {
     out.push_back(split("substeps instead of iterations", sweeps, 1.0f, false, false));
     out.push_back(split("substeps, under-relaxed 0.8", sweeps, 0.8f, false, false));
     out.push_back(split("iterations, under-relaxed 0.8", 1, 0.8f, false, false));
-    out.push_back(split("iterations, over-relaxed 1.3", 1, 1.3f, false, false));
     out.push_back(split("tethers (iterations)", 1, 1.0f, true, false));
     Lever both = split("tethers before and after sweeps", 1, 1.0f, true, false);
     both.options.tethers_before_sweeps = true;

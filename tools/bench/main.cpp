@@ -99,7 +99,7 @@ void add_common_options(CLI::App* app, CliOptions& o) {
                     "coarse-level sweeps per substep (explicit split, default 1)")
         ->check(CLI::Range(1u, 16u));
     app->add_option("--relaxation", o.relaxation, "scales every spring correction (explicit split, default 1)")
-        ->check(CLI::Range(0.05f, 1.95f));
+        ->check(CLI::Range(kMinRelaxation, kMaxRelaxation));
     app->add_option("--steps", o.steps, "timed steps (the median is reported)")
         ->check(CLI::Range(1u, 10000000u))
         ->capture_default_str();

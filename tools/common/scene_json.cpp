@@ -119,7 +119,7 @@ void parse_solver(const json& j, const std::string& where, ClothDesc* d) {
         read(j, "substeps", where, 1, 64, &d->substeps);
         read(j, "iterations", where, 0, 1000, &d->iterations);
     }
-    read(j, "relaxation", where, 0.0, 2.0, &d->relaxation);
+    read(j, "relaxation", where, kMinRelaxation, kMaxRelaxation, &d->relaxation);
     read_bool(j, "coarse_level", where, &d->coarse_level);
     read(j, "coarse_iterations", where, 1, 16, &d->coarse_iterations);
     read_bool(j, "tethers", where, &d->tethers);

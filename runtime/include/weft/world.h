@@ -60,6 +60,12 @@ enum class SpringProjection : uint8_t {
     sqrt_free,  // Jakobsen's square-root approximation: same rest state, no square root
 };
 
+// The explicit split's accepted range (docs/solver.md, "Splits the API refuses"): outside it a
+// configuration measured jittering or blowing up on the drape or the sphere.
+inline constexpr float kMinRelaxation = 0.5f;
+inline constexpr float kMaxRelaxation = 1.0f;
+inline constexpr uint32_t kMaxCoarseSubsteps = 8;  // substeps of an explicit split with coarse_level
+
 // How a cloth spends its solver budget.
 enum class BudgetPolicy : uint8_t {
     // The measured default (docs/solver.md): a cloth held by pinned particles runs 1 substep of
@@ -85,6 +91,7 @@ struct ClothDesc {
     uint32_t substeps = 1;     // Verlet steps per step() call (1..64)
     uint32_t iterations = 3;   // constraint sweeps per substep (0..1000)
     float relaxation = 1.0f;   // scales every spring correction; 1 = the seed's full correction
+                               // (kMinRelaxation..kMaxRelaxation: what measured stable)
     bool coarse_level = true;  // use the asset's coarse level, if it has one
     uint32_t coarse_iterations = 1;  // coarse-level sweeps per substep (1..16; the policy uses 1)
     SpringProjection projection = SpringProjection::exact;
