@@ -165,7 +165,7 @@ TEST_CASE("scalar vs avx2: three coarse sweeps a substep on the sphere") {
 TEST_CASE("scalar vs avx2: the coarse lattice's row tails and narrow rows on the sphere") {
     // n = 37: plane rows of 19 columns (two lane groups and one overlapping tail group); n = 12: rows
     // of 6 columns, narrower than a lane group (one lane at a time on both paths). The default
-    // policy (coarse level, 3 substeps) and friction, so the lattice interpolation (gather_near),
+    // policy (coarse level, 2 substeps) and friction, so the lattice interpolation (gather_near),
     // the integration's row tails and the friction response all run.
     check_sphere_parity(37, 0.1f, 60);
     check_sphere_parity(12, 0.1f, 60);

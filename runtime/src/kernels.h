@@ -90,6 +90,7 @@ struct IntegrateArgs {
 struct DistanceArgs {
     float compliance_over_h2;  // alpha / h^2, 1/kg
     float relaxation;          // scales the correction
+    float compression_weight = 1.0f;  // scales a compressed constraint's correction (coarse level only)
 };
 
 // A collider in the form the kernel wants: a segment p0-p1 with a radius (sphere: p0 = p1),

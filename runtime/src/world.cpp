@@ -218,15 +218,16 @@ SolverSplit resolve_split(const ClothDesc& desc, const ClothAsset& asset) {
         split.coarse_level = false;
         split.coarse_iterations = 1;
     } else {  // held by colliders only: substeps for friction, the coarse level for tension
-        // At most 3 substeps: the coarse correction, applied every substep, kept a draped cloth
-        // moving at 1-6 cm/s with 10 to 100 substeps; 3 substeps x more iterations come to rest.
-        split.substeps = desc.sweeps < 3 ? desc.sweeps : 3;
+        // 2 substeps with 3 coarse sweeps each up to 5 sweeps: the sphere's grid stays on at every
+        // size and offset at about plain's cost at 3 sweeps (3 substeps with one coarse sweep cost
+        // 1.25-1.5x). From 6 sweeps 3 substeps (better contact on moving bodies), never more: the
+        // coarse correction, applied every substep, keeps a draped cloth moving at 1-6 cm/s with 4
+        // to 100 substeps (docs/solver.md).
+        split.substeps = desc.sweeps < 2 ? desc.sweeps : desc.sweeps < 6 ? 2 : 3;
         split.iterations = desc.sweeps / split.substeps;  // never more than the budget
         split.relaxation = 0.8f;
         split.coarse_level = asset.coarse_node_count > 0;
-        // One coarse sweep: 2 substeps with 3 coarse sweeps each kept the sphere's grid on at about
-        // plain's cost, but left the irregular disc moving at 1.3 cm/s (docs/solver.md).
-        split.coarse_iterations = 1;
+        split.coarse_iterations = 3;
     }
     return split;
 }

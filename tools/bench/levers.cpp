@@ -29,6 +29,7 @@ std::vector<Lever> levers(uint32_t sweeps) {
         l.options.relaxation = relaxation;
         l.options.tethers = tethers;
         l.options.coarse_level = coarse;
+        l.options.contact_tethers = false;
         return l;
     };
     std::vector<Lever> out;
@@ -48,6 +49,15 @@ std::vector<Lever> levers(uint32_t sweeps) {
     Lever contact = split("coarse + contact tethers (substeps, 0.8)", sweeps, 0.8f, false, true);
     contact.options.contact_tethers = true;
     out.push_back(contact);
+    // Fewer substeps, the coarse level solved 3 times a substep (ClothDesc::coarse_iterations).
+    const uint32_t two = sweeps < 2 ? sweeps : 2;
+    Lever coarse3 = split("2 substeps, coarse level x3 (0.8)", two, 0.8f, false, true);
+    coarse3.options.coarse_iterations = 3;
+    out.push_back(coarse3);
+    Lever coarse3_contact = coarse3;
+    coarse3_contact.name = "2 substeps, coarse x3 + contact tethers";
+    coarse3_contact.options.contact_tethers = true;
+    out.push_back(coarse3_contact);
     Lever d;
     d.name = "default (automatic policy)";
     scenes::apply_config(scenes::Config::default_config, sweeps, d.options);

@@ -1,16 +1,24 @@
-// The coarse-level correction (hierarchical position-based dynamics, Mueller 2008), once per
-// substep before the fine sweeps:
+// The coarse-level correction (hierarchical position-based dynamics, Mueller 2008), every substep
+// before the fine sweeps:
 //   1. predict the nodes' positions (the integration's own Verlet formula);
-//   2. one Gauss-Seidel sweep over the coarse distance constraints (the same projection kernels as
-//      the fine springs, on the nodes' lumped masses, batch by batch over node slots: on a lattice
-//      the coarse constraints are contiguous runs on the node lattice's parity planes);
+//   2. `coarse_iterations` Gauss-Seidel sweeps over the coarse distance constraints (the same
+//      projection kernels as the fine springs, on the nodes' lumped masses, batch by batch over node
+//      slots: on a lattice the coarse constraints are contiguous runs on the node lattice's parity
+//      planes);
 //   3. move every particle by the weighted displacement of its nodes (a partition of unity), so the
 //      whole cloth follows the coarse correction smoothly instead of only the node particles; this
 //      is done inside the integration pass (integrate/verlet.h), so step 1 predicts the nodes.
 // The coarse projection uses the square-root-free form (distance.h): same rest state, measured
 // the same on the sphere (stays at n = 50, 100, 200), 20% cheaper. The coarse cloth has no bend
-// constraints (measured: they flare a draped skirt into an umbrella) and is bilateral (unilateral
-// coarse constraints gave 100%+ local strain spikes).
+// constraints (measured: they flare a draped skirt into an umbrella).
+//
+// A coarse constraint resists compression at kCoarseCompressionWeight of its stretch correction.
+// Where the cloth curves or folds (over the sphere, in the folds of a hanging rim) the straight
+// chord between two nodes is shorter than its flat rest length; fully bilateral, the coarse level
+// pushes the nodes apart, the fine springs pull them back, and the 1.4 m disc on the sphere never
+// came to rest (1.1 cm/s with 2 substeps x 3 coarse sweeps). Unilateral (weight 0) it rests, but
+// the grid's worst spring on the sphere stretches 113-188%. A quarter: both at rest, and the grid's
+// worst spring at n = 100 83% -> 64% (docs/solver.md).
 #pragma once
 
 #include <utility>
@@ -22,6 +30,8 @@
 #include "simd/float_w.h"
 
 namespace weft {
+
+inline constexpr float kCoarseCompressionWeight = 0.25f;
 
 // The node passes read the particle arrays at scattered slots, one scalar load per lane
 // (gather_by_loads: faster than the hardware gather here).
@@ -87,14 +97,14 @@ void solve_coarse_level(const Particles& particles, const IntegrateArgs& integra
 
     const PointSet points{st.x, st.y, st.z, a.coarse_inverse_mass};
     const ConstraintLanes constraints = coarse_lanes(a);
-    const DistanceArgs distance{0.0f, relaxation};
+    const DistanceArgs distance{0.0f, relaxation, kCoarseCompressionWeight};
     for (uint32_t sweep = 0; sweep < sweeps; ++sweep)
         for (uint32_t b = 0; b < a.coarse_batch_count; ++b) {
             const ConstraintBatch& batch = a.coarse_batches[b];
             if (batch.layout == BatchLayout::run) {
-                project_run<F, false>(points, constraints, batch, distance);
+                project_run<F, false, true>(points, constraints, batch, distance);
             } else {
-                project_indexed<false>(points, constraints, batch, distance);
+                project_indexed<false, true>(points, constraints, batch, distance);
             }
         }
     if (st.anchor != nullptr)  // contact tethers, when the cloth uses them (constraints/contact_tethers.h)

@@ -17,6 +17,9 @@
 //              costs as much as the rest of the projection on this class of CPU. It over-corrects a
 //              stretched spring slightly (4.5% at 10% strain) and under-corrects a compressed one.
 //
+// With kWeakCompression (the coarse level only) a compressed constraint's correction is scaled by
+// DistanceArgs::compression_weight: see constraints/coarse.h.
+//
 // No division by zero: a lane whose length is below 1 nm (no direction) or whose ends are both
 // pinned with zero compliance gets no correction (keep_if turns its NaN or infinity into 0).
 #pragma once
@@ -29,9 +32,9 @@ namespace weft {
 inline constexpr float kMinSpringLength_m = 1e-9f;
 
 // One lane group of distance projections; `weight` is lane_weight * relaxation (0 on padding).
-template <class F, bool kExact>
+template <class F, bool kExact, bool kWeakCompression = false>
 inline void project_distance(F& xa, F& ya, F& za, F wa, F& xb, F& yb, F& zb, F wb, F rest,
-                             F weight, F alpha) {
+                             F weight, F alpha, F compression_weight = F{}) {
     using namespace simd;
     const F dx = xb - xa, dy = yb - ya, dz = zb - za;
     const F len2 = mul_add(dx, dx, mul_add(dy, dy, dz * dz));
@@ -47,6 +50,7 @@ inline void project_distance(F& xa, F& ya, F& za, F wa, F& xb, F& yb, F& zb, F w
         const F den = (len2 + rest2) * w_sum;
         s = keep_if(den > zero, ((len2 - rest2) * weight) / den);
     }
+    if constexpr (kWeakCompression) s = select(s < zero, s * compression_weight, s);
     const F sa = wa * s, sb = wb * s;
     xa = mul_add(sa, dx, xa);
     ya = mul_add(sa, dy, ya);
@@ -57,12 +61,13 @@ inline void project_distance(F& xa, F& ya, F& za, F wa, F& xb, F& yb, F& zb, F w
 }
 
 // A run: lane k joins slots a0 + k and b0 + k, so every operand is a plain vector load.
-template <class F, bool kExact>
+template <class F, bool kExact, bool kWeakCompression = false>
 void project_run(const PointSet& p, const ConstraintLanes& constraints, const ConstraintBatch& batch,
                  const DistanceArgs& args) {
     using namespace simd;
     const F alpha = splat(args.compliance_over_h2, F{});
     const F relaxation = splat(args.relaxation, F{});
+    const F compression_weight = splat(args.compression_weight, F{});
     // One base pointer per stream, so each load is a single base + k addressing mode (index
     // arithmetic per load measured as the bottleneck, not sqrt or divide).
     float* const xa_base = p.x + batch.a0;
@@ -79,8 +84,9 @@ void project_run(const PointSet& p, const ConstraintLanes& constraints, const Co
     for (size_t k = 0; k < lanes; k += F::width) {
         F xa = load(xa_base + k, F{}), ya = load(ya_base + k, F{}), za = load(za_base + k, F{});
         F xb = load(xb_base + k, F{}), yb = load(yb_base + k, F{}), zb = load(zb_base + k, F{});
-        project_distance<F, kExact>(xa, ya, za, load(wa_base + k, F{}), xb, yb, zb, load(wb_base + k, F{}),
-                         load(rest + k, F{}), load(lane_weight + k, F{}) * relaxation, alpha);
+        project_distance<F, kExact, kWeakCompression>(xa, ya, za, load(wa_base + k, F{}), xb, yb, zb,
+                                                      load(wb_base + k, F{}), load(rest + k, F{}),
+                                                      load(lane_weight + k, F{}) * relaxation, alpha, compression_weight);
         store(xa_base + k, xa);
         store(ya_base + k, ya);
         store(za_base + k, za);
@@ -92,7 +98,7 @@ void project_run(const PointSet& p, const ConstraintLanes& constraints, const Co
 
 // The general path: per-lane indices, one lane at a time on every SIMD path (gathers measured
 // no faster than scalar on this layout; see docs/architecture.md).
-template <bool kExact>
+template <bool kExact, bool kWeakCompression = false>
 void project_indexed(const PointSet& p, const ConstraintLanes& constraints, const ConstraintBatch& batch,
                      const DistanceArgs& args) {
     using simd::Float1;
@@ -101,9 +107,10 @@ void project_indexed(const PointSet& p, const ConstraintLanes& constraints, cons
     for (uint32_t lane = batch.first_lane; lane < end; ++lane) {
         const uint32_t a = constraints.index_a[lane], b = constraints.index_b[lane];
         Float1 xa{p.x[a]}, ya{p.y[a]}, za{p.z[a]}, xb{p.x[b]}, yb{p.y[b]}, zb{p.z[b]};
-        project_distance<Float1, kExact>(xa, ya, za, Float1{p.inverse_mass[a]}, xb, yb, zb,
-                         Float1{p.inverse_mass[b]}, Float1{constraints.rest_length[lane]},
-                         Float1{constraints.lane_weight[lane] * args.relaxation}, alpha);
+        project_distance<Float1, kExact, kWeakCompression>(
+            xa, ya, za, Float1{p.inverse_mass[a]}, xb, yb, zb, Float1{p.inverse_mass[b]},
+            Float1{constraints.rest_length[lane]}, Float1{constraints.lane_weight[lane] * args.relaxation}, alpha,
+            Float1{args.compression_weight});
         p.x[a] = xa.v;
         p.y[a] = ya.v;
         p.z[a] = za.v;
