@@ -65,8 +65,8 @@ struct SewOptions {
     uint32_t max_drape_frames = 900;
     uint32_t sweeps = 8;                // the solver's budget per step (ClothDesc::sweeps): the game's for this garment
     // The body's friction while the seams close: the panels are dragged around the body then, and
-    // friction caught the pencil dress's back on mean_all's shoulders (start strain 375% at 0.5,
-    // 143% at 0.3, 51% frictionless, at 16 sweeps).
+    // friction caught the pencil dress's back on mean_all's shoulders (start strain, draped at 16
+    // sweeps: 375% at 0.5, 143% at 0.3, 51% frictionless; docs/garments.md).
     float sewing_friction = 0.0f;
     float sewing_damping_per_s = 4.0f;  // extra calm while sewing (ClothDesc::damping_per_s)
     // The drape looks for the rest pose, so it may be calmer than the game's cloth: at 1/s the
