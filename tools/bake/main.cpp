@@ -2,7 +2,7 @@
 //
 //   weft-bake PATTERN.json -o OUT.weft [--target-edge METRES] [--simd-width 8|16] [--json]
 //             [--depfile FILE] [--offset X,Y,Z] [--runs] [--body BODY.obj|BODY.gltf|mannequin]
-//             [--sewing-frames DIR [--sewing-every K]]
+//             [--sweeps N] [--sewing-frames DIR [--sewing-every K]]
 //   weft-bake --info FILE.weft [--json]
 //
 // The pipeline is bake_pattern (bake.h); this file is the command line around it.
@@ -153,6 +153,11 @@ int main(int argc, char** argv) {
                    "sew the garment onto this body (OBJ, glTF, or 'mannequin': the project's own) and store it dressed");
     app.add_flag("--json", as_json, "one JSON object instead of the human summary");
     app.add_flag("--runs", runs, "also print where the constraints off SIMD runs and the padding lanes come from (stderr)");
+    uint32_t sweeps = bake::SewOptions{}.sweeps;
+    app.add_option("--sweeps", sweeps,
+                   "with --body: the solver budget the sewing and the drape run at, the garment's in the game "
+                   "(ClothDesc::sweeps; default 8)")
+        ->check(CLI::Range(1u, 1000u));
     std::string sewing_frames;
     uint32_t sewing_every = 10;
     app.add_option("--sewing-frames", sewing_frames,
@@ -175,6 +180,7 @@ int main(int argc, char** argv) {
         if (std::string e = load_sew_body(body_name, &body); !e.empty()) return fail("--body " + body_name + ": " + e);
         options.body = &body;
     }
+    options.sew.sweeps = sweeps;
     // Figure 13: the sewing world as OBJ files (frame numbers per stage; the stage's last frame too).
     std::string frames_error;
     uint32_t frames_written = 0;

@@ -37,22 +37,122 @@ std::vector<uint32_t> seam_groups(const ClothMeshDesc& m) {
     return parent;
 }
 
-// Moves every seam group's particles toward their target by at most `step_m` (eq. 10: the sources
-// move geometrically, not by physics; they are held kinematic, inverse mass 0, while they move) and
-// returns the largest distance of a particle to its target before the move.
-float close_seams(World* world, ClothId cloth, const std::vector<std::vector<uint32_t>>& groups,
-                  const std::vector<Vec3>& target, std::vector<Vec3>& x, float step_m) {
+// Moves every open seam group's sources toward their target by at most `step_m` (eq. 10: the
+// sources move geometrically, not by physics; they are held kinematic, inverse mass 0, while they
+// move; `index` maps them to the sewing world's particles), marks a group whose sources have met
+// as closed, and returns the largest distance of a source to its target before the move.
+float close_seams(World* world, ClothId cloth, const BodyWorld& probe, const std::vector<std::vector<uint32_t>>& groups,
+                  const std::vector<Vec3>& target, const std::vector<uint32_t>& index, std::vector<char>& closed,
+                  std::vector<Vec3>& x, float step_m) {
     float gap = 0.0f;
-    for (size_t k = 0; k < groups.size(); ++k)
+    for (size_t k = 0; k < groups.size(); ++k) {
+        if (closed[k]) continue;
+        float group_gap = 0.0f;
         for (uint32_t p : groups[k]) {
             const Vec3 d = sub(target[k], x[p]);
             const float l = length(d);
-            gap = std::max(gap, l);
+            group_gap = std::max(group_gap, l);
             const float t = l > step_m ? step_m / l : 1.0f;
             x[p] = {x[p].x + d.x * t, x[p].y + d.y * t, x[p].z + d.z * t};
-            set_particle(world, cloth, p, x[p], 0.0f);
+            // Held kinematic, a source meets no collider: one that stepped into the body's hull
+            // goes to its closest hull point, so it slides over the body instead of through it.
+            BodyContact c;
+            if (query_body(probe.world, probe.body, x[p], &c).ok() && c.found && c.penetration_m > 0.0f) x[p] = c.hull_point;
+            set_particle(world, cloth, index[p], x[p], 0.0f);
         }
+        gap = std::max(gap, group_gap);
+        closed[k] = group_gap <= step_m;  // every source is on the target now
+    }
     return gap;
+}
+
+// The garment with the seam groups `merged` marks each made one particle (the first source's
+// index order) at the mean of its sources in `x`, with the summed mass (0 when `mass` pins any
+// source), every source's uv kept; triangles keep their flat corners (rest_corners) so rest
+// lengths still come from the flat panels. The other particles are copied as they are.
+void merge_seams(const ClothMeshDesc& unsewn, const std::vector<uint32_t>& root,
+                 const std::vector<std::vector<uint32_t>>& groups, const std::vector<char>& merged,
+                 const std::vector<Vec3>& x, const float* mass, SewnGarment* out) {
+    const uint32_t n = unsewn.particle_count;
+    std::vector<uint32_t> merge_root(n);
+    std::iota(merge_root.begin(), merge_root.end(), 0u);
+    for (size_t k = 0; k < groups.size(); ++k)
+        if (merged[k])
+            for (uint32_t p : groups[k]) merge_root[p] = root[p];
+    SewnGarment g;
+    g.new_of_old.assign(n, ~0u);
+    std::vector<uint32_t> first_of_new;
+    for (uint32_t p = 0; p < n; ++p) {
+        if (merge_root[p] != p) continue;
+        g.new_of_old[p] = uint32_t(first_of_new.size());
+        first_of_new.push_back(p);
+    }
+    for (uint32_t p = 0; p < n; ++p) g.new_of_old[p] = g.new_of_old[merge_root[p]];
+    const uint32_t m = uint32_t(first_of_new.size());
+    g.positions.assign(m, Vec3{});
+    g.masses.assign(m, 0.0f);
+    std::vector<uint32_t> count(m, 0);
+    std::vector<bool> pinned(m, false);
+    for (uint32_t p = 0; p < n; ++p) {
+        const uint32_t q = g.new_of_old[p];
+        g.positions[q] = {g.positions[q].x + x[p].x, g.positions[q].y + x[p].y, g.positions[q].z + x[p].z};
+        g.masses[q] += unsewn.masses[p];
+        pinned[q] = pinned[q] || mass[p] == 0.0f;
+        ++count[q];
+    }
+    for (uint32_t q = 0; q < m; ++q) {
+        const float inv = 1.0f / float(count[q]);
+        g.positions[q] = {g.positions[q].x * inv, g.positions[q].y * inv, g.positions[q].z * inv};
+        if (pinned[q]) g.masses[q] = 0.0f;  // a pin on any source holds the sewn particle
+    }
+    if (unsewn.uv != nullptr) {
+        g.uv.resize(2 * size_t(m));
+        for (uint32_t q = 0; q < m; ++q) g.uv[2 * q] = unsewn.uv[2 * first_of_new[q]], g.uv[2 * q + 1] = unsewn.uv[2 * first_of_new[q] + 1];
+        g.sewn_uv_first.push_back(0);
+        for (size_t k = 0; k < groups.size(); ++k) {
+            if (!merged[k]) continue;
+            g.sewn_particle.push_back(g.new_of_old[groups[k][0]]);
+            for (uint32_t p : groups[k]) g.sewn_uv.push_back(unsewn.uv[2 * p]), g.sewn_uv.push_back(unsewn.uv[2 * p + 1]);
+            g.sewn_uv_first.push_back(uint32_t(g.sewn_uv.size() / 2));
+        }
+    }
+    if (unsewn.lattice != nullptr) {
+        g.lattice.assign(2 * size_t(m), -1);
+        for (uint32_t q = 0; q < m; ++q)
+            if (count[q] == 1)
+                g.lattice[2 * q] = unsewn.lattice[2 * first_of_new[q]], g.lattice[2 * q + 1] = unsewn.lattice[2 * first_of_new[q] + 1];
+    }
+    if (unsewn.panel != nullptr) {
+        g.panel.resize(m);
+        for (uint32_t q = 0; q < m; ++q) g.panel[q] = unsewn.panel[first_of_new[q]];
+    }
+    for (uint32_t t = 0; t < unsewn.triangle_count; ++t) {
+        const uint32_t* v = unsewn.triangles + 3 * t;
+        const uint32_t a = g.new_of_old[v[0]], b = g.new_of_old[v[1]], c = g.new_of_old[v[2]];
+        if (a == b || b == c || a == c) continue;  // a corner sewn onto its own triangle's edge
+        g.triangles.insert(g.triangles.end(), {a, b, c});
+        for (int k = 0; k < 3; ++k) g.rest_corners.push_back(unsewn.rest_positions[v[k]]);
+    }
+    ClothMeshDesc& d = g.desc;
+    d.particle_count = m;
+    d.positions = g.positions.data();
+    d.triangle_count = uint32_t(g.triangles.size() / 3);
+    d.triangles = g.triangles.data();
+    d.masses = g.masses.data();
+    d.rest_corners = g.rest_corners.data();
+    d.lattice = g.lattice.empty() ? nullptr : g.lattice.data();
+    d.lattice_plane_stride = unsewn.lattice_plane_stride;
+    d.uv = g.uv.empty() ? nullptr : g.uv.data();
+    d.panel_count = unsewn.panel_count;
+    d.panel = g.panel.empty() ? nullptr : g.panel.data();
+    d.fabric = unsewn.fabric;
+    if (!g.sewn_particle.empty()) {
+        d.sewn_point_count = uint32_t(g.sewn_particle.size());
+        d.sewn_particle = g.sewn_particle.data();
+        d.sewn_uv_first = g.sewn_uv_first.data();
+        d.sewn_uv = g.sewn_uv.data();
+    }
+    *out = std::move(g);  // the vectors move with their buffers: desc's pointers stay valid
 }
 
 }  // namespace
@@ -112,6 +212,8 @@ bool inside_body(const SewBody& body, Vec3 p) {
 
 Status sew_garment(const ClothMeshDesc& unsewn, const std::vector<uint32_t>& attached, const SewBody& body,
                    const SewOptions& o, SewnGarment* out, SewReport* report) {
+    SewOptions sewing = o;  // frictionless while the seams close (SewOptions::sewing_friction)
+    sewing.body_friction = o.sewing_friction;
     const auto start = std::chrono::steady_clock::now();
     if (body.positions.empty() || body.triangles.size() < 3) return {"the body has no triangles"};
     if (unsewn.seam_point_count == 0) return {"the pattern has no seams to sew"};
@@ -174,7 +276,41 @@ Status sew_garment(const ClothMeshDesc& unsewn, const std::vector<uint32_t>& att
             for (uint32_t p : groups[k]) gap = std::max(gap, length(sub(x[p], attaching ? x[groups[k][0]] : target[k])));
         return gap;
     };
-    const auto slide_attachments = [&](World* world, ClothId cloth, float step_m) -> Status {
+    // The sewing world: the garment with the seam points closed so far merged (merge_seams), so a
+    // closed seam point is one dynamic particle that follows the cloth while the open ones close.
+    // Held where they closed until every seam was closed, the pencil dress's waist seam points
+    // beside the back's side seam stayed behind the body while the side seam's corner, its
+    // neighbour 1.4 cm away on the same panel, moved 25 cm to its target at the side (7.2x its
+    // rest length at the start state).
+    struct Stage {
+        SewnGarment garment;  // garment.new_of_old: the sewing world's particle of each unsewn one
+        CookedCloth cooked;
+        BodyWorld w;
+    };
+    std::unique_ptr<Stage> stage;
+    std::vector<char> closed(groups.size(), 0), merged(groups.size(), 0);
+    std::vector<Vec3> now;
+    uint32_t merged_at = 0;  // the frame of the last merge
+    const auto merge_closed = [&]() -> Status {
+        auto next = std::make_unique<Stage>();
+        merged = closed;
+        merge_seams(unsewn, root, groups, merged, x, unsewn.masses, &next->garment);
+        if (Result r = cook_cloth(next->garment.desc, sewn_cook_options(cook), &next->cooked); !r.ok())
+            return {std::string("garment being sewn: ") + r.message};
+        if (Status s = open_body_world(next->cooked.asset(), body, sewing, o.sewing_gravity_m_s2, o.sewing_damping_per_s, &next->w);
+            !s.ok())
+            return s;
+        stage = std::move(next);
+        now.resize(stage->garment.desc.particle_count);
+        merged_at = rep.sewing_frames;
+        return {};
+    };
+    const auto read_sewing = [&]() -> Status {  // the sewing world's positions, as unsewn particles
+        if (Result r = read_positions(stage->w.world, stage->w.cloth, now.data(), uint32_t(now.size())); !r.ok()) return {r.message};
+        for (uint32_t p = 0; p < n; ++p) x[p] = now[stage->garment.new_of_old[p]];
+        return {};
+    };
+    const auto slide_attachments = [&](float step_m) -> Status {
         for (const std::vector<uint32_t>& set : attached_sets) {
             Vec3 mean{};
             for (uint32_t p : set) mean = {mean.x + x[p].x, mean.y + x[p].y, mean.z + x[p].z};
@@ -187,15 +323,14 @@ Status sew_garment(const ClothMeshDesc& unsewn, const std::vector<uint32_t>& att
             const float l = length(d), t = l > step_m ? step_m / l : 1.0f;
             for (uint32_t p : set) {
                 x[p] = {mean.x + d.x * t, mean.y + d.y * t, mean.z + d.z * t};
-                set_particle(world, cloth, p, x[p], 1.0f / unsewn.masses[p]);
+                const uint32_t q = stage->garment.new_of_old[p];
+                set_particle(stage->w.world, stage->w.cloth, q, x[p], 1.0f / stage->garment.masses[q]);
             }
         }
         return {};
     };
     {
-        BodyWorld w;
-        if (Status s = open_body_world(cooked.asset(), body, o, o.sewing_gravity_m_s2, o.sewing_damping_per_s, &w); !s.ok())
-            return s;
+        if (Status s = merge_closed(); !s.ok()) return s;
         // The sources reach their targets, then the cloth settles around the closed seams.
         const auto watch = [&](bool last) {
             if (!o.on_frame || (!last && rep.sewing_frames % std::max(o.frame_every, 1u) != 0)) return;
@@ -203,29 +338,33 @@ Status sew_garment(const ClothMeshDesc& unsewn, const std::vector<uint32_t>& att
                         unsewn.uv, seam_gap()});
         };
         for (uint32_t settled = 0; settled < o.settle_frames;) {
-            if (Result r = read_positions(w.world, w.cloth, x.data(), n); !r.ok()) return {r.message};
+            if (Status s = read_sewing(); !s.ok()) return s;
             watch(false);
-            float gap = 0.0f;
-            if (!attaching) {  // every seam closes on its target
-                gap = close_seams(w.world, w.cloth, groups, target, x, o.sewing_speed_m_s * o.dt_s);
-                attaching = gap == 0.0f;
-            }
-            if (attaching) {  // closed (the other seam points stay held): the attachments slide onto the body
-                if (Status s = slide_attachments(w.world, w.cloth, o.sewing_speed_m_s * o.dt_s); !s.ok()) return s;
+            // Seam points closed since the last merge join the cloth (all of them once every seam
+            // is closed, so the cloth settles sewn).
+            const bool all_closed = std::all_of(closed.begin(), closed.end(), [](char c) { return c != 0; });
+            if (closed != merged && (all_closed || rep.sewing_frames >= merged_at + o.merge_every_frames))
+                if (Status s = merge_closed(); !s.ok()) return s;
+            // Every open seam point's sources move toward its target.
+            const float gap = close_seams(stage->w.world, stage->w.cloth, probe, groups, target, stage->garment.new_of_old, closed, x,
+                                          o.sewing_speed_m_s * o.dt_s);
+            attaching = attaching || (all_closed && closed == merged);
+            if (attaching) {  // sewn: the attachments slide onto the body
+                if (Status s = slide_attachments(o.sewing_speed_m_s * o.dt_s); !s.ok()) return s;
                 ++settled;
             }
             if (rep.sewing_frames == o.max_sewing_frames)
                 return {"a seam is still " + std::to_string(gap * 100.0) + " cm open after " +
                         std::to_string(o.max_sewing_frames) + " sewing frames"};
-            if (Result r = step(w.world, o.dt_s); !r.ok()) return {r.message};
+            if (Result r = step(stage->w.world, o.dt_s); !r.ok()) return {r.message};
             ++rep.sewing_frames;
         }
-        if (Result r = read_positions(w.world, w.cloth, x.data(), n); !r.ok()) return {r.message};
-        // The last step moved the attachments a little off the hull: back on it, each seam point's
-        // sources together.
-        if (Status s = slide_attachments(w.world, w.cloth, HUGE_VALF); !s.ok()) return s;
+        if (Status s = read_sewing(); !s.ok()) return s;
+        // The last step moved the attachments a little off the hull: back on it.
+        if (Status s = slide_attachments(HUGE_VALF); !s.ok()) return s;
         watch(true);
         rep.max_seam_gap_m = seam_gap();
+        stage.reset();
     }
 
     // Attachments: each attached particle goes to the closest point of the body's offset hull and
@@ -263,58 +402,7 @@ Status sew_garment(const ClothMeshDesc& unsewn, const std::vector<uint32_t>& att
     }
     // 2. Merging: one particle per seam group (the first source's index order), summed mass.
     SewnGarment g;
-    g.new_of_old.assign(n, ~0u);
-    std::vector<uint32_t> first_of_new;
-    for (uint32_t p = 0; p < n; ++p) {
-        if (root[p] != p) continue;
-        g.new_of_old[p] = uint32_t(first_of_new.size());
-        first_of_new.push_back(p);
-    }
-    for (uint32_t p = 0; p < n; ++p) g.new_of_old[p] = g.new_of_old[root[p]];
-    const uint32_t m = uint32_t(first_of_new.size());
-    g.positions.assign(m, Vec3{});
-    g.masses.assign(m, 0.0f);
-    std::vector<uint32_t> count(m, 0);
-    std::vector<bool> pinned(m, false);
-    for (uint32_t p = 0; p < n; ++p) {
-        const uint32_t q = g.new_of_old[p];
-        g.positions[q] = {g.positions[q].x + x[p].x, g.positions[q].y + x[p].y, g.positions[q].z + x[p].z};
-        g.masses[q] += unsewn.masses[p];
-        pinned[q] = pinned[q] || mass[p] == 0.0f;
-        ++count[q];
-    }
-    for (uint32_t q = 0; q < m; ++q) {
-        const float inv = 1.0f / float(count[q]);
-        g.positions[q] = {g.positions[q].x * inv, g.positions[q].y * inv, g.positions[q].z * inv};
-        if (pinned[q]) g.masses[q] = 0.0f;  // a pin on any source holds the sewn particle
-    }
-    if (unsewn.uv != nullptr) {
-        g.uv.resize(2 * size_t(m));
-        for (uint32_t q = 0; q < m; ++q) g.uv[2 * q] = unsewn.uv[2 * first_of_new[q]], g.uv[2 * q + 1] = unsewn.uv[2 * first_of_new[q] + 1];
-        g.sewn_uv_first.push_back(0);
-        for (const std::vector<uint32_t>& group : groups) {
-            g.sewn_particle.push_back(g.new_of_old[group[0]]);
-            for (uint32_t p : group) g.sewn_uv.push_back(unsewn.uv[2 * p]), g.sewn_uv.push_back(unsewn.uv[2 * p + 1]);
-            g.sewn_uv_first.push_back(uint32_t(g.sewn_uv.size() / 2));
-        }
-    }
-    if (unsewn.lattice != nullptr) {
-        g.lattice.assign(2 * size_t(m), -1);
-        for (uint32_t q = 0; q < m; ++q)
-            if (count[q] == 1)
-                g.lattice[2 * q] = unsewn.lattice[2 * first_of_new[q]], g.lattice[2 * q + 1] = unsewn.lattice[2 * first_of_new[q] + 1];
-    }
-    if (unsewn.panel != nullptr) {
-        g.panel.resize(m);
-        for (uint32_t q = 0; q < m; ++q) g.panel[q] = unsewn.panel[first_of_new[q]];
-    }
-    for (uint32_t t = 0; t < unsewn.triangle_count; ++t) {
-        const uint32_t* v = unsewn.triangles + 3 * t;
-        const uint32_t a = g.new_of_old[v[0]], b = g.new_of_old[v[1]], c = g.new_of_old[v[2]];
-        if (a == b || b == c || a == c) continue;  // a corner sewn onto its own triangle's edge
-        g.triangles.insert(g.triangles.end(), {a, b, c});
-        for (int k = 0; k < 3; ++k) g.rest_corners.push_back(unsewn.rest_positions[v[k]]);
-    }
+    merge_seams(unsewn, root, groups, std::vector<char>(groups.size(), 1), x, mass.data(), &g);
     for (const Binding& b : bindings) {  // one binding per sewn particle (the first source's)
         const uint32_t q = g.new_of_old[b.particle];
         if (std::find(g.attached_particle.begin(), g.attached_particle.end(), q) != g.attached_particle.end()) continue;
@@ -323,34 +411,16 @@ Status sew_garment(const ClothMeshDesc& unsewn, const std::vector<uint32_t>& att
         g.attached_weight.insert(g.attached_weight.end(), b.weight, b.weight + 3);
         g.positions[q] = x[b.particle];
     }
+    const uint32_t m = g.desc.particle_count;
     rep.attached = uint32_t(g.attached_particle.size());
     rep.seam_points = uint32_t(groups.size());
     rep.particles_after = m;
-
     ClothMeshDesc& d = g.desc;
-    d.particle_count = m;
-    d.positions = g.positions.data();
-    d.triangle_count = uint32_t(g.triangles.size() / 3);
-    d.triangles = g.triangles.data();
-    d.masses = g.masses.data();
-    d.rest_corners = g.rest_corners.data();
-    d.lattice = g.lattice.empty() ? nullptr : g.lattice.data();
-    d.lattice_plane_stride = unsewn.lattice_plane_stride;
-    d.uv = g.uv.empty() ? nullptr : g.uv.data();
-    d.panel_count = unsewn.panel_count;
-    d.panel = g.panel.empty() ? nullptr : g.panel.data();
-    d.fabric = unsewn.fabric;
     if (!g.attached_particle.empty()) {
         d.attachment_count = uint32_t(g.attached_particle.size());
         d.attached_particle = g.attached_particle.data();
         d.attached_triangle = g.attached_triangle.data();
         d.attached_weight = g.attached_weight.data();
-    }
-    if (!g.sewn_particle.empty()) {
-        d.sewn_point_count = uint32_t(g.sewn_particle.size());
-        d.sewn_particle = g.sewn_particle.data();
-        d.sewn_uv_first = g.sewn_uv_first.data();
-        d.sewn_uv = g.sewn_uv.data();
     }
 
     // 3. Draping under full gravity until at rest.

@@ -2,16 +2,19 @@
 // and draped on it; weft-bake --body stores the dressed garment as the asset's start state.
 //
 //   1. sewing: the unsewn garment (every seam point's sources still separate particles) steps in a
-//      world with the body as a collider under a small gravity; before every step each seam
-//      point's sources move geometrically (held kinematic) toward their target, the mean of the
-//      sources as placed (eq. 10), by at most sewing_speed * dt; the cloth follows by physics and
-//      settles for settle_frames once every seam is closed;
+//      world with the body as a frictionless collider under a small gravity; before every step each
+//      open seam point's sources move geometrically (held kinematic, sliding over the body's hull)
+//      toward their target, the mean of the sources as placed (eq. 10), by at most sewing_speed *
+//      dt; a seam point whose sources have met is merged into the sewing cloth (every
+//      merge_every_frames at most) and follows it from then on; the cloth follows by physics and
+//      settles for settle_frames once every seam is closed and merged;
 //   1b. attaching: once the seams are closed, the pattern's body attachments slide onto the body's
 //      offset hull while the cloth settles (pulled toward the closest hull point every frame, left
 //      dynamic), then are bound where they are and pinned;
-//   2. merging: each seam point becomes one particle at its target with the summed mass; its
-//      sources' texture coordinates are all kept (ClothAsset::sewn_*); triangles keep their flat
-//      corners (ClothMeshDesc::rest_corners) so rest lengths still come from the flat panels;
+//   2. merging (as in step 1, then for the asset): each seam point becomes one particle with the
+//      summed mass; its sources' texture coordinates are all kept (ClothAsset::sewn_*); triangles
+//      keep their flat corners (ClothMeshDesc::rest_corners) so rest lengths still come from the
+//      flat panels;
 //   3. draping: the sewn garment steps under full gravity until its mean speed stays below
 //      rest_speed (or max_drape_frames), and that pose is the start state.
 // The runtime does the stepping (weft/body.h: Embree offset-hull collisions), so what the baker
@@ -54,12 +57,17 @@ struct SewOptions {
     float sewing_gravity_m_s2 = 1.0f;   // small gravity while the seams close (seed 4.2)
     float sewing_speed_m_s = 0.3f;      // how fast a source moves toward its target
     uint32_t settle_frames = 60;        // frames with every seam closed before merging
+    uint32_t merge_every_frames = 5;    // closed seam points join the sewing cloth at most this often
     uint32_t max_sewing_frames = 900;   // a seam still open after this fails the bake
     float gravity_m_s2 = 9.81f;         // the drape after merging
     float rest_speed_m_s = 0.001f;      // the drape is at rest below this mean speed...
     uint32_t rest_frames = 30;          // ...held for this many frames in a row
     uint32_t max_drape_frames = 900;
-    uint32_t sweeps = 8;                // the solver's budget per step (ClothDesc::sweeps)
+    uint32_t sweeps = 8;                // the solver's budget per step (ClothDesc::sweeps): the game's for this garment
+    // The body's friction while the seams close: the panels are dragged around the body then, and
+    // friction caught the pencil dress's back on mean_all's shoulders (start strain, draped at 16
+    // sweeps: 375% at 0.5, 143% at 0.3, 51% frictionless; docs/garments.md).
+    float sewing_friction = 0.0f;
     float sewing_damping_per_s = 4.0f;  // extra calm while sewing (ClothDesc::damping_per_s)
     // The drape looks for the rest pose, so it may be calmer than the game's cloth: at 1/s the
     // pencil dress's hem swung with a 5 s period through all 900 frames for one particle order.

@@ -171,6 +171,7 @@ std::string dress_scene(const std::string& scene_file, const std::string& patter
     if (std::string e = scenes::load_scene_file(scene_file, scene); !e.empty()) return e;
     bake::BakeOptions options;
     options.body = &body;
+    options.sew.sweeps = scene->cloths[0].desc.sweeps;  // dressed at the budget the scene runs it at
     if (bake::Status s = bake::bake_pattern(read_text(pattern), options, baked); !s.ok()) return pattern + ": " + s.error;
     std::filesystem::create_directories(dir);
     std::ofstream f((dir / scene->cloths[0].asset_path).string(), std::ios::binary);
