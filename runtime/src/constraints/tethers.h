@@ -61,7 +61,7 @@ void tether_axis(TetherAnchors<F>& an) {
 
 // Projects lanes [i, i + F::width) (slots) onto their two balls (lengths ra, rb, +inf on padding).
 template <class F>
-void project_tether_lanes(const Particles& p, uint32_t i, F ra, F rb, const TetherAnchors<F>& an) {
+[[gnu::always_inline]] inline void project_tether_lanes(const Particles& p, uint32_t i, F ra, F rb, const TetherAnchors<F>& an) {
     using namespace simd;
     const F zero = splat(0.0f, F{});
     const F min_len = splat(kMinSpringLength_m, F{});
