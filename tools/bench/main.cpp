@@ -243,10 +243,12 @@ void print_header(SeedScene scene, const CliOptions& o, const std::vector<SizeRe
     // The split as run (the same for every size unless the policy says otherwise).
     const SizeResult& first = results.front();
     const bench::Measurement& m = first.path[0] ? *first.path[0] : *first.path[1];
+    // The budget asked for; the automatic policy may run fewer fine sweeps (2 x 1 of 3 on a collider).
+    const bool explicit_budget = explicit_split(o) || o.config == "plain";
     std::printf("\nconfig %s, %s budget %u sweep(s): %u substep(s) x %u iteration(s), relaxation %g, tethers %s, "
                 "coarse level %s",
-                o.config.c_str(), explicit_split(o) || o.config == "plain" ? "explicit" : "automatic",
-                m.split.substeps * m.split.iterations, m.split.substeps, m.split.iterations,
+                o.config.c_str(), explicit_budget ? "explicit" : "automatic",
+                explicit_budget ? m.split.substeps * m.split.iterations : o.sweeps, m.split.substeps, m.split.iterations,
                 double(m.split.relaxation), m.split.tethers ? "on" : "off", m.split.coarse_level ? "on" : "off");
     if (m.split.coarse_level) std::printf(" (%u sweep(s) a substep)", m.split.coarse_iterations);
     std::printf("\n");
