@@ -31,14 +31,76 @@ inline uint32_t lane_bits(simd::Mask1 m) { return m.v ? 1u : 0u; }
 inline uint32_t lane_bits(simd::Mask8 m) { return uint32_t(_mm256_movemask_ps(m.v)); }
 #endif
 
-// Closest points of `p` on a leaf's eight triangles: squared distance (infinity beyond `limit2`)
-// and the weights v (of b) and w (of c); returns the bits of the lanes within `limit2`. Triangles
-// whose plane lies at `limit2` or further are skipped first (most of a cluster's far particles).
-// Ericson's regions, each a mask, applied from the lowest to the highest priority so the highest
-// wins, as his early returns do.
+// The first of a leaf's kLeafTriangles lanes with the least value of d2 (the lane a scan in lane
+// order keeping only strictly smaller values ends on): one pass, no branch per lane.
+inline uint32_t first_least(const float* d2, simd::Float1) {
+    float least = d2[0];
+    uint32_t lane = 0;
+    for (uint32_t k = 1; k < kLeafTriangles; ++k) {
+        lane = d2[k] < least ? k : lane;
+        least = d2[k] < least ? d2[k] : least;
+    }
+    return lane;
+}
+#if WEFT_HAVE_AVX2
+inline uint32_t first_least(const float* d2, simd::Float8) {
+    static_assert(kLeafTriangles == 8, "one AVX2 register per leaf");
+    const __m256 d = _mm256_loadu_ps(d2);
+    __m256 m = _mm256_min_ps(d, _mm256_permute_ps(d, _MM_SHUFFLE(2, 3, 0, 1)));
+    m = _mm256_min_ps(m, _mm256_permute_ps(m, _MM_SHUFFLE(1, 0, 3, 2)));
+    m = _mm256_min_ps(m, _mm256_permute2f128_ps(m, m, 1));
+    return uint32_t(__builtin_ctz(uint32_t(_mm256_movemask_ps(_mm256_cmp_ps(d, m, _CMP_EQ_OQ)))));
+}
+#endif
+
+// Appends the candidates i + k of the set bits k of `bits` (lanes of one eight-wide box test) to
+// the hit list, in lane order: their leaf and box distance. Branch-free (a data-dependent loop
+// over the bits cost a mispredicted branch per group); the AVX2 form writes eight lanes and advances
+// by the count, so the lists have 8 entries of slack.
+inline uint32_t append_hits(uint32_t bits, const uint32_t* leaf, simd::Float1 box2, uint32_t n, uint32_t* leaf_out,
+                            float* box2_out) {
+    leaf_out[n] = leaf[0];
+    box2_out[n] = box2.v;
+    return n + bits;
+}
+#if WEFT_HAVE_AVX2
+// Lane indices of each 8-bit mask's set bits, packed low (three bits each).
+struct PackTable {
+    uint32_t lanes[256];
+    constexpr PackTable() : lanes() {
+        for (uint32_t m = 0; m < 256; ++m) {
+            uint32_t packed = 0, n = 0;
+            for (uint32_t k = 0; k < 8; ++k)
+                if (m >> k & 1u) packed |= k << (3 * n++);
+            lanes[m] = packed;
+        }
+    }
+};
+inline constexpr PackTable kPackTable{};
+inline uint32_t append_hits(uint32_t bits, const uint32_t* leaf, simd::Float8 box2, uint32_t n, uint32_t* leaf_out,
+                            float* box2_out) {
+    const __m256i shifts = _mm256_setr_epi32(0, 3, 6, 9, 12, 15, 18, 21);
+    const __m256i order = _mm256_and_si256(_mm256_srlv_epi32(_mm256_set1_epi32(int(kPackTable.lanes[bits])), shifts),
+                                           _mm256_set1_epi32(7));
+    const __m256i leaves = _mm256_loadu_si256(reinterpret_cast<const __m256i*>(leaf));
+    _mm256_storeu_si256(reinterpret_cast<__m256i*>(leaf_out + n), _mm256_permutevar8x32_epi32(leaves, order));
+    _mm256_storeu_ps(box2_out + n, _mm256_permutevar8x32_ps(box2.v, order));
+    return n + uint32_t(__builtin_popcount(bits));
+}
+#endif
+
+// The closest point of `p` on a leaf's eight triangles strictly within `limit2`: its lane (the first
+// of the closest), squared distance and weights v (of b) and w (of c); false when no triangle is
+// within `limit2`. Triangles whose plane lies at `limit2` or further are skipped first (most of a
+// cluster's far particles). Ericson's regions, each a mask, applied from the lowest to the highest
+// priority so the highest wins, as his early returns do.
+struct LeafClosest {
+    uint32_t lane;
+    float distance2, v, w;
+};
 template <class F>
-inline uint32_t closest_in_leaf(const float* corners, const float* p, float limit2, float* d2_out, float* v_out,
-                                float* w_out) {
+inline bool closest_in_leaf(const float* corners, const float* p, float limit2, LeafClosest& out) {
+    alignas(32) float d2_out[kLeafTriangles], v_out[kLeafTriangles], w_out[kLeafTriangles];
     const float limit_m = std::sqrt(limit2);
     using namespace simd;
     const F zero = splat(0.0f, F{}), one = splat(1.0f, F{});
@@ -99,7 +161,10 @@ inline uint32_t closest_in_leaf(const float* corners, const float* p, float limi
         store(w_out + k, w);
         within |= lane_bits(accepted) << k;
     }
-    return within;
+    if (within == 0) return false;
+    const uint32_t lane = first_least(d2_out, F{});
+    out = {lane, d2_out[lane], v_out[lane], w_out[lane]};
+    return true;
 }
 
 // The best triangle a particle has found so far.
@@ -216,43 +281,35 @@ inline bool search_candidates(const BodyHierarchy& h, const Candidates& c, const
     const F px = splat(p[0], F{}), py = splat(p[1], F{}), pz = splat(p[2], F{});
     const F zero = splat(0.0f, F{});
     const F reach2 = splat(reach * reach, F{});
-    bool met = false;
-    alignas(32) float d2[kLeafTriangles], v[kLeafTriangles], w[kLeafTriangles];
+    // First the leaves whose box the reach meets, packed in candidate order (the padding past the
+    // last candidate has empty boxes, which never pass).
+    uint32_t hits = 0;
+    uint32_t hit_leaf[kMaxCandidates + 8];
+    alignas(32) float hit_box2[kMaxCandidates + 8];
     for (uint32_t i = 0; i < c.count; i += F::width) {
         // Distance from p to each box (zero inside): the leaf boxes are already widened by their sweep.
         const F dx = max(zero, max(load(c.min_x + i, F{}) - px, px - load(c.max_x + i, F{})));
         const F dy = max(zero, max(load(c.min_y + i, F{}) - py, py - load(c.max_y + i, F{})));
         const F dz = max(zero, max(load(c.min_z + i, F{}) - pz, pz - load(c.max_z + i, F{})));
         const F box2 = mul_add(dx, dx, mul_add(dy, dy, dz * dz));
-        uint32_t bits = lane_bits(box2 < reach2);
-        alignas(32) float box2_lanes[F::width];
-        store(box2_lanes, box2);
-        while (bits != 0) {
-            const uint32_t lane = uint32_t(__builtin_ctz(bits));
-            bits &= bits - 1;
-            if (i + lane >= c.count) break;  // the copy's padding past the last candidate
-            met = true;
-            // Beyond the best so far: no triangle of this leaf can be strictly closer (the boxes are
-            // widened by kBoxSlack_m, so the box distance stays below any triangle's despite rounding).
-            if (!(box2_lanes[lane] < best.distance2)) continue;
-            const uint32_t leaf = c.leaf[i + lane];
-            const float leaf_reach = reach + h.leaf_sweep[leaf];
-            // Within the leaf's reach and closer than the best so far (equal lanes lose: d2 < limit).
-            float limit2 = leaf_reach * leaf_reach;
-            limit2 = best.distance2 < limit2 ? best.distance2 : limit2;
-            uint32_t lanes = closest_in_leaf<F>(h.leaf_corners + size_t(kLeafCorners) * leaf, p, limit2, d2, v, w);
-            while (lanes != 0) {
-                const uint32_t k = uint32_t(__builtin_ctz(lanes));
-                lanes &= lanes - 1;
-                if (!(d2[k] < best.distance2)) continue;  // strictly closer: ties keep the first, deterministic
-                best.distance2 = d2[k];
-                best.triangle = h.leaf_triangle[kLeafTriangles * leaf + k];
-                best.v = v[k];
-                best.w = w[k];
-            }
-        }
+        hits = append_hits(lane_bits(box2 < reach2), c.leaf + i, box2, hits, hit_leaf, hit_box2);
     }
-    return met;
+    // Then their triangles, in that order.
+    for (uint32_t j = 0; j < hits; ++j) {
+        // Beyond the best so far: no triangle of this leaf can be strictly closer (the boxes are
+        // widened by kBoxSlack_m, so the box distance stays below any triangle's despite rounding).
+        if (!(hit_box2[j] < best.distance2)) continue;
+        const uint32_t leaf = hit_leaf[j];
+        const float leaf_reach = reach + h.leaf_sweep[leaf];
+        // Within the leaf's reach and closer than the best so far (equal lanes lose: d2 < limit).
+        float limit2 = leaf_reach * leaf_reach;
+        limit2 = best.distance2 < limit2 ? best.distance2 : limit2;
+        LeafClosest closest;
+        if (!closest_in_leaf<F>(h.leaf_corners + size_t(kLeafCorners) * leaf, p, limit2, closest)) continue;
+        // Strictly closer (limit2 <= best): ties keep the first, deterministic.
+        best = {closest.distance2, h.leaf_triangle[kLeafTriangles * leaf + closest.lane], closest.v, closest.w};
+    }
+    return hits != 0;
 }
 
 // Appends every leaf whose box meets [lo, hi] to `c`, root by root, group by group; calls `flush` when the list
