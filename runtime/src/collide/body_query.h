@@ -77,11 +77,14 @@ struct PackTable {
     }
 };
 inline constexpr PackTable kPackTable{};
+// The permutation that moves the set lanes of `bits` to the front, in order.
+inline __m256i pack_order(uint32_t bits) {
+    const __m256i shifts = _mm256_setr_epi32(0, 3, 6, 9, 12, 15, 18, 21);
+    return _mm256_and_si256(_mm256_srlv_epi32(_mm256_set1_epi32(int(kPackTable.lanes[bits])), shifts), _mm256_set1_epi32(7));
+}
 inline uint32_t append_hits(uint32_t bits, const uint32_t* leaf, simd::Float8 box2, uint32_t n, uint32_t* leaf_out,
                             float* box2_out) {
-    const __m256i shifts = _mm256_setr_epi32(0, 3, 6, 9, 12, 15, 18, 21);
-    const __m256i order = _mm256_and_si256(_mm256_srlv_epi32(_mm256_set1_epi32(int(kPackTable.lanes[bits])), shifts),
-                                           _mm256_set1_epi32(7));
+    const __m256i order = pack_order(bits);
     const __m256i leaves = _mm256_loadu_si256(reinterpret_cast<const __m256i*>(leaf));
     _mm256_storeu_si256(reinterpret_cast<__m256i*>(leaf_out + n), _mm256_permutevar8x32_epi32(leaves, order));
     _mm256_storeu_ps(box2_out + n, _mm256_permutevar8x32_ps(box2.v, order));
@@ -237,6 +240,26 @@ struct Candidates {
     alignas(32) float max_x[kMaxCandidates + 8], max_y[kMaxCandidates + 8], max_z[kMaxCandidates + 8];
 };
 
+// Appends the leaves first + k of the set bits k of `bits` with their boxes (lanes of one walk test)
+// to `c`, branch-free as append_hits (the AVX2 form writes eight lanes: the arrays' slack).
+inline void append_candidates(uint32_t bits, uint32_t first, const simd::Float1* box, Candidates& c) {
+    const uint32_t n = c.count;
+    c.leaf[n] = first;
+    c.min_x[n] = box[0].v, c.min_y[n] = box[1].v, c.min_z[n] = box[2].v;
+    c.max_x[n] = box[3].v, c.max_y[n] = box[4].v, c.max_z[n] = box[5].v;
+    c.count = n + bits;
+}
+#if WEFT_HAVE_AVX2
+inline void append_candidates(uint32_t bits, uint32_t first, const simd::Float8* box, Candidates& c) {
+    const __m256i order = pack_order(bits);
+    const uint32_t n = c.count;
+    _mm256_storeu_si256(reinterpret_cast<__m256i*>(c.leaf + n), _mm256_add_epi32(_mm256_set1_epi32(int(first)), order));
+    float* out[6] = {c.min_x + n, c.min_y + n, c.min_z + n, c.max_x + n, c.max_y + n, c.max_z + n};
+    for (int a = 0; a < 6; ++a) _mm256_storeu_ps(out[a], _mm256_permutevar8x32_ps(box[a].v, order));
+    c.count = n + uint32_t(__builtin_popcount(bits));
+}
+#endif
+
 // Traces a cluster point's ray against every candidate leaf whose box meets the segment's box,
 // keeping the first hit (strictly smaller t: ties keep the first leaf and lane, deterministic).
 template <class F>
@@ -338,17 +361,16 @@ inline void collect_leaves(const BodyHierarchy& h, const float* lo, const float*
     const uint32_t padded_roots = (h.root_count + 7) / 8 * 8;
     for_each_meeting(h.roots, 0, padded_roots, h.root_count, [&](uint32_t r) {
         for_each_meeting(h.groups, r * kRootGroups, kRootGroups, h.group_count, [&](uint32_t g) {
-            for_each_meeting(h.leaves, g * kGroupLeaves, kGroupLeaves, h.leaf_count, [&](uint32_t l) {
-                const uint32_t n = c.count++;
-                c.leaf[n] = l;
-                c.min_x[n] = h.leaves.min_x[l];
-                c.min_y[n] = h.leaves.min_y[l];
-                c.min_z[n] = h.leaves.min_z[l];
-                c.max_x[n] = h.leaves.max_x[l];
-                c.max_y[n] = h.leaves.max_y[l];
-                c.max_z[n] = h.leaves.max_z[l];
-                if (c.count == kMaxCandidates) flush();
-            });
+            // The leaves, packed branch-free (the padding leaves past leaf_count are empty boxes,
+            // which meet nothing); the list is searched and emptied when it may not hold another eight.
+            const Boxes& b = h.leaves;
+            for (uint32_t i0 = g * kGroupLeaves; i0 < (g + 1) * kGroupLeaves; i0 += F::width) {
+                const F box[6] = {load(b.min_x + i0, F{}), load(b.min_y + i0, F{}), load(b.min_z + i0, F{}),
+                                  load(b.max_x + i0, F{}), load(b.max_y + i0, F{}), load(b.max_z + i0, F{})};
+                const auto apart = (box[0] > hx) | (box[3] < lx) | (box[1] > hy) | (box[4] < ly) | (box[2] > hz) | (box[5] < lz);
+                append_candidates(~lane_bits(apart) & ((1u << F::width) - 1u), i0, box, c);
+                if (c.count + 8 > kMaxCandidates) flush();
+            }
         });
     });
 }
