@@ -54,13 +54,14 @@ inline uint32_t first_least(const float* d2, simd::Float8) {
 #endif
 
 // Appends the candidates i + k of the set bits k of `bits` (lanes of one eight-wide box test) to
-// the hit list, in lane order: their leaf and box distance. Branch-free (a data-dependent loop
+// the hit list, in lane order: their leaf, box distance and squared reach. Branch-free (a data-dependent loop
 // over the bits cost a mispredicted branch per group); the AVX2 form writes eight lanes and advances
 // by the count, so the lists have 8 entries of slack.
-inline uint32_t append_hits(uint32_t bits, const uint32_t* leaf, simd::Float1 box2, uint32_t n, uint32_t* leaf_out,
-                            float* box2_out) {
+inline uint32_t append_hits(uint32_t bits, const uint32_t* leaf, simd::Float1 box2, simd::Float1 reach2, uint32_t n,
+                            uint32_t* leaf_out, float* box2_out, float* reach2_out) {
     leaf_out[n] = leaf[0];
     box2_out[n] = box2.v;
+    reach2_out[n] = reach2.v;
     return n + bits;
 }
 #if WEFT_HAVE_AVX2
@@ -82,12 +83,13 @@ inline __m256i pack_order(uint32_t bits) {
     const __m256i shifts = _mm256_setr_epi32(0, 3, 6, 9, 12, 15, 18, 21);
     return _mm256_and_si256(_mm256_srlv_epi32(_mm256_set1_epi32(int(kPackTable.lanes[bits])), shifts), _mm256_set1_epi32(7));
 }
-inline uint32_t append_hits(uint32_t bits, const uint32_t* leaf, simd::Float8 box2, uint32_t n, uint32_t* leaf_out,
-                            float* box2_out) {
+inline uint32_t append_hits(uint32_t bits, const uint32_t* leaf, simd::Float8 box2, simd::Float8 reach2, uint32_t n,
+                            uint32_t* leaf_out, float* box2_out, float* reach2_out) {
     const __m256i order = pack_order(bits);
     const __m256i leaves = _mm256_loadu_si256(reinterpret_cast<const __m256i*>(leaf));
     _mm256_storeu_si256(reinterpret_cast<__m256i*>(leaf_out + n), _mm256_permutevar8x32_epi32(leaves, order));
     _mm256_storeu_ps(box2_out + n, _mm256_permutevar8x32_ps(box2.v, order));
+    _mm256_storeu_ps(reach2_out + n, _mm256_permutevar8x32_ps(reach2.v, order));
     return n + uint32_t(__builtin_popcount(bits));
 }
 #endif
@@ -238,24 +240,28 @@ struct Candidates {
     uint32_t leaf[kMaxCandidates + 8];
     alignas(32) float min_x[kMaxCandidates + 8], min_y[kMaxCandidates + 8], min_z[kMaxCandidates + 8];
     alignas(32) float max_x[kMaxCandidates + 8], max_y[kMaxCandidates + 8], max_z[kMaxCandidates + 8];
+    alignas(32) float reach2[kMaxCandidates + 8];  // (base reach + the leaf's sweep)^2
 };
 
-// Appends the leaves first + k of the set bits k of `bits` with their boxes (lanes of one walk test)
-// to `c`, branch-free as append_hits (the AVX2 form writes eight lanes: the arrays' slack).
-inline void append_candidates(uint32_t bits, uint32_t first, const simd::Float1* box, Candidates& c) {
+// Appends the leaves first + k of the set bits k of `bits` with their boxes and squared reaches
+// (lanes of one walk test) to `c`, branch-free as append_hits (the AVX2 form writes eight lanes: the
+// arrays' slack).
+inline void append_candidates(uint32_t bits, uint32_t first, const simd::Float1* box, simd::Float1 reach2, Candidates& c) {
     const uint32_t n = c.count;
     c.leaf[n] = first;
     c.min_x[n] = box[0].v, c.min_y[n] = box[1].v, c.min_z[n] = box[2].v;
     c.max_x[n] = box[3].v, c.max_y[n] = box[4].v, c.max_z[n] = box[5].v;
+    c.reach2[n] = reach2.v;
     c.count = n + bits;
 }
 #if WEFT_HAVE_AVX2
-inline void append_candidates(uint32_t bits, uint32_t first, const simd::Float8* box, Candidates& c) {
+inline void append_candidates(uint32_t bits, uint32_t first, const simd::Float8* box, simd::Float8 reach2, Candidates& c) {
     const __m256i order = pack_order(bits);
     const uint32_t n = c.count;
     _mm256_storeu_si256(reinterpret_cast<__m256i*>(c.leaf + n), _mm256_add_epi32(_mm256_set1_epi32(int(first)), order));
     float* out[6] = {c.min_x + n, c.min_y + n, c.min_z + n, c.max_x + n, c.max_y + n, c.max_z + n};
     for (int a = 0; a < 6; ++a) _mm256_storeu_ps(out[a], _mm256_permutevar8x32_ps(box[a].v, order));
+    _mm256_storeu_ps(c.reach2 + n, _mm256_permutevar8x32_ps(reach2.v, order));
     c.count = n + uint32_t(__builtin_popcount(bits));
 }
 #endif
@@ -296,26 +302,26 @@ inline void trace_candidates(const BodyHierarchy& h, const Candidates& c, const 
     }
 }
 
-// Tests particle `p` against every candidate leaf whose box its base reach meets, keeping the closest
-// triangle within the leaf's reach (base + the leaf's sweep) that is strictly closer than `best`.
+// Tests particle `p` against every candidate leaf whose box lies within the leaf's reach (base + the
+// leaf's sweep), keeping the closest triangle within that reach that is strictly closer than `best`.
 template <class F>
-inline bool search_candidates(const BodyHierarchy& h, const Candidates& c, const float* p, float reach, Best& best) {
+inline bool search_candidates(const BodyHierarchy& h, const Candidates& c, const float* p, Best& best) {
     using namespace simd;
     const F px = splat(p[0], F{}), py = splat(p[1], F{}), pz = splat(p[2], F{});
     const F zero = splat(0.0f, F{});
-    const F reach2 = splat(reach * reach, F{});
     // First the leaves whose box the reach meets, packed in candidate order (the padding past the
     // last candidate has empty boxes, which never pass).
     uint32_t hits = 0;
     uint32_t hit_leaf[kMaxCandidates + 8];
-    alignas(32) float hit_box2[kMaxCandidates + 8];
+    alignas(32) float hit_box2[kMaxCandidates + 8], hit_reach2[kMaxCandidates + 8];
     for (uint32_t i = 0; i < c.count; i += F::width) {
-        // Distance from p to each box (zero inside): the leaf boxes are already widened by their sweep.
+        // Distance from p to each box (zero inside).
         const F dx = max(zero, max(load(c.min_x + i, F{}) - px, px - load(c.max_x + i, F{})));
         const F dy = max(zero, max(load(c.min_y + i, F{}) - py, py - load(c.max_y + i, F{})));
         const F dz = max(zero, max(load(c.min_z + i, F{}) - pz, pz - load(c.max_z + i, F{})));
         const F box2 = mul_add(dx, dx, mul_add(dy, dy, dz * dz));
-        hits = append_hits(lane_bits(box2 < reach2), c.leaf + i, box2, hits, hit_leaf, hit_box2);
+        const F reach2 = load(c.reach2 + i, F{});
+        hits = append_hits(lane_bits(box2 < reach2), c.leaf + i, box2, reach2, hits, hit_leaf, hit_box2, hit_reach2);
     }
     // Then their triangles, in that order.
     for (uint32_t j = 0; j < hits; ++j) {
@@ -323,10 +329,8 @@ inline bool search_candidates(const BodyHierarchy& h, const Candidates& c, const
         // widened by kBoxSlack_m, so the box distance stays below any triangle's despite rounding).
         if (!(hit_box2[j] < best.distance2)) continue;
         const uint32_t leaf = hit_leaf[j];
-        const float leaf_reach = reach + h.leaf_sweep[leaf];
         // Within the leaf's reach and closer than the best so far (equal lanes lose: d2 < limit).
-        float limit2 = leaf_reach * leaf_reach;
-        limit2 = best.distance2 < limit2 ? best.distance2 : limit2;
+        const float limit2 = best.distance2 < hit_reach2[j] ? best.distance2 : hit_reach2[j];
         LeafClosest closest;
         if (!closest_in_leaf<F>(h.leaf_corners + size_t(kLeafCorners) * leaf, p, limit2, closest)) continue;
         // Strictly closer (limit2 <= best): ties keep the first, deterministic.
@@ -338,8 +342,10 @@ inline bool search_candidates(const BodyHierarchy& h, const Candidates& c, const
 // Appends every leaf whose box meets [lo, hi] to `c`, root by root, group by group; calls `flush` when the list
 // is full (the caller searches it and empties it).
 template <class F, class Flush>
-inline void collect_leaves(const BodyHierarchy& h, const float* lo, const float* hi, Candidates& c, Flush&& flush) {
+inline void collect_leaves(const BodyHierarchy& h, float base_reach, const float* lo, const float* hi, Candidates& c,
+                           Flush&& flush) {
     using namespace simd;
+    const F reach = splat(base_reach, F{});
     const F lx = splat(lo[0], F{}), ly = splat(lo[1], F{}), lz = splat(lo[2], F{});
     const F hx = splat(hi[0], F{}), hy = splat(hi[1], F{}), hz = splat(hi[2], F{});
     // Calls visit(i) for every box i in [first, first + count) below `end` that meets [lo, hi]
@@ -363,12 +369,18 @@ inline void collect_leaves(const BodyHierarchy& h, const float* lo, const float*
         for_each_meeting(h.groups, r * kRootGroups, kRootGroups, h.group_count, [&](uint32_t g) {
             // The leaves, packed branch-free (the padding leaves past leaf_count are empty boxes,
             // which meet nothing); the list is searched and emptied when it may not hold another eight.
+            // Each particle then tests the leaf's own box (the walk's shrunk back by the sweep: still
+            // holding the triangles, by the slack) within the base reach plus the sweep: the widened
+            // box within the base reach let 13% more leaves through to the triangle tests (measured).
             const Boxes& b = h.leaves;
             for (uint32_t i0 = g * kGroupLeaves; i0 < (g + 1) * kGroupLeaves; i0 += F::width) {
-                const F box[6] = {load(b.min_x + i0, F{}), load(b.min_y + i0, F{}), load(b.min_z + i0, F{}),
-                                  load(b.max_x + i0, F{}), load(b.max_y + i0, F{}), load(b.max_z + i0, F{})};
+                F box[6] = {load(b.min_x + i0, F{}), load(b.min_y + i0, F{}), load(b.min_z + i0, F{}),
+                            load(b.max_x + i0, F{}), load(b.max_y + i0, F{}), load(b.max_z + i0, F{})};
                 const auto apart = (box[0] > hx) | (box[3] < lx) | (box[1] > hy) | (box[4] < ly) | (box[2] > hz) | (box[5] < lz);
-                append_candidates(~lane_bits(apart) & ((1u << F::width) - 1u), i0, box, c);
+                const F sweep = load(h.leaf_sweep + i0, F{});
+                for (int a = 0; a < 3; ++a) box[a] = box[a] + sweep, box[3 + a] = box[3 + a] - sweep;
+                const F leaf_reach = reach + sweep;
+                append_candidates(~lane_bits(apart) & ((1u << F::width) - 1u), i0, box, leaf_reach * leaf_reach, c);
                 if (c.count + 8 > kMaxCandidates) flush();
             }
         });
@@ -406,17 +418,18 @@ inline uint32_t search_cluster(const BodyHierarchy& h, float reach, Cluster& q, 
         for (uint32_t n = c.count; n < c.count + 8; ++n) {
             c.min_x[n] = c.min_y[n] = c.min_z[n] = inf;
             c.max_x[n] = c.max_y[n] = c.max_z[n] = -inf;
+            c.reach2[n] = 0.0f;
             c.leaf[n] = 0;
         }
         for (uint32_t k = 0; k < kClusterSlots; ++k) {
             if (!(q.active >> k & 1u)) continue;
             if (q.rays >> k & 1u) trace_candidates<F>(h, c, q.origin[k], q.dir[k], q.t_far[k], q.hit[k]);
-            if (search_candidates<F>(h, c, q.point[k], reach, q.best[k])) met |= 1u << k;
+            if (search_candidates<F>(h, c, q.point[k], q.best[k])) met |= 1u << k;
         }
         c.count = 0;
     };
     c.count = 0;
-    collect_leaves<F>(h, lo, hi, c, flush);
+    collect_leaves<F>(h, reach, lo, hi, c, flush);
     const uint32_t last = c.count;
     if (last > 0) flush();
     // Kept for search_again unless the walk filled the list and flushed it on the way.
@@ -436,7 +449,7 @@ inline void search_again(const BodyHierarchy& h, float reach, Cluster& q, Candid
         return;
     }
     for (uint32_t k = 0; k < kClusterSlots; ++k)
-        if (q.active >> k & 1u) search_candidates<F>(h, c, q.point[k], reach, q.best[k]);
+        if (q.active >> k & 1u) search_candidates<F>(h, c, q.point[k], q.best[k]);
 }
 
 // Each lane's vertex (x, y, z, motion) from the hull, at hull[offset[k]], as four wide values: on
