@@ -309,8 +309,10 @@ inline bool search_candidates(const BodyHierarchy& h, const Candidates& c, const
     using namespace simd;
     const F px = splat(p[0], F{}), py = splat(p[1], F{}), pz = splat(p[2], F{});
     const F zero = splat(0.0f, F{});
-    // First the leaves whose box the reach meets, packed in candidate order (the padding past the
-    // last candidate has empty boxes, which never pass).
+    // First the leaves whose box the reach meets and lies closer than the best so far (a crease
+    // search starts from about zero: few leaves), packed in candidate order (the padding past the last
+    // candidate has empty boxes, which never pass).
+    const F best2 = splat(best.distance2, F{});
     uint32_t hits = 0;
     uint32_t hit_leaf[kMaxCandidates + 8];
     alignas(32) float hit_box2[kMaxCandidates + 8], hit_reach2[kMaxCandidates + 8];
@@ -321,7 +323,8 @@ inline bool search_candidates(const BodyHierarchy& h, const Candidates& c, const
         const F dz = max(zero, max(load(c.min_z + i, F{}) - pz, pz - load(c.max_z + i, F{})));
         const F box2 = mul_add(dx, dx, mul_add(dy, dy, dz * dz));
         const F reach2 = load(c.reach2 + i, F{});
-        hits = append_hits(lane_bits(box2 < reach2), c.leaf + i, box2, reach2, hits, hit_leaf, hit_box2, hit_reach2);
+        hits = append_hits(lane_bits(box2 < min(reach2, best2)), c.leaf + i, box2, reach2, hits, hit_leaf, hit_box2,
+                           hit_reach2);
     }
     // Then their triangles, in that order.
     for (uint32_t j = 0; j < hits; ++j) {
@@ -336,6 +339,8 @@ inline bool search_candidates(const BodyHierarchy& h, const Candidates& c, const
         // Strictly closer (limit2 <= best): ties keep the first, deterministic.
         best = {closest.distance2, h.leaf_triangle[kLeafTriangles * leaf + closest.lane], closest.v, closest.w};
     }
+    // A first search starts with no best, so its hits are the leaves within reach; a seeded one (the
+    // crease search) does not use the answer.
     return hits != 0;
 }
 
