@@ -518,7 +518,7 @@ size_t body_hierarchy_bytes(uint32_t triangles, uint32_t bodies) {
     const size_t padded_leaves = leaves + size_t(kGroupLeaves) * bodies;
     const size_t padded_groups = padded_leaves / kGroupLeaves + kRootGroups * size_t(bodies);
     const size_t padded_roots = padded_groups / kRootGroups + 8 * size_t(bodies);
-    const size_t floats = kLeafCorners * leaves + leaves + 6 * (padded_leaves + padded_groups + padded_roots);
+    const size_t floats = kLeafCorners * leaves + 7 * padded_leaves + 6 * (padded_groups + padded_roots);
     return sizeof(float) * floats + sizeof(uint32_t) * 4 * kLeafTriangles * leaves + 23 * kCacheLine * size_t(bodies);
 }
 
@@ -531,11 +531,12 @@ bool build_body_hierarchy(BodyState& body, Arena& arena, SimdPath path) {
     h.leaf_triangle = arena.allocate_array<uint32_t>(size_t(kLeafTriangles) * s.leaves);
     h.leaf_vertex = arena.allocate_array<uint32_t>(3 * size_t(kLeafTriangles) * s.leaves);
     h.leaf_corners = arena.allocate_array<float>(size_t(kLeafCorners) * s.leaves);
-    h.leaf_sweep = arena.allocate_array<float>(s.leaves);
+    h.leaf_sweep = arena.allocate_array<float>(s.padded_leaves);
     if (h.leaf_triangle == nullptr || h.leaf_vertex == nullptr || h.leaf_corners == nullptr ||
         h.leaf_sweep == nullptr || !carve_boxes(arena, s.padded_leaves, &h.leaves) ||
         !carve_boxes(arena, s.padded_groups, &h.groups) || !carve_boxes(arena, s.padded_roots, &h.roots))
         return false;
+    for (uint32_t l = 0; l < s.padded_leaves; ++l) h.leaf_sweep[l] = 0.0f;  // the padding leaves' stay 0
     // Triangles ordered by recursive median splits of their centroids along the longest axis, at
     // multiples of a group (then of a leaf) near the middle: each leaf is a compact patch and each
     // group a subtree (Morton order gave leaves 2-3 times larger, measured: 3.5 x 5 x 1.4 cm boxes).

@@ -52,7 +52,7 @@ struct BodyHierarchy {
     // normalised) and radius max(|ab|, |ac|) of its triangles, each component an array of
     // kLeafTriangles floats (ax[8], ay[8], az[8], abx[8], ... nz[8], radius[8]).
     float* leaf_corners = nullptr;
-    float* leaf_sweep = nullptr;  // [leaf_count]: the largest motion of the leaf's vertices this step
+    float* leaf_sweep = nullptr;  // [leaf_count rounded up as `leaves`]: the largest motion of the leaf's vertices this step
     Boxes leaves;                 // [leaf_count rounded up to groups * kGroupLeaves]
     Boxes groups;                 // [root_count * kRootGroups]
     Boxes roots;                  // [root_count rounded up to 8]

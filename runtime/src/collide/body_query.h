@@ -31,14 +31,81 @@ inline uint32_t lane_bits(simd::Mask1 m) { return m.v ? 1u : 0u; }
 inline uint32_t lane_bits(simd::Mask8 m) { return uint32_t(_mm256_movemask_ps(m.v)); }
 #endif
 
-// Closest points of `p` on a leaf's eight triangles: squared distance (infinity beyond `limit2`)
-// and the weights v (of b) and w (of c); returns the bits of the lanes within `limit2`. Triangles
-// whose plane lies at `limit2` or further are skipped first (most of a cluster's far particles).
-// Ericson's regions, each a mask, applied from the lowest to the highest priority so the highest
-// wins, as his early returns do.
+// The first of a leaf's kLeafTriangles lanes with the least value of d2 (the lane a scan in lane
+// order keeping only strictly smaller values ends on): one pass, no branch per lane.
+inline uint32_t first_least(const float* d2, simd::Float1) {
+    float least = d2[0];
+    uint32_t lane = 0;
+    for (uint32_t k = 1; k < kLeafTriangles; ++k) {
+        lane = d2[k] < least ? k : lane;
+        least = d2[k] < least ? d2[k] : least;
+    }
+    return lane;
+}
+#if WEFT_HAVE_AVX2
+inline uint32_t first_least(const float* d2, simd::Float8) {
+    static_assert(kLeafTriangles == 8, "one AVX2 register per leaf");
+    const __m256 d = _mm256_loadu_ps(d2);
+    __m256 m = _mm256_min_ps(d, _mm256_permute_ps(d, _MM_SHUFFLE(2, 3, 0, 1)));
+    m = _mm256_min_ps(m, _mm256_permute_ps(m, _MM_SHUFFLE(1, 0, 3, 2)));
+    m = _mm256_min_ps(m, _mm256_permute2f128_ps(m, m, 1));
+    return uint32_t(__builtin_ctz(uint32_t(_mm256_movemask_ps(_mm256_cmp_ps(d, m, _CMP_EQ_OQ)))));
+}
+#endif
+
+// Appends the candidates i + k of the set bits k of `bits` (lanes of one eight-wide box test) to
+// the hit list, in lane order: their leaf, box distance and squared reach. Branch-free (a data-dependent loop
+// over the bits cost a mispredicted branch per group); the AVX2 form writes eight lanes and advances
+// by the count, so the lists have 8 entries of slack.
+inline uint32_t append_hits(uint32_t bits, const uint32_t* leaf, simd::Float1 box2, simd::Float1 reach2, uint32_t n,
+                            uint32_t* leaf_out, float* box2_out, float* reach2_out) {
+    leaf_out[n] = leaf[0];
+    box2_out[n] = box2.v;
+    reach2_out[n] = reach2.v;
+    return n + bits;
+}
+#if WEFT_HAVE_AVX2
+// Lane indices of each 8-bit mask's set bits, packed low (three bits each).
+struct PackTable {
+    uint32_t lanes[256];
+    constexpr PackTable() : lanes() {
+        for (uint32_t m = 0; m < 256; ++m) {
+            uint32_t packed = 0, n = 0;
+            for (uint32_t k = 0; k < 8; ++k)
+                if (m >> k & 1u) packed |= k << (3 * n++);
+            lanes[m] = packed;
+        }
+    }
+};
+inline constexpr PackTable kPackTable{};
+// The permutation that moves the set lanes of `bits` to the front, in order.
+inline __m256i pack_order(uint32_t bits) {
+    const __m256i shifts = _mm256_setr_epi32(0, 3, 6, 9, 12, 15, 18, 21);
+    return _mm256_and_si256(_mm256_srlv_epi32(_mm256_set1_epi32(int(kPackTable.lanes[bits])), shifts), _mm256_set1_epi32(7));
+}
+inline uint32_t append_hits(uint32_t bits, const uint32_t* leaf, simd::Float8 box2, simd::Float8 reach2, uint32_t n,
+                            uint32_t* leaf_out, float* box2_out, float* reach2_out) {
+    const __m256i order = pack_order(bits);
+    const __m256i leaves = _mm256_loadu_si256(reinterpret_cast<const __m256i*>(leaf));
+    _mm256_storeu_si256(reinterpret_cast<__m256i*>(leaf_out + n), _mm256_permutevar8x32_epi32(leaves, order));
+    _mm256_storeu_ps(box2_out + n, _mm256_permutevar8x32_ps(box2.v, order));
+    _mm256_storeu_ps(reach2_out + n, _mm256_permutevar8x32_ps(reach2.v, order));
+    return n + uint32_t(__builtin_popcount(bits));
+}
+#endif
+
+// The closest point of `p` on a leaf's eight triangles strictly within `limit2`: its lane (the first
+// of the closest), squared distance and weights v (of b) and w (of c); false when no triangle is
+// within `limit2`. Triangles whose plane lies at `limit2` or further are skipped first (most of a
+// cluster's far particles). Ericson's regions, each a mask, applied from the lowest to the highest
+// priority so the highest wins, as his early returns do.
+struct LeafClosest {
+    uint32_t lane;
+    float distance2, v, w;
+};
 template <class F>
-inline uint32_t closest_in_leaf(const float* corners, const float* p, float limit2, float* d2_out, float* v_out,
-                                float* w_out) {
+inline bool closest_in_leaf(const float* corners, const float* p, float limit2, LeafClosest& out) {
+    alignas(32) float d2_out[kLeafTriangles], v_out[kLeafTriangles], w_out[kLeafTriangles];
     const float limit_m = std::sqrt(limit2);
     using namespace simd;
     const F zero = splat(0.0f, F{}), one = splat(1.0f, F{});
@@ -99,7 +166,10 @@ inline uint32_t closest_in_leaf(const float* corners, const float* p, float limi
         store(w_out + k, w);
         within |= lane_bits(accepted) << k;
     }
-    return within;
+    if (within == 0) return false;
+    const uint32_t lane = first_least(d2_out, F{});
+    out = {lane, d2_out[lane], v_out[lane], w_out[lane]};
+    return true;
 }
 
 // The best triangle a particle has found so far.
@@ -170,7 +240,31 @@ struct Candidates {
     uint32_t leaf[kMaxCandidates + 8];
     alignas(32) float min_x[kMaxCandidates + 8], min_y[kMaxCandidates + 8], min_z[kMaxCandidates + 8];
     alignas(32) float max_x[kMaxCandidates + 8], max_y[kMaxCandidates + 8], max_z[kMaxCandidates + 8];
+    alignas(32) float reach2[kMaxCandidates + 8];  // (base reach + the leaf's sweep)^2
 };
+
+// Appends the leaves first + k of the set bits k of `bits` with their boxes and squared reaches
+// (lanes of one walk test) to `c`, branch-free as append_hits (the AVX2 form writes eight lanes: the
+// arrays' slack).
+inline void append_candidates(uint32_t bits, uint32_t first, const simd::Float1* box, simd::Float1 reach2, Candidates& c) {
+    const uint32_t n = c.count;
+    c.leaf[n] = first;
+    c.min_x[n] = box[0].v, c.min_y[n] = box[1].v, c.min_z[n] = box[2].v;
+    c.max_x[n] = box[3].v, c.max_y[n] = box[4].v, c.max_z[n] = box[5].v;
+    c.reach2[n] = reach2.v;
+    c.count = n + bits;
+}
+#if WEFT_HAVE_AVX2
+inline void append_candidates(uint32_t bits, uint32_t first, const simd::Float8* box, simd::Float8 reach2, Candidates& c) {
+    const __m256i order = pack_order(bits);
+    const uint32_t n = c.count;
+    _mm256_storeu_si256(reinterpret_cast<__m256i*>(c.leaf + n), _mm256_add_epi32(_mm256_set1_epi32(int(first)), order));
+    float* out[6] = {c.min_x + n, c.min_y + n, c.min_z + n, c.max_x + n, c.max_y + n, c.max_z + n};
+    for (int a = 0; a < 6; ++a) _mm256_storeu_ps(out[a], _mm256_permutevar8x32_ps(box[a].v, order));
+    _mm256_storeu_ps(c.reach2 + n, _mm256_permutevar8x32_ps(reach2.v, order));
+    c.count = n + uint32_t(__builtin_popcount(bits));
+}
+#endif
 
 // Traces a cluster point's ray against every candidate leaf whose box meets the segment's box,
 // keeping the first hit (strictly smaller t: ties keep the first leaf and lane, deterministic).
@@ -208,58 +302,55 @@ inline void trace_candidates(const BodyHierarchy& h, const Candidates& c, const 
     }
 }
 
-// Tests particle `p` against every candidate leaf whose box its base reach meets, keeping the closest
-// triangle within the leaf's reach (base + the leaf's sweep) that is strictly closer than `best`.
+// Tests particle `p` against every candidate leaf whose box lies within the leaf's reach (base + the
+// leaf's sweep), keeping the closest triangle within that reach that is strictly closer than `best`.
 template <class F>
-inline bool search_candidates(const BodyHierarchy& h, const Candidates& c, const float* p, float reach, Best& best) {
+inline bool search_candidates(const BodyHierarchy& h, const Candidates& c, const float* p, Best& best) {
     using namespace simd;
     const F px = splat(p[0], F{}), py = splat(p[1], F{}), pz = splat(p[2], F{});
     const F zero = splat(0.0f, F{});
-    const F reach2 = splat(reach * reach, F{});
-    bool met = false;
-    alignas(32) float d2[kLeafTriangles], v[kLeafTriangles], w[kLeafTriangles];
+    // First the leaves whose box the reach meets and lies closer than the best so far (a crease
+    // search starts from about zero: few leaves), packed in candidate order (the padding past the last
+    // candidate has empty boxes, which never pass).
+    const F best2 = splat(best.distance2, F{});
+    uint32_t hits = 0;
+    uint32_t hit_leaf[kMaxCandidates + 8];
+    alignas(32) float hit_box2[kMaxCandidates + 8], hit_reach2[kMaxCandidates + 8];
     for (uint32_t i = 0; i < c.count; i += F::width) {
-        // Distance from p to each box (zero inside): the leaf boxes are already widened by their sweep.
+        // Distance from p to each box (zero inside).
         const F dx = max(zero, max(load(c.min_x + i, F{}) - px, px - load(c.max_x + i, F{})));
         const F dy = max(zero, max(load(c.min_y + i, F{}) - py, py - load(c.max_y + i, F{})));
         const F dz = max(zero, max(load(c.min_z + i, F{}) - pz, pz - load(c.max_z + i, F{})));
         const F box2 = mul_add(dx, dx, mul_add(dy, dy, dz * dz));
-        uint32_t bits = lane_bits(box2 < reach2);
-        alignas(32) float box2_lanes[F::width];
-        store(box2_lanes, box2);
-        while (bits != 0) {
-            const uint32_t lane = uint32_t(__builtin_ctz(bits));
-            bits &= bits - 1;
-            if (i + lane >= c.count) break;  // the copy's padding past the last candidate
-            met = true;
-            // Beyond the best so far: no triangle of this leaf can be strictly closer (the boxes are
-            // widened by kBoxSlack_m, so the box distance stays below any triangle's despite rounding).
-            if (!(box2_lanes[lane] < best.distance2)) continue;
-            const uint32_t leaf = c.leaf[i + lane];
-            const float leaf_reach = reach + h.leaf_sweep[leaf];
-            // Within the leaf's reach and closer than the best so far (equal lanes lose: d2 < limit).
-            float limit2 = leaf_reach * leaf_reach;
-            limit2 = best.distance2 < limit2 ? best.distance2 : limit2;
-            uint32_t lanes = closest_in_leaf<F>(h.leaf_corners + size_t(kLeafCorners) * leaf, p, limit2, d2, v, w);
-            while (lanes != 0) {
-                const uint32_t k = uint32_t(__builtin_ctz(lanes));
-                lanes &= lanes - 1;
-                if (!(d2[k] < best.distance2)) continue;  // strictly closer: ties keep the first, deterministic
-                best.distance2 = d2[k];
-                best.triangle = h.leaf_triangle[kLeafTriangles * leaf + k];
-                best.v = v[k];
-                best.w = w[k];
-            }
-        }
+        const F reach2 = load(c.reach2 + i, F{});
+        hits = append_hits(lane_bits(box2 < min(reach2, best2)), c.leaf + i, box2, reach2, hits, hit_leaf, hit_box2,
+                           hit_reach2);
     }
-    return met;
+    // Then their triangles, in that order.
+    for (uint32_t j = 0; j < hits; ++j) {
+        // Beyond the best so far: no triangle of this leaf can be strictly closer (the boxes are
+        // widened by kBoxSlack_m, so the box distance stays below any triangle's despite rounding).
+        if (!(hit_box2[j] < best.distance2)) continue;
+        const uint32_t leaf = hit_leaf[j];
+        // Within the leaf's reach and closer than the best so far (equal lanes lose: d2 < limit).
+        const float limit2 = best.distance2 < hit_reach2[j] ? best.distance2 : hit_reach2[j];
+        LeafClosest closest;
+        if (!closest_in_leaf<F>(h.leaf_corners + size_t(kLeafCorners) * leaf, p, limit2, closest)) continue;
+        // Strictly closer (limit2 <= best): ties keep the first, deterministic.
+        best = {closest.distance2, h.leaf_triangle[kLeafTriangles * leaf + closest.lane], closest.v, closest.w};
+    }
+    // A first search starts with no best, so its hits are the leaves within reach; a seeded one (the
+    // crease search) does not use the answer.
+    return hits != 0;
 }
 
 // Appends every leaf whose box meets [lo, hi] to `c`, root by root, group by group; calls `flush` when the list
 // is full (the caller searches it and empties it).
 template <class F, class Flush>
-inline void collect_leaves(const BodyHierarchy& h, const float* lo, const float* hi, Candidates& c, Flush&& flush) {
+inline void collect_leaves(const BodyHierarchy& h, float base_reach, const float* lo, const float* hi, Candidates& c,
+                           Flush&& flush) {
     using namespace simd;
+    const F reach = splat(base_reach, F{});
     const F lx = splat(lo[0], F{}), ly = splat(lo[1], F{}), lz = splat(lo[2], F{});
     const F hx = splat(hi[0], F{}), hy = splat(hi[1], F{}), hz = splat(hi[2], F{});
     // Calls visit(i) for every box i in [first, first + count) below `end` that meets [lo, hi]
@@ -281,17 +372,22 @@ inline void collect_leaves(const BodyHierarchy& h, const float* lo, const float*
     const uint32_t padded_roots = (h.root_count + 7) / 8 * 8;
     for_each_meeting(h.roots, 0, padded_roots, h.root_count, [&](uint32_t r) {
         for_each_meeting(h.groups, r * kRootGroups, kRootGroups, h.group_count, [&](uint32_t g) {
-            for_each_meeting(h.leaves, g * kGroupLeaves, kGroupLeaves, h.leaf_count, [&](uint32_t l) {
-                const uint32_t n = c.count++;
-                c.leaf[n] = l;
-                c.min_x[n] = h.leaves.min_x[l];
-                c.min_y[n] = h.leaves.min_y[l];
-                c.min_z[n] = h.leaves.min_z[l];
-                c.max_x[n] = h.leaves.max_x[l];
-                c.max_y[n] = h.leaves.max_y[l];
-                c.max_z[n] = h.leaves.max_z[l];
-                if (c.count == kMaxCandidates) flush();
-            });
+            // The leaves, packed branch-free (the padding leaves past leaf_count are empty boxes,
+            // which meet nothing); the list is searched and emptied when it may not hold another eight.
+            // Each particle then tests the leaf's own box (the walk's shrunk back by the sweep: still
+            // holding the triangles, by the slack) within the base reach plus the sweep: the widened
+            // box within the base reach let 13% more leaves through to the triangle tests (measured).
+            const Boxes& b = h.leaves;
+            for (uint32_t i0 = g * kGroupLeaves; i0 < (g + 1) * kGroupLeaves; i0 += F::width) {
+                F box[6] = {load(b.min_x + i0, F{}), load(b.min_y + i0, F{}), load(b.min_z + i0, F{}),
+                            load(b.max_x + i0, F{}), load(b.max_y + i0, F{}), load(b.max_z + i0, F{})};
+                const auto apart = (box[0] > hx) | (box[3] < lx) | (box[1] > hy) | (box[4] < ly) | (box[2] > hz) | (box[5] < lz);
+                const F sweep = load(h.leaf_sweep + i0, F{});
+                for (int a = 0; a < 3; ++a) box[a] = box[a] + sweep, box[3 + a] = box[3 + a] - sweep;
+                const F leaf_reach = reach + sweep;
+                append_candidates(~lane_bits(apart) & ((1u << F::width) - 1u), i0, box, leaf_reach * leaf_reach, c);
+                if (c.count + 8 > kMaxCandidates) flush();
+            }
         });
     });
 }
@@ -327,17 +423,18 @@ inline uint32_t search_cluster(const BodyHierarchy& h, float reach, Cluster& q, 
         for (uint32_t n = c.count; n < c.count + 8; ++n) {
             c.min_x[n] = c.min_y[n] = c.min_z[n] = inf;
             c.max_x[n] = c.max_y[n] = c.max_z[n] = -inf;
+            c.reach2[n] = 0.0f;
             c.leaf[n] = 0;
         }
         for (uint32_t k = 0; k < kClusterSlots; ++k) {
             if (!(q.active >> k & 1u)) continue;
             if (q.rays >> k & 1u) trace_candidates<F>(h, c, q.origin[k], q.dir[k], q.t_far[k], q.hit[k]);
-            if (search_candidates<F>(h, c, q.point[k], reach, q.best[k])) met |= 1u << k;
+            if (search_candidates<F>(h, c, q.point[k], q.best[k])) met |= 1u << k;
         }
         c.count = 0;
     };
     c.count = 0;
-    collect_leaves<F>(h, lo, hi, c, flush);
+    collect_leaves<F>(h, reach, lo, hi, c, flush);
     const uint32_t last = c.count;
     if (last > 0) flush();
     // Kept for search_again unless the walk filled the list and flushed it on the way.
@@ -357,7 +454,7 @@ inline void search_again(const BodyHierarchy& h, float reach, Cluster& q, Candid
         return;
     }
     for (uint32_t k = 0; k < kClusterSlots; ++k)
-        if (q.active >> k & 1u) search_candidates<F>(h, c, q.point[k], reach, q.best[k]);
+        if (q.active >> k & 1u) search_candidates<F>(h, c, q.point[k], q.best[k]);
 }
 
 // Each lane's vertex (x, y, z, motion) from the hull, at hull[offset[k]], as four wide values: on
