@@ -291,7 +291,7 @@ const body_query::Path& path_for(SimdPath path) {
 float base_reach(const BodyState& body) { return body.desc.thickness_m + body.desc.margin_m; }
 
 // Searches of the pushed particles after the first push (the crease rounds in collide_body).
-constexpr uint32_t kCreaseRounds = 2;
+constexpr uint32_t kCreaseRounds = 4;
 
 }  // namespace
 
@@ -387,8 +387,9 @@ void collide_body(const Particles& particles, const BodyState& body, uint32_t su
         // landed and projected out of the closest surface again, without friction (alternating
         // projections onto the two sides converge; friction would pull back toward the first).
         // skirt-walk: the hem under the crotch 1.65 mm below the hull before, 0.58 mm after one
-        // round; a second round, for the particles the first moved, 1.05 -> 0.36 mm on a frame where
-        // one round left a particle between the thighs too deep.
+        // round. Each later round takes only the particles the round before moved: skirt-walk's
+        // deepest particle over 300 frames 0.86 mm with two rounds, 0.48 with three, 0.38 with four
+        // (tee-walk 0.12, 0.04, 0.014 mm), for 3.4% more of the pass's instructions than two.
         // Each search starts from the triangle the particle was last pushed out of, at its distance
         // from where the particle landed (about zero): only a strictly closer triangle, the other side
         // of a crease, can change the answer, so every leaf whose box lies further away is skipped.
