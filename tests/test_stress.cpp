@@ -118,10 +118,6 @@ void check_budgets(SeedScene which, uint32_t n, double extent_limit_m) {
     }
 }
 
-double distance(Vec3 a, Vec3 b) {
-    return std::hypot(double(a.x) - b.x, double(a.y) - b.y, double(a.z) - b.z);
-}
-
 // Explicit splits across what the API accepts (substeps 1..64, relaxation kMinRelaxation to
 // kMaxRelaxation, the coarse level with 1 or 3 sweeps a substep up to kMaxCoarseSubsteps, else
 // tethers), on one seed scene at n = 16 for 600 steps (20 s): finite, bounded, and, where the scene
@@ -161,11 +157,11 @@ void check_accepted_splits(SeedScene which, double extent_limit_m) {
                     for (int frame = 0; frame < 10; ++frame) {
                         REQUIRE(step(w->world, w->dt_s).ok());
                         const std::vector<Vec3> now = test::read_all(w->world, cloth, count);
-                        for (uint32_t p = 0; p < count; ++p) path_m += distance(now[p], last[p]) / count;
+                        for (uint32_t p = 0; p < count; ++p) path_m += test::distance_m(now[p], last[p]) / count;
                         last = now;
                     }
                     double net_m = 0.0;
-                    for (uint32_t p = 0; p < count; ++p) net_m += distance(last[p], start[p]) / count;
+                    for (uint32_t p = 0; p < count; ++p) net_m += test::distance_m(last[p], start[p]) / count;
                     const double speed = path_m / (10.0 * w->dt_s);
                     CAPTURE(std::string(scenes::scene_name(which)));
                     CAPTURE(substeps);

@@ -56,6 +56,11 @@ inline std::unique_ptr<scenes::SeedWorld> make_scene(scenes::SeedScene scene, co
     return w;
 }
 
+// Distance between two points, m, in double.
+inline double distance_m(Vec3 a, Vec3 b) {
+    return std::hypot(double(a.x) - b.x, double(a.y) - b.y, double(a.z) - b.z);
+}
+
 inline std::vector<Vec3> read_all(const World* world, ClothId cloth, uint32_t count) {
     std::vector<Vec3> out(count);
     const Result r = read_positions(world, cloth, out.data(), count);
