@@ -438,7 +438,7 @@ int run_sweep(const SweepOptions& o) {
                 Trajectory t;
                 Timing timing;
                 const std::string err = measure_row(
-                    o, [&](Trajectory* out) { return run_weft(so, out); }, &t, &timing);
+                    o, [&, &sim = so](Trajectory* out) { return run_weft(sim, out); }, &t, &timing);
                 ++done;
                 if (!err.empty()) {
                     bar.finish();
