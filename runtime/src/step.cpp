@@ -197,7 +197,7 @@ void collide_bodies(World& world, ClothInstance& cloth, uint32_t substeps) {
     PassTimer timer(world, Pass::body);
     BodyPassCounts counts;
     for (uint32_t i = 0; i < world.body_count; ++i)
-        collide_body(cloth.particles, world.bodies[i], substeps, world.kernels->path, counts);
+        collide_body(cloth.particles, cloth.body_order, world.bodies[i], substeps, world.kernels->path, counts);
     world.stats.body_contacts += counts.contacts;
     world.stats.body_rays += counts.rays;
     world.stats.body_queried += counts.queried;

@@ -86,6 +86,8 @@ ArenaSizer size_world(const WorldDesc& desc) {
     sizer.add(sizeof(float) * 11 * size_t(desc.max_body_vertices) + sizeof(uint32_t) * 3 * size_t(desc.max_body_triangles) +
               4 * (kCacheLine + 16) * size_t(desc.max_bodies));
     sizer.add(body_hierarchy_bytes(desc.max_body_triangles, desc.max_bodies));
+    if (desc.max_bodies > 0)  // each cloth's slot order for the body pass
+        sizer.add(sizeof(uint32_t) * size_t(desc.max_particles) + kCacheLine * desc.max_cloths);
     sizer.bytes += kCacheLine;  // the caller's block may start anywhere on a cache line
     return sizer;
 }
@@ -363,9 +365,16 @@ Result add_cloth(World* world, const ClothDesc& desc, ClothId* out_cloth) {
         world->arena = saved;
         return make_error(ErrorCode::capacity_exceeded, "world memory exhausted");
     }
+    uint32_t* const body_order = world->desc.max_bodies > 0 ? world->arena.allocate_array<uint32_t>(asset.slot_count) : nullptr;
+    if (body_order == nullptr && world->desc.max_bodies > 0 && asset.slot_count > 0) {
+        world->arena = saved;
+        return make_error(ErrorCode::capacity_exceeded, "world memory exhausted");
+    }
+    if (body_order != nullptr) order_for_body_pass(asset, world->validation_scratch, body_order);
     ClothInstance& cloth = world->cloths[world->cloth_count];
     cloth = ClothInstance();
     cloth.asset = &asset;
+    cloth.body_order = body_order;
     cloth.settings = desc;
     cloth.split = resolve_split(desc, asset);
     Particles& p = cloth.particles;

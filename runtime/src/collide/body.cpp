@@ -304,8 +304,8 @@ constexpr float kCreaseTolerance_m = 1e-6f;
 // search of all; an entering ray hit wins, else the closest triangle; then the response
 // (projection along the interpolated hull normal, friction against the surface's motion:
 // colliders.h's resolve_contact).
-void collide_body(const Particles& particles, const BodyState& body, uint32_t substeps, SimdPath path,
-                  BodyPassCounts& counts) {
+void collide_body(const Particles& particles, const uint32_t* order, const BodyState& body, uint32_t substeps,
+                  SimdPath path, BodyPassCounts& counts) {
     using F = simd::Float1;
     using namespace body_query;
     const Particles p = particles;
@@ -321,9 +321,11 @@ void collide_body(const Particles& particles, const BodyState& body, uint32_t su
     Cluster q;
     for (uint32_t c0 = 0; c0 < p.slot_count; c0 += kClusterSlots) {
         const uint32_t n = p.slot_count - c0 < kClusterSlots ? p.slot_count - c0 : kClusterSlots;
+        uint32_t slot[kClusterSlots];
+        for (uint32_t k = 0; k < n; ++k) slot[k] = order[c0 + k];
         q.active = q.rays = 0;
         for (uint32_t k = 0; k < n; ++k) {
-            const uint32_t i = c0 + k;
+            const uint32_t i = slot[k];
             if (!(p.inverse_mass[i] > 0.0f)) continue;  // pinned and padding slots
             const float x[3] = {p.x[i], p.y[i], p.z[i]};
             const float previous[3] = {p.previous_x[i], p.previous_y[i], p.previous_z[i]};
@@ -352,7 +354,7 @@ void collide_body(const Particles& particles, const BodyState& body, uint32_t su
         uint32_t pushed = 0, pushed_from[kClusterSlots];
         for (uint32_t k = 0; k < n; ++k) {
             if (!(q.active >> k & 1u)) continue;
-            const uint32_t i = c0 + k;
+            const uint32_t i = slot[k];
             const float* x = q.point[k];
             uint32_t triangle = kNoTriangle;
             Barycentric w{};
@@ -402,7 +404,7 @@ void collide_body(const Particles& particles, const BodyState& body, uint32_t su
             for (uint32_t k = 0; k < n; ++k) {
                 if (!(pushed >> k & 1u)) continue;
                 float* landed = q.point[k];
-                landed[0] = p.x[c0 + k], landed[1] = p.y[c0 + k], landed[2] = p.z[c0 + k];
+                landed[0] = p.x[slot[k]], landed[1] = p.y[slot[k]], landed[2] = p.z[slot[k]];
                 const uint32_t* t = body.triangles + 3 * pushed_from[k];
                 const float *a = body.hull + 4 * t[0], *b = body.hull + 4 * t[1], *c = body.hull + 4 * t[2];
                 const Barycentric on = closest_on_triangle(landed, a, b, c);
@@ -423,7 +425,7 @@ void collide_body(const Particles& particles, const BodyState& body, uint32_t su
                 sub3(hull_point, q.point[k], to_hull);
                 const float penetration = dot3(to_hull, normal);
                 if (!(penetration > 0.0f)) continue;
-                const uint32_t i = c0 + k;
+                const uint32_t i = slot[k];
                 p.x[i] = q.point[k][0] + normal[0] * penetration;
                 p.y[i] = q.point[k][1] + normal[1] * penetration;
                 p.z[i] = q.point[k][2] + normal[2] * penetration;
@@ -433,6 +435,40 @@ void collide_body(const Particles& particles, const BodyState& body, uint32_t su
             pushed = moved;
         }
     }
+}
+
+// Morton code of a point quantised to 10 bits an axis: the bits of x, y and z interleaved.
+uint32_t morton3(uint32_t x, uint32_t y, uint32_t z) {
+    auto spread = [](uint32_t v) {  // 10 bits -> every third of 30
+        v = (v | v << 16) & 0x030000ffu;
+        v = (v | v << 8) & 0x0300f00fu;
+        v = (v | v << 4) & 0x030c30c3u;
+        return (v | v << 2) & 0x09249249u;
+    };
+    return spread(x) | spread(y) << 1 | spread(z) << 2;
+}
+
+void order_for_body_pass(const ClothAsset& asset, uint32_t* key, uint32_t* order) {
+    const uint32_t n = asset.slot_count;
+    const float* start[3] = {asset.start_x, asset.start_y, asset.start_z};
+    float lo[3], extent = 0.0f;
+    for (int a = 0; a < 3; ++a) {
+        float low = n > 0 ? start[a][0] : 0.0f, high = low;
+        for (uint32_t i = 1; i < n; ++i) low = start[a][i] < low ? start[a][i] : low, high = start[a][i] > high ? start[a][i] : high;
+        lo[a] = low;
+        extent = high - low > extent ? high - low : extent;
+    }
+    const float scale = extent > 0.0f ? 1023.0f / extent : 0.0f;  // one scale: cells stay cubes
+    for (uint32_t i = 0; i < n; ++i) {
+        uint32_t cell[3];
+        for (int a = 0; a < 3; ++a) {
+            const float c = (start[a][i] - lo[a]) * scale;
+            cell[a] = c >= 0.0f && c <= 1023.0f ? uint32_t(c) : (c > 1023.0f ? 1023u : 0u);  // NaN: 0
+        }
+        key[i] = morton3(cell[0], cell[1], cell[2]);
+        order[i] = i;
+    }
+    std::sort(order, order + n, [&](uint32_t a, uint32_t b) { return key[a] != key[b] ? key[a] < key[b] : a < b; });
 }
 
 BodyContact closest_hull_point_hierarchy(const BodyState& body, const float* point, SimdPath path) {

@@ -4,9 +4,10 @@
 // order with the same operations and pick the closest triangle by the same scalar rule, so they give
 // bit-identical results (tested).
 //
-// Per cluster of kClusterSlots consecutive slots (a cloth's slots run along lattice rows, so they
-// are neighbours): one walk of the hierarchy with the cluster's box widened by the reach collects
-// every leaf whose (motion-widened) box the reach of any of its particles can meet; then each
+// Per cluster of kClusterSlots slots consecutive in the pass's order (the Morton order of their
+// start positions, collide/body.h: order_for_body_pass, so they are neighbours): one walk of the
+// hierarchy with the cluster's box widened by the reach collects every leaf whose (motion-widened)
+// box the reach of any of its particles can meet; then each
 // particle tests those leaves' boxes eight at a time, and the eight triangles of every leaf its
 // reach meets at once (Ericson's closest point on a triangle, Real-Time Collision Detection 5.1.5,
 // written branch-free). Conservative: a leaf is skipped only when its box lies beyond the reach.
@@ -188,7 +189,7 @@ struct RayHit {
     bool entering;  // moving against the triangle's outward normal: a crossing into the hull
 };
 
-// One cluster's points (kClusterSlots consecutive slots): those to search (bits of `active`) and
+// One cluster's points (kClusterSlots slots consecutive in the pass's order): those to search (bits of `active`) and
 // those that also trace a ray (bits of `rays`) from origin[k] along dir[k] for t in [0, t_far[k]].
 struct Cluster {
     float point[kClusterSlots][3];
