@@ -349,7 +349,7 @@ void collide_body(const Particles& particles, const uint32_t* order, const BodyS
             counts.rays += 1;
         }
         if (q.active == 0) continue;
-        const uint32_t met = search(body.hierarchy, reach, q, candidates);
+        const uint32_t met = search(body.hierarchy, reach, q, candidates, true);
         counts.queried += uint64_t(__builtin_popcount(met));
         uint32_t pushed = 0, pushed_from[kClusterSlots];
         for (uint32_t k = 0; k < n; ++k) {
@@ -478,7 +478,7 @@ BodyContact closest_hull_point_hierarchy(const BodyState& body, const float* poi
     Cluster q;
     q.point[0][0] = point[0], q.point[0][1] = point[1], q.point[0][2] = point[2];
     q.active = 1u;
-    path_for(path).search(body.hierarchy, base_reach(body), q, candidates);
+    path_for(path).search(body.hierarchy, base_reach(body), q, candidates, false);
     const Best& best = q.best[0];
     if (!(best.distance2 < std::numeric_limits<float>::infinity())) return contact;
     const Barycentric w{1.0f - best.v - best.w, best.v, best.w};

@@ -304,9 +304,40 @@ inline void trace_candidates(const BodyHierarchy& h, const Candidates& c, const 
 }
 
 // Tests particle `p` against every candidate leaf whose box lies within the leaf's reach (base + the
-// leaf's sweep), keeping the closest triangle within that reach that is strictly closer than `best`.
+// leaf's sweep), keeping the closest triangle within that reach that is strictly closer than `best`;
+// with `contacts_only`, none when p lies in front of every plane there (in_front_of_every_plane:
+// it is outside the hull, the step's only question; the contacts stay exactly the same, tested).
+// Whether `p` lies in front of the plane of every triangle of the listed leaves that the plane and
+// ball tests of closest_in_leaf let through at the leaf's reach, by more than kFrontMargin_m: then
+// its closest triangle leaves it outside the hull (no contact; vertex normals within 90 degrees of
+// their faces' normals), and the step needs no closest point.
+inline constexpr float kFrontMargin_m = 1e-6f;
 template <class F>
-inline bool search_candidates(const BodyHierarchy& h, const Candidates& c, const float* p, Best& best) {
+inline bool in_front_of_every_plane(const BodyHierarchy& h, const float* p, const uint32_t* leaf, const float* reach2,
+                                    uint32_t count) {
+    using namespace simd;
+    const F px = splat(p[0], F{}), py = splat(p[1], F{}), pz = splat(p[2], F{});
+    const F zero = splat(0.0f, F{}), margin2 = splat(kFrontMargin_m * kFrontMargin_m, F{});
+    for (uint32_t j = 0; j < count; ++j) {
+        const float* corners = h.leaf_corners + size_t(kLeafCorners) * leaf[j];
+        const F limit = splat(reach2[j], F{}), limit_m = splat(std::sqrt(reach2[j]), F{});
+        for (uint32_t k = 0; k < kLeafTriangles; k += F::width) {
+            const float* c = corners + k;
+            const Vec3W<F> ap{px - load(c, F{}), py - load(c + 8, F{}), pz - load(c + 16, F{})};
+            const Vec3W<F> n{load(c + 72, F{}), load(c + 80, F{}), load(c + 88, F{})};
+            const F plane = dot(n, ap), n2 = dot(n, n);
+            const F ball = limit_m + load(c + 96, F{});
+            const auto near = (plane * plane < limit * n2) & (dot(ap, ap) < ball * ball);
+            const auto behind = (plane < zero) | (plane * plane < margin2 * n2);
+            if (any(near & behind)) return false;
+        }
+    }
+    return true;
+}
+
+template <class F>
+inline bool search_candidates(const BodyHierarchy& h, const Candidates& c, const float* p, Best& best,
+                              bool contacts_only = false) {
     using namespace simd;
     const F px = splat(p[0], F{}), py = splat(p[1], F{}), pz = splat(p[2], F{});
     const F zero = splat(0.0f, F{});
@@ -327,6 +358,7 @@ inline bool search_candidates(const BodyHierarchy& h, const Candidates& c, const
         hits = append_hits(lane_bits(box2 < min(reach2, best2)), c.leaf + i, box2, reach2, hits, hit_leaf, hit_box2,
                            hit_reach2);
     }
+    if (contacts_only && in_front_of_every_plane<F>(h, p, hit_leaf, hit_reach2, hits)) return hits != 0;
     // Then their triangles, in that order.
     for (uint32_t j = 0; j < hits; ++j) {
         // Beyond the best so far: no triangle of this leaf can be strictly closer (the boxes are
@@ -398,7 +430,7 @@ inline void collect_leaves(const BodyHierarchy& h, float base_reach, const float
 // The walk's box holds the points widened by the reach and the rays' segments. Returns the bits of
 // the points whose reach met at least one leaf box.
 template <class F>
-inline uint32_t search_cluster(const BodyHierarchy& h, float reach, Cluster& q, Candidates& c) {
+inline uint32_t search_cluster(const BodyHierarchy& h, float reach, Cluster& q, Candidates& c, bool contacts_only = false) {
     constexpr float inf = std::numeric_limits<float>::infinity();
     float lo[3] = {inf, inf, inf}, hi[3] = {-inf, -inf, -inf};
     for (uint32_t k = 0; k < kClusterSlots; ++k) {
@@ -420,6 +452,9 @@ inline uint32_t search_cluster(const BodyHierarchy& h, float reach, Cluster& q, 
     uint32_t met = 0, flushes = 0;
     auto flush = [&] {
         ++flushes;
+        // The plane shortcut needs every leaf within reach at once: a walk that fills the list and
+        // flushes it on the way (the scalar and AVX2 paths at different points) searches exactly.
+        if (c.count + 8 > kMaxCandidates) contacts_only = false;
         // Pad the copy so eight-wide loads past the end read empty boxes.
         for (uint32_t n = c.count; n < c.count + 8; ++n) {
             c.min_x[n] = c.min_y[n] = c.min_z[n] = inf;
@@ -430,7 +465,7 @@ inline uint32_t search_cluster(const BodyHierarchy& h, float reach, Cluster& q, 
         for (uint32_t k = 0; k < kClusterSlots; ++k) {
             if (!(q.active >> k & 1u)) continue;
             if (q.rays >> k & 1u) trace_candidates<F>(h, c, q.origin[k], q.dir[k], q.t_far[k], q.hit[k]);
-            if (search_candidates<F>(h, c, q.point[k], q.best[k])) met |= 1u << k;
+            if (search_candidates<F>(h, c, q.point[k], q.best[k], contacts_only)) met |= 1u << k;
         }
         c.count = 0;
     };
@@ -567,7 +602,9 @@ inline void refit_leaves(BodyHierarchy& h, const float* hull) {
 }
 
 // One path's search and refit: the templates for the scalar or the AVX2 path (null when unavailable).
-using SearchCluster = uint32_t (*)(const BodyHierarchy&, float, Cluster&, Candidates&);
+// contacts_only (the step's pass): a point in front of every nearby triangle's plane is not searched
+// further (in_front_of_every_plane); query_body wants its closest point all the same.
+using SearchCluster = uint32_t (*)(const BodyHierarchy&, float, Cluster&, Candidates&, bool contacts_only);
 using SearchAgain = void (*)(const BodyHierarchy&, float, Cluster&, Candidates&);
 using RefitLeaves = void (*)(BodyHierarchy&, const float*);
 struct Path {
