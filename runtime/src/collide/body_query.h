@@ -7,10 +7,10 @@
 // Per cluster of kClusterSlots slots consecutive in the pass's order (the Morton order of their
 // start positions, collide/body.h: order_for_body_pass, so they are neighbours): one walk of the
 // hierarchy with the cluster's box widened by the reach collects every leaf whose (motion-widened)
-// box the reach of any of its particles can meet; then each
-// particle tests those leaves' boxes eight at a time, and the eight triangles of every leaf its
-// reach meets at once (Ericson's closest point on a triangle, Real-Time Collision Detection 5.1.5,
-// written branch-free). Conservative: a leaf is skipped only when its box lies beyond the reach.
+// box the reach of any of its particles can meet; then each particle tests those leaves' boxes
+// eight at a time, and the eight triangles of every leaf its reach meets at once (Ericson's closest
+// point on a triangle, Real-Time Collision Detection 5.1.5, written branch-free). Conservative: a
+// leaf is skipped only when its box lies beyond the reach.
 #pragma once
 
 #include <cmath>
@@ -189,8 +189,9 @@ struct RayHit {
     bool entering;  // moving against the triangle's outward normal: a crossing into the hull
 };
 
-// One cluster's points (kClusterSlots slots consecutive in the pass's order): those to search (bits of `active`) and
-// those that also trace a ray (bits of `rays`) from origin[k] along dir[k] for t in [0, t_far[k]].
+// One cluster's points (kClusterSlots slots consecutive in the pass's order): those to search (bits
+// of `active`) and those that also trace a ray (bits of `rays`) from origin[k] along dir[k] for t in
+// [0, t_far[k]].
 struct Cluster {
     float point[kClusterSlots][3];
     float origin[kClusterSlots][3];
@@ -303,10 +304,6 @@ inline void trace_candidates(const BodyHierarchy& h, const Candidates& c, const 
     }
 }
 
-// Tests particle `p` against every candidate leaf whose box lies within the leaf's reach (base + the
-// leaf's sweep), keeping the closest triangle within that reach that is strictly closer than `best`;
-// with `contacts_only`, none when p lies in front of every plane there (in_front_of_every_plane:
-// it is outside the hull, the step's only question; the contacts stay exactly the same, tested).
 // Whether `p` lies in front of the plane of every triangle of the listed leaves that the plane and
 // ball tests of closest_in_leaf let through at the leaf's reach, by more than kFrontMargin_m: then
 // its closest triangle leaves it outside the hull (no contact; vertex normals within 90 degrees of
@@ -335,6 +332,10 @@ inline bool in_front_of_every_plane(const BodyHierarchy& h, const float* p, cons
     return true;
 }
 
+// Tests particle `p` against every candidate leaf whose box lies within the leaf's reach (base + the
+// leaf's sweep), keeping the closest triangle within that reach that is strictly closer than `best`;
+// with `contacts_only`, none when p lies in front of every plane there (in_front_of_every_plane:
+// it is outside the hull, the step's only question; the contacts stay exactly the same, tested).
 template <class F>
 inline bool search_candidates(const BodyHierarchy& h, const Candidates& c, const float* p, Best& best,
                               bool contacts_only = false) {
