@@ -494,40 +494,44 @@ TEST_CASE("body: the step moves exactly the particles a brute-force search finds
     if (skip_without_shared_body()) return;
     const BodyMesh& a = *shared_pose(false);
     const BodyMesh& t = *shared_pose(true);
-    on_every_path_with_skin_points(5, [&](BodyWorld& w, uint32_t count, const std::string& path) {
+    // The brute-force verdicts per pose, found on the first path (the placements are the same on each).
+    std::vector<std::vector<double>> depth_of_pose(3);
+    on_every_path_with_skin_points(9, [&](BodyWorld& w, uint32_t count, const std::string& path) {
         std::vector<Vec3> pose;
         uint32_t inside = 0, outside = 0, wrong = 0;
         uint32_t seed = 5;
-        for (float blend : {0.0f, 0.5f, 1.0f}) {
-            body::blend(a, t, blend, &pose);
+        for (int p = 0; p < 3; ++p) {
+            body::blend(a, t, 0.5f * float(p), &pose);
             REQUIRE(set_body_vertices(w.owned.world, w.body, pose.data(), uint32_t(pose.size())).ok());
             // One step for the body to arrive (the particles far above it): then it stands still and
             // the pass reaches as far as the brute-force search, thickness + margin.
             for (uint32_t k = 0; k < count; ++k)
                 REQUIRE(set_particle(w.owned.world, w.cloth, k, {0.0f, 3.0f, 0.0f}, 100.0f).ok());
             w.step_once();
-            const std::vector<Vec3> placed = points_near_skin(w.view(), 5, -0.006f, 0.006f, seed++);
+            const std::vector<Vec3> placed = points_near_skin(w.view(), 9, -0.006f, 0.006f, seed++);
             for (uint32_t k = 0; k < count; ++k)
                 REQUIRE(set_particle(w.owned.world, w.cloth, k, placed[k], 100.0f).ok());
             w.step_once();
             const std::vector<Vec3> after = w.positions();
-            const BodyView v = w.view();
+            std::vector<double>& depth = depth_of_pose[p];
+            for (uint32_t k = uint32_t(depth.size()); k < count; ++k) {
+                const BruteContact c = brute_force(w.view(), placed[k]);
+                depth.push_back(c.found ? c.penetration : -1.0);
+            }
             for (uint32_t k = 0; k < count; ++k) {
-                const BruteContact c = brute_force(v, placed[k]);
-                const double depth = c.found ? c.penetration : -1.0;
-                if (std::abs(depth) < 1e-5) continue;  // within rounding of the hull: either verdict
+                if (std::abs(depth[k]) < 1e-5) continue;  // within rounding of the hull: either verdict
                 const bool moved = std::memcmp(&after[k], &placed[k], sizeof(Vec3)) != 0;
-                inside += depth > 0.0;
-                outside += depth < 0.0;
-                if (moved != (depth > 0.0)) {
-                    if (wrong < 5) MESSAGE("particle ", k, " at depth ", depth * 1e3, " mm, moved ", moved);
+                inside += depth[k] > 0.0;
+                outside += depth[k] < 0.0;
+                if (moved != (depth[k] > 0.0)) {
+                    if (wrong < 5) MESSAGE("particle ", k, " at depth ", depth[k] * 1e3, " mm, moved ", moved);
                     ++wrong;
                 }
             }
         }
         MESSAGE(path, ": ", inside, " inside, ", outside, " outside, ", wrong, " wrong");
-        CHECK(inside > 3000);
-        CHECK(outside > 3000);
+        CHECK(inside > 2000);
+        CHECK(outside > 2000);
         CHECK(wrong == 0);
     });
 }
