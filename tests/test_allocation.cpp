@@ -340,7 +340,7 @@ TEST_CASE("reset_cloth and set_cloth_settings between frames allocate nothing") 
             settings.policy = i % 2 == 0 ? BudgetPolicy::automatic : BudgetPolicy::explicit_split;
             settings.iterations = 1 + i % 5;
             settings.substeps = 1 + i % 3;
-            settings.coarse_level = i % 4 < 2;
+            settings.coarse_level = i % 4 < 2 ? CoarseLevel::on : CoarseLevel::off;
             failures += !set_cloth_settings(w->world, w->cloth, settings).ok();
             failures += !step(w->world, w->dt_s).ok();
             if (i % 25 == 24) failures += !reset_cloth(w->world, w->cloth).ok();

@@ -40,7 +40,7 @@ std::unique_ptr<TriangleWorld> triangle_world(const std::vector<Vec3>& positions
     cd.policy = BudgetPolicy::explicit_split;
     cd.substeps = substeps;
     cd.iterations = iterations;
-    cd.coarse_level = false;  // three particles: nothing to carry further than one edge
+    cd.coarse_level = CoarseLevel::off;  // three particles: nothing to carry further than one edge
     cd.damping_per_s = 0.0f;
     REQUIRE(add_cloth(w->owned.world, cd, &w->cloth).ok());
     return w;

@@ -244,7 +244,7 @@ TEST_CASE("add_cloth and set_cloth_settings refuse bad settings: substeps 0, rel
         {"coarse level with 16 substeps", [](ClothDesc& d) {
              d.policy = BudgetPolicy::explicit_split;
              d.substeps = 16;
-             d.coarse_level = true;
+             d.coarse_level = CoarseLevel::on;
          }, ErrorCode::out_of_range},
         {"relaxation NaN", [](ClothDesc& d) { d.relaxation = kNaN; }, ErrorCode::non_finite},
         {"negative stretch compliance", [](ClothDesc& d) { d.compliance_m_per_n[0] = -1e-6f; }, ErrorCode::out_of_range},

@@ -218,7 +218,7 @@ TEST_CASE("scalar vs avx2: substeps, compliance and relaxation") {
         ClothDesc d;
         d.asset = &worlds[i]->asset();
         d.policy = BudgetPolicy::explicit_split;
-        d.coarse_level = true;
+        d.coarse_level = CoarseLevel::on;
         d.substeps = 3;
         d.iterations = 2;
         d.relaxation = 0.7f;
@@ -248,7 +248,7 @@ TEST_CASE("scalar vs avx2: pinned drape with an explicit split and the coarse le
             o.explicit_split = true;
             o.substeps = 2;
             o.iterations = 2;
-            o.coarse_level = true;
+            o.coarse_level = CoarseLevel::on;
             worlds[i] = make_scene(SeedScene::drape, o);
             step_n(*worlds[i], 100);
         }

@@ -30,7 +30,7 @@ std::unique_ptr<scenes::SeedWorld> make_variant(const Variant& v, SimdPath path)
         o.explicit_split = true;
         o.substeps = 2;
         o.iterations = 2;
-        o.coarse_level = true;
+        o.coarse_level = CoarseLevel::on;
     }
     return make_scene(v.scene, o);
 }
@@ -85,7 +85,7 @@ TEST_CASE("stepping one cloth leaves a second cloth in the same block untouched"
                 cd.policy = BudgetPolicy::explicit_split;
                 cd.substeps = 2;
                 cd.iterations = 2;
-                cd.coarse_level = true;
+                cd.coarse_level = CoarseLevel::on;
             }
             ClothId first, second;
             REQUIRE(add_cloth(world.world, cd, &first).ok());
@@ -147,6 +147,20 @@ TEST_CASE("the budget policy: pinned cloths iterate with tethers, collider-held 
     REQUIRE(cloth_solver_split(explicit_drape->world, explicit_drape->cloth, &split).ok());
     CHECK(split.substeps == 2);
     CHECK(split.iterations == 5);
+    // Its coarse level, unless named, follows the policy: off where the tethers hold the cloth (the
+    // pinned drape), on where only colliders do (the sphere); named, it is taken as given.
+    CHECK_FALSE(split.coarse_level);
+    auto explicit_sphere = make_scene(SeedScene::sphere, o);
+    REQUIRE(cloth_solver_split(explicit_sphere->world, explicit_sphere->cloth, &split).ok());
+    CHECK(split.coarse_level);
+    o.coarse_level = CoarseLevel::on;
+    auto coarse_drape = make_scene(SeedScene::drape, o);
+    REQUIRE(cloth_solver_split(coarse_drape->world, coarse_drape->cloth, &split).ok());
+    CHECK(split.coarse_level);
+    o.coarse_level = CoarseLevel::off;
+    auto fine_sphere = make_scene(SeedScene::sphere, o);
+    REQUIRE(cloth_solver_split(fine_sphere->world, fine_sphere->cloth, &split).ok());
+    CHECK_FALSE(split.coarse_level);
     CHECK(cloth_solver_split(drape->world, ClothId{3}, &split).code == ErrorCode::out_of_range);
     CHECK(cloth_solver_split(drape->world, drape->cloth, nullptr).code == ErrorCode::invalid_argument);
 }

@@ -179,7 +179,7 @@ TEST_CASE("irregular disc on the sphere: the converged model slides off 0.25 m o
     settings.iterations = 4;
     settings.sweeps = 64;
     settings.relaxation = 1.0f;
-    settings.coarse_level = false;
+    settings.coarse_level = CoarseLevel::off;
     DiscWorld w;
     make_world(mesh, settings, w);
     for (int i = 0; i < 330; ++i) REQUIRE(step(w.world, scenes::kSeedTimeStep_s).ok());

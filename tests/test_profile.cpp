@@ -54,7 +54,7 @@ TEST_CASE("profile: without the coarse level there is no coarse pass") {
     o.explicit_split = true;
     o.substeps = 3;
     o.iterations = 1;
-    o.coarse_level = false;
+    o.coarse_level = CoarseLevel::off;
     auto w = make_scene(SeedScene::sphere, o);
     step_n(*w, 20);
     CHECK(pass_ns(w->world, Pass::coarse) == 0);

@@ -140,7 +140,7 @@ void check_accepted_splits(SeedScene which, double extent_limit_m) {
                     o.iterations = iterations;
                     o.sweeps = substeps * iterations;
                     o.relaxation = relaxation;
-                    o.coarse_level = coarse_iterations > 0;
+                    o.coarse_level = coarse_iterations > 0 ? CoarseLevel::on : CoarseLevel::off;
                     o.coarse_iterations = std::max(coarse_iterations, 1u);
                     o.tethers = coarse_iterations == 0;
                     const scenes::Scene scene = scenes::seed_scene(which, o);

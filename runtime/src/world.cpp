@@ -138,7 +138,7 @@ Result check_cloth_settings(const ClothDesc& desc) {
                           double(kMinRelaxation), double(kMaxRelaxation));
     // The coarse correction, applied every substep, adds a little velocity each time: with 64
     // substeps it kept the n = 16 drape moving back and forth at 6-13 cm/s (8: at rest).
-    if (desc.policy == BudgetPolicy::explicit_split && desc.coarse_level && desc.asset->coarse_node_count > 0 &&
+    if (desc.policy == BudgetPolicy::explicit_split && resolve_split(desc, *desc.asset).coarse_level &&
         desc.substeps > kMaxCoarseSubsteps)
         return make_error(ErrorCode::out_of_range, "coarse_level with %u substeps: at most %u (or coarse_level off)",
                           desc.substeps, kMaxCoarseSubsteps);
@@ -222,7 +222,9 @@ SolverSplit resolve_split(const ClothDesc& desc, const ClothAsset& asset) {
         split.substeps = desc.substeps;
         split.iterations = desc.iterations;
         split.relaxation = desc.relaxation;
-        split.coarse_level = desc.coarse_level && asset.coarse_node_count > 0;
+        const bool coarse = desc.coarse_level == CoarseLevel::on ||
+                            (desc.coarse_level == CoarseLevel::automatic && !split.tethers);
+        split.coarse_level = coarse && asset.coarse_node_count > 0;
         split.coarse_iterations = desc.coarse_iterations;
     } else if (split.tethers) {  // held by pins: iterations, tethers (docs/solver.md)
         split.substeps = 1;

@@ -66,7 +66,7 @@ std::string time_asset(const ClothAsset& asset, SimdPath path, Timing* out) {
     cd.substeps = 1;
     cd.iterations = g_options.iterations;
     cd.sweeps = g_options.iterations;
-    cd.coarse_level = false;
+    cd.coarse_level = CoarseLevel::off;
     cd.tethers = false;
     ClothId id;
     if (Result r = add_cloth(world, cd, &id); !r.ok()) return r.message;

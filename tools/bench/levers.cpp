@@ -28,7 +28,7 @@ std::vector<Lever> levers(uint32_t sweeps) {
         l.options.iterations = sweeps / substeps;
         l.options.relaxation = relaxation;
         l.options.tethers = tethers;
-        l.options.coarse_level = coarse;
+        l.options.coarse_level = coarse ? CoarseLevel::on : CoarseLevel::off;
         l.options.contact_tethers = false;
         return l;
     };

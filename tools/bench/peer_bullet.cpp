@@ -152,7 +152,7 @@ std::string run_bullet_garment(const GarmentSweepScene& garment, uint32_t iterat
     cheap.substeps = 1;
     cheap.iterations = 1;
     cheap.tethers = false;
-    cheap.coarse_level = false;
+    cheap.coarse_level = CoarseLevel::off;
     scenes::SceneWorld shadow;
     if (std::string e = build_garment_world(garment, cheap, &shadow); !e.empty()) return e;
     const ClothAsset& asset = *shadow.cloths[0].asset;

@@ -106,7 +106,7 @@ std::vector<std::pair<Row, scenes::SceneOptions>> weft_grid(const SweepOptions& 
                     if (o.scene == SeedScene::sphere) {
                         // No pins, so no tethers: the long-range lever is the coarse level, run as
                         // the automatic policy runs it (under-relaxed 0.8, docs/solver.md).
-                        so.coarse_level = long_range;
+                        so.coarse_level = long_range ? CoarseLevel::on : CoarseLevel::off;
                         so.relaxation = long_range ? 0.8f : 1.0f;
                     } else {
                         so.tethers = long_range;
@@ -116,7 +116,7 @@ std::vector<std::pair<Row, scenes::SceneOptions>> weft_grid(const SweepOptions& 
                     r.substeps = substeps;
                     r.iterations = iterations;
                     r.tethers = so.tethers && o.scene != SeedScene::sphere;
-                    r.coarse_level = so.coarse_level;
+                    r.coarse_level = so.coarse_level == CoarseLevel::on;
                     r.relaxation = so.relaxation;
                     grid.emplace_back(r, so);
                 }

@@ -120,7 +120,11 @@ void parse_solver(const json& j, const std::string& where, ClothDesc* d) {
         read(j, "iterations", where, 0, 1000, &d->iterations);
     }
     read(j, "relaxation", where, kMinRelaxation, kMaxRelaxation, &d->relaxation);
-    read_bool(j, "coarse_level", where, &d->coarse_level);
+    if (j.contains("coarse_level")) {  // absent: automatic (CoarseLevel)
+        bool coarse = false;
+        read_bool(j, "coarse_level", where, &coarse);
+        d->coarse_level = coarse ? CoarseLevel::on : CoarseLevel::off;
+    }
     read(j, "coarse_iterations", where, 1, 16, &d->coarse_iterations);
     read_bool(j, "tethers", where, &d->tethers);
     read_bool(j, "tethers_before_sweeps", where, &d->tethers_before_sweeps);

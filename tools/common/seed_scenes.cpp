@@ -58,7 +58,7 @@ void apply_config(Config config, uint32_t sweeps, SceneOptions& o) {
         o.iterations = sweeps;
         o.relaxation = 1.0f;
         o.tethers = false;
-        o.coarse_level = false;
+        o.coarse_level = CoarseLevel::off;
         o.contact_tethers = false;
     } else {
         o.explicit_split = false;

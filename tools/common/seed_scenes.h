@@ -37,7 +37,7 @@ struct SceneOptions {
     uint32_t iterations = 3;
     bool tethers = true;
     bool tethers_before_sweeps = false;
-    bool coarse_level = true;
+    CoarseLevel coarse_level = CoarseLevel::automatic;  // explicit split (ClothDesc::coarse_level)
     uint32_t coarse_iterations = 1;  // coarse sweeps per substep (explicit split)
     bool contact_tethers = ClothDesc{}.contact_tethers;  // ClothDesc::contact_tethers
     float coarse_spacing_m = CookOptions{}.coarse_spacing_m;

@@ -79,6 +79,11 @@ enum class BudgetPolicy : uint8_t {
     explicit_split,
 };
 
+// Whether an explicit split runs the asset's coarse level. automatic: as the automatic policy
+// would for this cloth, off for a cloth its tethers hold (on the pinned n = 100 drape at 1 x 3 the
+// coarse level with tethers left 13% max strain against 3.0% without), on for one held by colliders.
+enum class CoarseLevel : uint8_t { automatic, off, on };
+
 // Per-instance solver settings. Defaults reproduce the seed experiments at the paper's budget
 // (3 sweeps at the caller's dt of 0.033 s, hard constraints, tethers on).
 struct ClothDesc {
@@ -92,7 +97,7 @@ struct ClothDesc {
     uint32_t iterations = 3;   // constraint sweeps per substep (0..1000)
     float relaxation = 1.0f;   // scales every spring correction; 1 = the seed's full correction
                                // (kMinRelaxation..kMaxRelaxation: what measured stable)
-    bool coarse_level = true;  // use the asset's coarse level, if it has one
+    CoarseLevel coarse_level = CoarseLevel::automatic;  // when the asset has one
     uint32_t coarse_iterations = 1;  // coarse-level sweeps per substep (1..16; the policy uses 1)
     SpringProjection projection = SpringProjection::exact;
 
