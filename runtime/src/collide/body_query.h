@@ -104,26 +104,45 @@ struct LeafClosest {
     uint32_t lane;
     float distance2, v, w;
 };
+
+// The plane and ball tests of lanes k.. of a leaf (corners + k) against p within sqrt(limit2):
+// the lanes that may hold a point that close (`near`), with p - a and n . (p - a) for n = ab x ac
+// (not normalised). Plane: (n.ap)^2 < limit2 |n|^2; a degenerate triangle (n = 0) never passes,
+// its neighbours' edges cover it. Ball: the triangle lies within `radius` (the longer of ab, ac)
+// of a, so it is out of reach when |ap| >= sqrt(limit2) + radius.
+template <class F>
+struct LaneCull {
+    Vec3W<F> ap;
+    F plane, n2;
+    decltype(F{} < F{}) near;
+};
+template <class F>
+inline LaneCull<F> cull_lanes(const float* c, const Vec3W<F>& p, F limit2, F limit_m) {
+    using namespace simd;
+    LaneCull<F> out;
+    out.ap = {p.x - load(c, F{}), p.y - load(c + 8, F{}), p.z - load(c + 16, F{})};
+    const Vec3W<F> n{load(c + 72, F{}), load(c + 80, F{}), load(c + 88, F{})};
+    out.plane = dot(n, out.ap);
+    out.n2 = dot(n, n);
+    const F ball = limit_m + load(c + 96, F{});
+    out.near = (out.plane * out.plane < limit2 * out.n2) & (dot(out.ap, out.ap) < ball * ball);
+    return out;
+}
+
 template <class F>
 inline bool closest_in_leaf(const float* corners, const float* p, float limit2, LeafClosest& out) {
     alignas(32) float d2_out[kLeafTriangles], v_out[kLeafTriangles], w_out[kLeafTriangles];
     const float limit_m = std::sqrt(limit2);
     using namespace simd;
     const F zero = splat(0.0f, F{}), one = splat(1.0f, F{});
-    const F px = splat(p[0], F{}), py = splat(p[1], F{}), pz = splat(p[2], F{});
+    const Vec3W<F> point{splat(p[0], F{}), splat(p[1], F{}), splat(p[2], F{})};
     const F limit = splat(limit2, F{}), far = splat(std::numeric_limits<float>::infinity(), F{});
     uint32_t within = 0;
     for (uint32_t k = 0; k < kLeafTriangles; k += F::width) {
         const float* c = corners + k;
-        const Vec3W<F> ap{px - load(c, F{}), py - load(c + 8, F{}), pz - load(c + 16, F{})};
-        // Plane test with the unnormalised normal n = ab x ac: (n.ap)^2 < limit2 |n|^2. A degenerate
-        // triangle (n = 0) never passes; its neighbours' edges cover it.
-        // And a ball test: the triangle lies within `radius` (the longer of ab, ac) of a, so it is out
-        // of reach when |ap| >= sqrt(limit2) + radius.
-        const Vec3W<F> n{load(c + 72, F{}), load(c + 80, F{}), load(c + 88, F{})};
-        const F plane = dot(n, ap);
-        const F ball = splat(limit_m, F{}) + load(c + 96, F{});
-        const auto near = (plane * plane < limit * dot(n, n)) & (dot(ap, ap) < ball * ball);
+        const LaneCull<F> cull = cull_lanes(c, point, limit, splat(limit_m, F{}));
+        const Vec3W<F>& ap = cull.ap;
+        const auto near = cull.near;
         if (!any(near)) {
             store(d2_out + k, far);
             continue;
@@ -313,20 +332,15 @@ template <class F>
 inline bool in_front_of_every_plane(const BodyHierarchy& h, const float* p, const uint32_t* leaf, const float* reach2,
                                     uint32_t count) {
     using namespace simd;
-    const F px = splat(p[0], F{}), py = splat(p[1], F{}), pz = splat(p[2], F{});
+    const Vec3W<F> point{splat(p[0], F{}), splat(p[1], F{}), splat(p[2], F{})};
     const F zero = splat(0.0f, F{}), margin2 = splat(kFrontMargin_m * kFrontMargin_m, F{});
     for (uint32_t j = 0; j < count; ++j) {
         const float* corners = h.leaf_corners + size_t(kLeafCorners) * leaf[j];
         const F limit = splat(reach2[j], F{}), limit_m = splat(std::sqrt(reach2[j]), F{});
         for (uint32_t k = 0; k < kLeafTriangles; k += F::width) {
-            const float* c = corners + k;
-            const Vec3W<F> ap{px - load(c, F{}), py - load(c + 8, F{}), pz - load(c + 16, F{})};
-            const Vec3W<F> n{load(c + 72, F{}), load(c + 80, F{}), load(c + 88, F{})};
-            const F plane = dot(n, ap), n2 = dot(n, n);
-            const F ball = limit_m + load(c + 96, F{});
-            const auto near = (plane * plane < limit * n2) & (dot(ap, ap) < ball * ball);
-            const auto behind = (plane < zero) | (plane * plane < margin2 * n2);
-            if (any(near & behind)) return false;
+            const LaneCull<F> cull = cull_lanes(corners + k, point, limit, limit_m);
+            const auto behind = (cull.plane < zero) | (cull.plane * cull.plane < margin2 * cull.n2);
+            if (any(cull.near & behind)) return false;
         }
     }
     return true;
