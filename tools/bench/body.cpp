@@ -126,7 +126,9 @@ int run_body(const BodyBenchOptions& o) {
     }
     if (!o.random_order) {
         // A garment's slots run along its lattice rows: neighbours sit next to each other. Morton order
-        // of the points' places on the A-pose gives this cloud the same property.
+        // of the points' places on the A-pose gives this cloud the same property, for the plain pass
+        // too (it queries in slot order). Weft's pass orders by start positions (order_for_body_pass):
+        // they are all one place here, so it keeps this order, or --random-order's.
         Vec3 lo{1e9f, 1e9f, 1e9f}, hi{-1e9f, -1e9f, -1e9f};
         for (uint32_t v : vertex) {
             const Vec3 p = a.positions[v];
