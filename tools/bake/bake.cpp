@@ -127,11 +127,26 @@ Status bake_pattern(std::string_view text, const BakeOptions& options, Baked* ou
         ClothMeshDesc flat = input.desc;
         flat.lattice = g.lattice.data();
         flat.lattice_plane_stride = g.lattice_plane_stride;
-        std::vector<uint32_t> attached;
-        for (const Attachment& a : g.attachments) attached.insert(attached.end(), a.particles.begin(), a.particles.end());
-        std::sort(attached.begin(), attached.end());
-        attached.erase(std::unique(attached.begin(), attached.end()), attached.end());
-        if (Status s = sew_garment(flat, attached, *options.body, options.sew, &out->sewn, &out->sew_report); !s.ok())
+        // Attachments are bound to the body for good, except a GarmentCode waistline with more of the
+        // garment placed over kWaistHeldBelow_m above it (a dress's bodice, hanging from the
+        // shoulders): that one only keeps its height while the seams close (`held`).
+        std::vector<uint32_t> attached, held;
+        float garment_top = -HUGE_VALF;
+        for (const Vec3& p : g.positions) garment_top = std::max(garment_top, p.y);
+        for (const Attachment& a : g.attachments) {
+            float top = -HUGE_VALF;
+            for (uint32_t p : a.particles) top = std::max(top, g.positions[p].y);
+            if (a.label != "lower_interface" || garment_top <= top + kWaistHeldBelow_m)
+                attached.insert(attached.end(), a.particles.begin(), a.particles.end());
+            held.insert(held.end(), a.particles.begin(), a.particles.end());
+        }
+        for (std::vector<uint32_t>* v : {&attached, &held}) {
+            std::sort(v->begin(), v->end());
+            v->erase(std::unique(v->begin(), v->end()), v->end());
+        }
+        SewOptions sew = options.sew;
+        sew.ignore_arm_tips = sew.ignore_arm_tips || !out->pattern.sleeves;
+        if (Status s = sew_garment(flat, attached, held, *options.body, sew, &out->sewn, &out->sew_report); !s.ok())
             return {"sewing: " + s.error};
         if (Result r = cook_garment(out->sewn.desc, sewn_cook_options(options.cook), options.choose_runs, &out->cooked,
                                     &out->cook_options);

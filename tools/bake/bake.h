@@ -67,6 +67,11 @@ Result cook_garment(const ClothMeshDesc& mesh, const CookOptions& cook, bool cho
 Result cook_packings(const ClothMeshDesc& mesh, const MeshedGarment& g, const CookOptions& cook, bool choose_runs,
                      CookedCloth* out, CookOptions* chosen, size_t* winner);
 
+// A waistline ("lower_interface") is bound to the body only when no part of the garment is placed
+// more than this above it: bound under the pencil dress's bodice, it held the dress at the waist as
+// well as at the shoulders and stretched its straps 109% (60% hanging from the shoulders alone).
+inline constexpr float kWaistHeldBelow_m = 0.10f;
+
 struct Baked {
     Pattern pattern;
     MeshedGarment garment;

@@ -79,6 +79,7 @@ json describe(const ClothAsset& a, uint64_t bytes) {
             {"contiguous_fraction", total > 0 ? double(a.constraints_on_runs) / total : 0.0},
             {"start_max_strain", start.max},
             {"start_mean_strain", start.mean},
+            {"start_max_strain_at_m", {start.max_at.x, start.max_at.y, start.max_at.z}},
             {"tethered_particles", a.tethered_particles},
             {"coarse_nodes", a.coarse_node_count},
             {"bytes", bytes}};
@@ -257,6 +258,8 @@ int main(int argc, char** argv) {
         j["max_skin_penetration_m"] = r.max_skin_penetration_m;
         j["particles_inside_body"] = r.particles_inside_body;
         j["final_mean_speed_m_s"] = r.mean_speed_m_s;
+        j["top_drop_m"] = r.top_at_closed_m - r.top_at_rest_m;  // from closed seams to the dressed pose
+        j["lowest_m"] = r.lowest_at_rest_m;
         if (!sewing_frames.empty()) j["sewing_frames_written"] = frames_written;
     }
     if (as_json) {

@@ -276,6 +276,11 @@ Pattern read_garmentcode(const json& root, const ParseOptions& options) {
 
     EdgeMap map;
     std::map<std::string, uint32_t> panel_index;
+    struct EdgeLabel {
+        uint32_t panel, file_edge;
+        std::string label;
+    };
+    std::vector<EdgeLabel> labels;
     for (const std::string& name : names) {
         const json& p = panels[name];
         const std::string where = "pattern.panels." + name;
@@ -300,6 +305,7 @@ Pattern read_garmentcode(const json& root, const ParseOptions& options) {
             edge.end = index_below(ends[1], item(at(ew, "endpoints"), 1), panel.vertices.size());
             if (const json* c = optional_member(edges[k], "curvature", ew))
                 read_garmentcode_curvature(*c, at(ew, "curvature"), relative, scale, panel, edge);
+            if (const json* l = optional_member(edges[k], "label", ew)) labels.push_back({uint32_t(pattern.panels.size()), uint32_t(k), text(*l, at(ew, "label"))});
             panel.edges.push_back(edge);
         }
         double translation[3] = {0.0, 0.0, 0.0};
@@ -341,6 +347,17 @@ Pattern read_garmentcode(const json& root, const ParseOptions& options) {
             pattern.seams.push_back(seam);
         }
     }
+    // The edges GarmentCode's simulator holds on the body (its attachment_label_names): a lower
+    // garment's waistline and a strapless top's upper edge become body attachments.
+    pattern.sleeves = false;
+    for (const EdgeLabel& l : labels)
+        if (l.label == "left_armhole" || l.label == "right_armhole")
+            for (const Seam& seam : pattern.seams)
+                for (const SeamSide& side : seam.sides)
+                    pattern.sleeves = pattern.sleeves || (side.panel == l.panel && side.edge == map.loop_of[l.panel][l.file_edge]);
+    for (const EdgeLabel& l : labels)
+        if (std::find(std::begin(kGarmentCodeBodyLabels), std::end(kGarmentCodeBodyLabels), l.label) != std::end(kGarmentCodeBodyLabels))
+            pattern.attachments.push_back({{l.panel, int32_t(map.loop_of[l.panel][l.file_edge]), {}}, l.label});
     return pattern;
 }
 

@@ -79,6 +79,14 @@ struct PanelSelector {
     Point2 point;
 };
 
+// GarmentCode edge labels read as body attachments (BodyAttachment::label keeps the label), the
+// edges GarmentCode's own simulator holds on the body while it dresses a garment: the waistline
+// ("lower_interface"), a top's neckline on both sides and a strapless top's upper edge. Without the
+// necklines a dress's straps, resting on the shoulders' outer edge, slid off them while it draped.
+// (bake_pattern binds a waistline only where nothing above it holds the garment: kWaistHeldBelow_m.)
+inline constexpr std::string_view kGarmentCodeBodyLabels[] = {"lower_interface", "right_collar", "left_collar",
+                                                              "strapless_top"};
+
 struct BodyAttachment {
     PanelSelector where;
     std::string label;  // stored for the caller (e.g. "waist"); the baker gives it no meaning
@@ -103,6 +111,9 @@ struct Pattern {
     std::vector<PanelSelector> pins;
     std::vector<BodyAttachment> attachments;
     double target_edge_m = 0.0;  // 0: not given, MeshOptions decides
+    // Whether the garment covers the arms (sleeves sewn into armholes). GarmentCode: an edge labelled
+    // "left_armhole" or "right_armhole" is stitched. Weft patterns: assumed (the arms stay in the sewing).
+    bool sleeves = true;
 };
 
 struct ParseOptions {

@@ -5,6 +5,7 @@
 #include <chrono>
 #include <cmath>
 #include <cstdlib>
+#include <map>
 #include <memory>
 #include <numeric>
 
@@ -55,9 +56,13 @@ float close_seams(World* world, ClothId cloth, const BodyWorld& probe, const std
             const float t = l > step_m ? step_m / l : 1.0f;
             x[p] = {x[p].x + d.x * t, x[p].y + d.y * t, x[p].z + d.z * t};
             // Held kinematic, a source meets no collider: one that stepped into the body's hull
-            // goes to its closest hull point, so it slides over the body instead of through it.
+            // goes to its closest hull point, so it slides over the body instead of through it,
+            // unless that leaves it no nearer its target by half a step (a limb in its way: it
+            // passes through, as GarmentCode's sources do, rather than stay caught behind an arm).
             BodyContact c;
-            if (query_body(probe.world, probe.body, x[p], &c).ok() && c.found && c.penetration_m > 0.0f) x[p] = c.hull_point;
+            if (query_body(probe.world, probe.body, x[p], &c).ok() && c.found && c.penetration_m > 0.0f &&
+                length(sub(target[k], c.hull_point)) < l - 0.5f * step_m)
+                x[p] = c.hull_point;
             set_particle(world, cloth, index[p], x[p], 0.0f);
         }
         gap = std::max(gap, group_gap);
@@ -189,6 +194,94 @@ Status open_body_world(const ClothAsset& asset, const SewBody& body, const SewOp
     return {};
 }
 
+// Where a sewn garment hangs from, m: the height of its highest attachment, or without any, of its
+// highest opening (waist, neckline, shoulders: particles on an edge of one triangle). Loose cloth
+// bunched above it while the seams close falls into place in the drape; a top that sinks is the
+// garment sliding off.
+double top_of_openings(const std::vector<uint32_t>& triangles, const std::vector<Vec3>& positions,
+                       const std::vector<uint32_t>& attached) {
+    if (!attached.empty()) {  // it hangs from them: the highest attachment
+        double top = -HUGE_VAL;
+        for (uint32_t p : attached) top = std::max(top, double(positions[p].y));
+        return top;
+    }
+    std::map<std::pair<uint32_t, uint32_t>, int> edges;
+    for (size_t t = 0; t + 2 < triangles.size(); t += 3)
+        for (int e = 0; e < 3; ++e) {
+            const uint32_t a = triangles[t + e], b = triangles[t + (e + 1) % 3];
+            edges[{std::min(a, b), std::max(a, b)}] += 1;
+        }
+    double top = -HUGE_VAL;
+    for (const auto& [edge, count] : edges)
+        if (count == 1) top = std::max({top, double(positions[edge.first].y), double(positions[edge.second].y)});
+    if (top == -HUGE_VAL)  // closed all round: its highest particle
+        for (const Vec3& p : positions) top = std::max(top, double(p.y));
+    return top;
+}
+
+// The boundary loops of a triangle mesh, each in the direction its triangles run along it.
+std::vector<std::vector<uint32_t>> boundary_loops(const std::vector<uint32_t>& triangles) {
+    std::map<std::pair<uint32_t, uint32_t>, int> half_edges;  // (a, b) -> how often, minus (b, a)
+    for (size_t t = 0; t + 2 < triangles.size(); t += 3)
+        for (int e = 0; e < 3; ++e) half_edges[{triangles[t + e], triangles[t + (e + 1) % 3]}] += 1;
+    std::map<uint32_t, uint32_t> next;  // boundary edge a -> b: no triangle has b -> a
+    for (const auto& [edge, count] : half_edges)
+        if (!half_edges.contains({edge.second, edge.first})) next[edge.first] = edge.second;
+    std::vector<std::vector<uint32_t>> loops;
+    while (!next.empty()) {
+        std::vector<uint32_t> loop;
+        for (auto it = next.begin(); it != next.end(); it = next.find(loop.back())) {
+            loop.push_back(it->first);
+            const uint32_t b = it->second;
+            next.erase(it);
+            if (b == loop.front()) break;
+            if (!next.contains(b)) break;  // not a simple loop: keep what was found
+        }
+        if (loop.size() >= 3) loops.push_back(std::move(loop));
+    }
+    return loops;
+}
+
+std::vector<bool> arm_tip_triangles(const SewBody& body) {
+    const uint32_t n = uint32_t(body.positions.size());
+    std::vector<bool> tip(body.triangles.size() / 3, false);
+    if (n == 0) return tip;
+    // Surface distances (Dijkstra along the triangles' edges) from both fingertips at once.
+    std::vector<std::vector<std::pair<uint32_t, float>>> next(n);
+    for (size_t t = 0; t + 2 < body.triangles.size(); t += 3)
+        for (int e = 0; e < 3; ++e) {
+            const uint32_t a = body.triangles[t + e], b = body.triangles[t + (e + 1) % 3];
+            const float l = length(sub(body.positions[a], body.positions[b]));
+            next[a].push_back({b, l}), next[b].push_back({a, l});
+        }
+    uint32_t left = 0, right = 0;
+    float low = HUGE_VALF, high = -HUGE_VALF;
+    for (uint32_t v = 0; v < n; ++v) {
+        low = std::min(low, body.positions[v].y), high = std::max(high, body.positions[v].y);
+        if (body.positions[v].x < body.positions[left].x) left = v;
+        if (body.positions[v].x > body.positions[right].x) right = v;
+    }
+    const float reach = kArmTipReach * (high - low);
+    std::vector<float> distance(n, HUGE_VALF);
+    using Entry = std::pair<float, uint32_t>;
+    std::vector<Entry> heap{{0.0f, left}, {0.0f, right}};
+    distance[left] = distance[right] = 0.0f;
+    while (!heap.empty()) {
+        std::pop_heap(heap.begin(), heap.end(), std::greater<>());
+        const auto [d, v] = heap.back();
+        heap.pop_back();
+        if (d > distance[v]) continue;
+        for (const auto& [w, l] : next[v])
+            if (d + l < distance[w] && d + l < reach) {
+                distance[w] = d + l;
+                heap.push_back({d + l, w}), std::push_heap(heap.begin(), heap.end(), std::greater<>());
+            }
+    }
+    for (size_t t = 0; t < tip.size(); ++t)
+        for (int k = 0; k < 3; ++k) tip[t] = tip[t] || distance[body.triangles[3 * t + k]] < reach;
+    return tip;
+}
+
 bool inside_body(const SewBody& body, Vec3 p) {
     // Ray parity along a direction no mesh axis shares (Moeller-Trumbore against every triangle).
     const Vec3 dir{0.5773f, 0.5774f, 0.5773f};
@@ -210,8 +303,40 @@ bool inside_body(const SewBody& body, Vec3 p) {
     return crossings % 2 == 1;
 }
 
-Status sew_garment(const ClothMeshDesc& unsewn, const std::vector<uint32_t>& attached, const SewBody& body,
+Status sew_garment(const ClothMeshDesc& unsewn, const std::vector<uint32_t>& attached, const std::vector<uint32_t>& held,
+                   const SewBody& whole_body,
                    const SewOptions& o, SewnGarment* out, SewReport* report) {
+    // The body the garment collides with while it is sewn and draped (SewOptions::ignore_arm_tips),
+    // and the whole body's triangle of each of its own.
+    SewBody body;
+    std::vector<uint32_t> whole_triangle;
+    if (o.ignore_arm_tips) {
+        const std::vector<bool> tip = arm_tip_triangles(whole_body);
+        body.positions = whole_body.positions;
+        for (uint32_t t = 0; t < tip.size(); ++t)
+            if (!tip[t]) {
+                body.triangles.insert(body.triangles.end(), whole_body.triangles.begin() + 3 * t, whole_body.triangles.begin() + 3 * t + 3);
+                whole_triangle.push_back(t);
+            }
+        // Each cut closed by a fan around its middle: an open hull's inside test fails near the
+        // hole, and a seam target found "inside" there was pushed onto its rim again and again.
+        const size_t kept = whole_triangle.size();
+        for (const std::vector<uint32_t>& loop : boundary_loops(body.triangles)) {
+            Vec3 middle{};
+            for (uint32_t v : loop) middle = {middle.x + body.positions[v].x, middle.y + body.positions[v].y, middle.z + body.positions[v].z};
+            const float inv = 1.0f / float(loop.size());
+            body.positions.push_back({middle.x * inv, middle.y * inv, middle.z * inv});
+            const uint32_t c = uint32_t(body.positions.size() - 1);
+            for (size_t k = 0; k < loop.size(); ++k)  // the loop runs along its triangles' edges: the cap runs against it
+                body.triangles.insert(body.triangles.end(), {loop[(k + 1) % loop.size()], loop[k], c});
+        }
+        // A binding on a cap (a garment without sleeves does not reach one) would name no triangle of the whole body.
+        whole_triangle.resize(body.triangles.size() / 3, whole_triangle.empty() ? 0u : whole_triangle[kept - 1]);
+    } else {
+        body = whole_body;
+        whole_triangle.resize(body.triangles.size() / 3);
+        std::iota(whole_triangle.begin(), whole_triangle.end(), 0u);
+    }
     SewOptions sewing = o;  // frictionless while the seams close (SewOptions::sewing_friction)
     sewing.body_friction = o.sewing_friction;
     const auto start = std::chrono::steady_clock::now();
@@ -221,7 +346,7 @@ Status sew_garment(const ClothMeshDesc& unsewn, const std::vector<uint32_t>& att
     const uint32_t n = unsewn.particle_count;
     SewReport rep;
     rep.particles_before = n;
-    rep.body_triangles = uint32_t(body.triangles.size() / 3);
+    rep.body_triangles = uint32_t(whole_body.triangles.size() / 3);
 
     // 1. Sewing: the unsewn garment under a small gravity, seams closing geometrically.
     CookOptions cook;
@@ -329,6 +454,22 @@ Status sew_garment(const ClothMeshDesc& unsewn, const std::vector<uint32_t>& att
         }
         return {};
     };
+    // While the seams close, the attachments keep their height (GarmentCode's simulator holds its
+    // attachment edges on a horizontal plane for the first frames): a waistband pulled around a
+    // frictionless body by its closing side seams slid down over the hips otherwise (a skirt's top
+    // from y = 1.09 to 0.77 m) and the garment was dressed where it does not belong.
+    std::vector<float> held_y(n, NAN);
+    std::vector<uint32_t> group_of_root(n, ~0u);
+    for (size_t k = 0; k < groups.size(); ++k) group_of_root[root[groups[k][0]]] = uint32_t(k);
+    for (uint32_t p : held) held_y[p] = group_of_root[root[p]] != ~0u ? target[group_of_root[root[p]]].y : x[p].y;
+    const auto hold_attachments = [&] {  // those not on an open seam point (close_seams moves those), back to their height
+        for (uint32_t p : held) {
+            const uint32_t k = group_of_root[root[p]], q = stage->garment.new_of_old[p];
+            if ((k != ~0u && !closed[k]) || stage->garment.masses[q] == 0.0f || x[p].y == held_y[p]) continue;
+            x[p].y = held_y[p];
+            set_particle(stage->w.world, stage->w.cloth, q, x[p], 1.0f / stage->garment.masses[q]);
+        }
+    };
     {
         if (Status s = merge_closed(); !s.ok()) return s;
         // The sources reach their targets, then the cloth settles around the closed seams.
@@ -348,10 +489,19 @@ Status sew_garment(const ClothMeshDesc& unsewn, const std::vector<uint32_t>& att
             // Every open seam point's sources move toward its target.
             const float gap = close_seams(stage->w.world, stage->w.cloth, probe, groups, target, stage->garment.new_of_old, closed, x,
                                           o.sewing_speed_m_s * o.dt_s);
+            if (!attaching) hold_attachments();
             attaching = attaching || (all_closed && closed == merged);
             if (attaching) {  // sewn: the attachments slide onto the body
                 if (Status s = slide_attachments(o.sewing_speed_m_s * o.dt_s); !s.ok()) return s;
                 ++settled;
+            }
+            if (rep.sewing_frames == o.max_sewing_frames && getenv("WEFT_DEBUG_SEW")) {
+                for (size_t k = 0; k < groups.size(); ++k) {
+                    if (closed[k]) continue;
+                    fprintf(stderr, "open group %zu target %.3f %.3f %.3f:", k, target[k].x, target[k].y, target[k].z);
+                    for (uint32_t p : groups[k]) fprintf(stderr, " [%u: %.3f %.3f %.3f]", p, x[p].x, x[p].y, x[p].z);
+                    fprintf(stderr, "\n");
+                }
             }
             if (rep.sewing_frames == o.max_sewing_frames)
                 return {"a seam is still " + std::to_string(gap * 100.0) + " cm open after " +
@@ -364,6 +514,11 @@ Status sew_garment(const ClothMeshDesc& unsewn, const std::vector<uint32_t>& att
         if (Status s = slide_attachments(HUGE_VALF); !s.ok()) return s;
         watch(true);
         rep.max_seam_gap_m = seam_gap();
+        {  // sewn, attachments on the body: before the drape
+            std::vector<uint32_t> on_body;
+            for (uint32_t p : attached) on_body.push_back(stage->garment.new_of_old[p]);
+            rep.top_at_closed_m = top_of_openings(stage->garment.triangles, now, on_body);
+        }
         stage.reset();
     }
 
@@ -392,7 +547,7 @@ Status sew_garment(const ClothMeshDesc& unsewn, const std::vector<uint32_t>& att
             const float det = d11 * d22 - d12 * d12;
             float v = det > 0.0f ? (d22 * dd1 - d12 * dd2) / det : 0.0f, u = det > 0.0f ? (d11 * dd2 - d12 * dd1) / det : 0.0f;
             v = std::clamp(v, 0.0f, 1.0f), u = std::clamp(u, 0.0f, 1.0f - v);
-            Binding bind{p, c.triangle, {1.0f - v - u, v, u}};
+            Binding bind{p, whole_triangle[c.triangle], {1.0f - v - u, v, u}};
             bindings.push_back(bind);
             x[p] = {a.x * bind.weight[0] + b.x * bind.weight[1] + cc.x * bind.weight[2],
                     a.y * bind.weight[0] + b.y * bind.weight[1] + cc.y * bind.weight[2],
@@ -451,11 +606,15 @@ Status sew_garment(const ClothMeshDesc& unsewn, const std::vector<uint32_t>& att
         g.positions = before;
         d.positions = g.positions.data();
         watch(g.positions, true);
+        rep.top_at_rest_m = top_of_openings(g.triangles, g.positions, g.attached_particle);
+        rep.lowest_at_rest_m = HUGE_VAL, rep.body_lowest_m = HUGE_VAL;
+        for (const Vec3& p : g.positions) rep.lowest_at_rest_m = std::min(rep.lowest_at_rest_m, double(p.y));
+        for (const Vec3& p : body.positions) rep.body_lowest_m = std::min(rep.body_lowest_m, double(p.y));
         for (uint32_t q = 0; q < m; ++q) {
             BodyContact c;
             if (query_body(w.world, w.body, g.positions[q], &c).ok() && c.found)
                 rep.max_penetration_m = std::max(rep.max_penetration_m, double(c.penetration_m));
-            if (inside_body(body, g.positions[q])) {
+            if (inside_body(whole_body, g.positions[q])) {
                 ++rep.particles_inside_body;
                 if (c.found) rep.max_skin_penetration_m = std::max(rep.max_skin_penetration_m, double(c.penetration_m - o.body_thickness_m));
             }

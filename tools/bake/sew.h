@@ -72,6 +72,11 @@ struct SewOptions {
     // The drape looks for the rest pose, so it may be calmer than the game's cloth: at 1/s the
     // pencil dress's hem swung with a 5 s period through all 900 frames for one particle order.
     float drape_damping_per_s = 2.0f;
+    // Sew and drape without the body's hands and forearms (arm_tip_triangles): a garment without
+    // sleeves does not touch them on a body standing in an A-pose, but a skirt placed flat around it
+    // wrapped around the hands as its side seams closed (GarmentCode's simulator filters the arms
+    // out of a skirt's collisions likewise). Bindings still name the whole body's triangles.
+    bool ignore_arm_tips = false;
     float body_thickness_m = 0.004f;    // the body's offset hull (BodyDesc::thickness_m)
     float body_friction = 0.5f;
     // Watching (weft-bake --sewing-frames): called with frame 0, every frame_every-th and the last
@@ -92,6 +97,11 @@ struct SewReport {
     double max_skin_penetration_m = 0.0;  // of those within the hull's reach: how deep below the skin
     double mean_speed_m_s = 0.0;     // over the last drape frame
     uint32_t body_triangles = 0;
+    // Whether the garment stays where it was sewn: the height (m, +Y up) of its highest attachment
+    // (or without any, of its highest opening: waist, neckline) when the seams have closed and the
+    // attachments are on the body (before the drape) and in the dressed pose, its lowest particle's in the dressed pose, and the
+    // body's lowest vertex (the soles: a garment that fell off ends below them, there is no floor).
+    double top_at_closed_m = 0.0, top_at_rest_m = 0.0, lowest_at_rest_m = 0.0, body_lowest_m = 0.0;
 };
 
 // The sewn garment: owns what `desc` points into.
@@ -109,9 +119,12 @@ struct SewnGarment {
 };
 
 // Sews `unsewn` (a garment as cook_cloth takes it, with seam points, uv and flat rest positions)
-// onto `body`. The `attached` particles (the pattern's body attachments) slide onto the body's
-// offset hull once the seams are closed and are bound there: pinned, stored as attachments. Fails with a message when the body is empty or a seam does not close.
-Status sew_garment(const ClothMeshDesc& unsewn, const std::vector<uint32_t>& attached, const SewBody& body,
+// onto `body`. The `attached` particles (the pattern's bound body attachments) slide onto the
+// body's offset hull once the seams are closed and are bound there: pinned, stored as attachments.
+// The `held` ones (every attachment, bound or not) keep their height while the seams close. Fails
+// with a message when the body is empty or a seam does not close.
+Status sew_garment(const ClothMeshDesc& unsewn, const std::vector<uint32_t>& attached, const std::vector<uint32_t>& held,
+                   const SewBody& body,
                    const SewOptions& options, SewnGarment* out, SewReport* report);
 
 // A world holding one cloth and the body (as the sewing steps it), released on scope exit.
@@ -137,6 +150,12 @@ inline CookOptions sewn_cook_options(CookOptions options) {
     options.coarse_spacing_m = 0.0f;
     return options;
 }
+
+// The triangles of the body's hands and forearms: those with a vertex within kArmTipReach of the
+// body's height, along its surface, from its leftmost or rightmost vertex (the fingertips of a
+// body standing in an A- or T-pose facing +Z).
+inline constexpr float kArmTipReach = 0.26f;  // of the height: the hand and the forearm (mean_all: 45 cm)
+std::vector<bool> arm_tip_triangles(const SewBody& body);
 
 // Whether `point` lies inside the body's skin (ray parity against every triangle: a reference for
 // reports and tests, not for stepping).

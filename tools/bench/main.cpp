@@ -11,6 +11,7 @@
 //                     [--json] [--csv FILE] [--plot FILE.png] [--quick] [--no-peer] ...
 //                     run time against error, Weft's budgets and Bullet's (docs/accuracy.md)
 //   weft-bench garment [--steps 300] [--json]                          dressed garments on animated bodies
+//   weft-bench corpus DIR [--body BODY] [--jobs N] [--json]        a folder of patterns, flat and sewn
 //   weft-bench baked PATTERN.json ... [--iterations 10] [--repeat 5]   baked vs in-memory, ns per projection
 //
 // The budget is `--sweeps` spent by the runtime's automatic policy (config "default") or the seed's
@@ -29,6 +30,7 @@
 #include "bench_run.h"
 #include "baked.h"
 #include "body.h"
+#include "corpus.h"
 #include "garment.h"
 #include "levers.h"
 #include "reference_double.h"
@@ -582,6 +584,16 @@ int main(int argc, char** argv) {
     garment->add_option("--steps", garment_steps, "steps measured per scene (after the body's ramp)")->capture_default_str()
         ->check(CLI::Range(1u, 100000u));
     garment->add_flag("--json", garment_json, "one JSON object per scene");
+    bench::CorpusOptions corpus_o;
+    CLI::App* corpus = app.add_subcommand("corpus", "a folder of sewing patterns baked flat and sewn, one JSON line per garment and a summary");
+    corpus->add_option("dir", corpus_o.dir, "folder of patterns (GarmentCode *_specification.json or Weft *.json)")->required();
+    corpus->add_option("--body", corpus_o.body, "sew onto this body (OBJ, glTF or 'mannequin'); none: flat bakes only");
+    corpus->add_option("--jobs", corpus_o.jobs, "garments baked at once (0: one per core)")->capture_default_str();
+    corpus->add_option("--sweeps", corpus_o.sweeps, "the sewing and drape budget (weft-bake --sweeps)")
+        ->check(CLI::Range(1u, 1000u))->capture_default_str();
+    corpus->add_option("--timeout", corpus_o.timeout_s, "seconds one garment may take")->check(CLI::PositiveNumber)->capture_default_str();
+    corpus->add_option("--filter", corpus_o.filter, "only the files whose name contains one of these (comma-separated)");
+    corpus->add_flag("--json", corpus_o.json, "one JSON object per garment, then the summary (\"summary\": true)");
     bench::BodyBenchOptions body_o;
     CLI::App* body = app.add_subcommand("body", "body collision pass on the shared mean_all body, A-pose <-> T-pose");
     body->add_option("--frames", body_o.frames, "frames measured")->capture_default_str();
@@ -627,6 +639,7 @@ int main(int argc, char** argv) {
                                            : bench::run_reference_study(reference_o);
     }
     if (body->parsed()) return bench::run_body(body_o);
+    if (corpus->parsed()) return bench::run_corpus(corpus_o);
     if (garment->parsed()) return bench::run_garment(garment_steps, garment_json);
 
     if (baked->parsed()) return bench::run_baked();

@@ -22,6 +22,7 @@ Strain strain_of(const ClothAsset& a, PositionOfSlot at) {
             const double dx = double(q.x) - p.x, dy = double(q.y) - p.y, dz = double(q.z) - p.z;
             const double strain = std::fabs(std::sqrt(dx * dx + dy * dy + dz * dz) / a.rest_length[l] - 1.0);
             s.mean += strain;
+            if (std::isnan(strain) || strain > s.max) s.max_at = {0.5f * (p.x + q.x), 0.5f * (p.y + q.y), 0.5f * (p.z + q.z)};
             s.max = std::isnan(strain) ? strain : std::max(s.max, strain);
             ++count;
         }

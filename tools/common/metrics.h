@@ -11,6 +11,7 @@ namespace weft::metrics {
 struct Strain {
     double mean = 0.0;  // mean |l / l0 - 1| over stretch and shear springs
     double max = 0.0;
+    Vec3 max_at{};  // the midpoint of the most strained spring (where to look)
 };
 Strain stretch_strain(const ClothView& cloth);
 // The same over positions in caller order (a peer solver's output, a stored frame).

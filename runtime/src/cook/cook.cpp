@@ -12,7 +12,9 @@
 //   7. the garment data (texture coordinates, seam points, panels, fabric), copied as given
 #include <algorithm>
 #include <cmath>
+#include <functional>
 #include <limits>
+#include <optional>
 #include <utility>
 
 #include "cook/coarse.h"
@@ -527,9 +529,61 @@ uint32_t slots_touched(const std::vector<ConstraintBatch>& batches, uint32_t slo
 
 namespace {
 
+// Distances along the flat panels of a mesh that has no rest pose of its own (a sewn garment: a
+// seam particle has one flat position per panel), for its tethers: Dijkstra over the mesh's edges
+// and its bend pairs (two triangles unfolded flat about their edge: the grid's other diagonal, so
+// paths across the grid are not staircases), rest lengths from rest_corners (CornerRest). A path
+// along the surface is never shorter than the straight line between its ends in any pose, so a
+// tether this long never pulls a garment at rest (Kim, Chentanez, Mueller 2012, geodesic LRA).
+class RestGeodesics {
+public:
+    RestGeodesics(uint32_t particle_count, const CornerRest& corners) : first_(particle_count + 1, 0) {
+        for (const auto* pairs : {&corners.edge, &corners.bend})
+            for (const auto& [key, length] : *pairs) ++first_[(key >> 32) + 1], ++first_[uint32_t(key) + 1];
+        for (uint32_t p = 0; p < particle_count; ++p) first_[p + 1] += first_[p];
+        next_.resize(first_[particle_count]);
+        std::vector<uint32_t> fill(first_.begin(), first_.end() - 1);
+        for (const auto* pairs : {&corners.edge, &corners.bend})
+            for (const auto& [key, length] : *pairs) {
+                const uint32_t a = uint32_t(key >> 32), b = uint32_t(key);
+                next_[fill[a]++] = {b, length}, next_[fill[b]++] = {a, length};
+            }
+    }
+    // Distance of every particle from the nearest of `sources` (infinity where none is reachable),
+    // and which source that is (ties to the lower source index).
+    void from(const std::vector<uint32_t>& sources, std::vector<float>* distance, std::vector<uint32_t>* nearest) const {
+        const uint32_t n = uint32_t(first_.size() - 1);
+        distance->assign(n, std::numeric_limits<float>::infinity());
+        nearest->assign(n, ~0u);
+        using Entry = std::pair<float, uint32_t>;  // (distance, particle): ordered, so the result is deterministic
+        std::vector<Entry> heap;
+        for (uint32_t s : sources) (*distance)[s] = 0.0f, (*nearest)[s] = std::min((*nearest)[s], s), heap.push_back({0.0f, s});
+        std::make_heap(heap.begin(), heap.end(), std::greater<>());
+        while (!heap.empty()) {
+            std::pop_heap(heap.begin(), heap.end(), std::greater<>());
+            const auto [d, p] = heap.back();
+            heap.pop_back();
+            if (d > (*distance)[p]) continue;
+            for (uint32_t k = first_[p]; k < first_[p + 1]; ++k) {
+                const auto [q, length] = next_[k];
+                const float dq = d + length;
+                if (dq < (*distance)[q] || (dq == (*distance)[q] && (*nearest)[p] < (*nearest)[q])) {
+                    if (dq < (*distance)[q]) heap.push_back({dq, q}), std::push_heap(heap.begin(), heap.end(), std::greater<>());
+                    (*distance)[q] = dq, (*nearest)[q] = (*nearest)[p];
+                }
+            }
+        }
+    }
+
+private:
+    std::vector<uint32_t> first_;                       // CSR over particles
+    std::vector<std::pair<uint32_t, float>> next_;      // (neighbour, rest length)
+};
+
 // Step 5: tethers from every free particle to its nearest pinned particle and (with two per
-// particle) its farthest, straight line on the rest mesh, in runs of consecutive slots.
-Result build_tethers(const ClothMeshDesc& mesh, const std::vector<uint32_t>& slot_of_particle,
+// particle) its farthest, in runs of consecutive slots. How far: the straight line on the rest mesh,
+// or, for a mesh with rest_corners (sewn), the path along its flat panels (RestGeodesics).
+Result build_tethers(const ClothMeshDesc& mesh, const CornerRest& corners, const std::vector<uint32_t>& slot_of_particle,
                      const std::vector<float>& inverse_mass, const CookOptions& options, CookedCloth& out,
                      uint32_t* tethered) {
     *tethered = 0;
@@ -541,6 +595,27 @@ Result build_tethers(const ClothMeshDesc& mesh, const std::vector<uint32_t>& slo
         if (inverse_mass[p] == 0.0f) pinned.push_back(p);
     if (pinned.empty() || options.tethers_per_particle == 0) return {};
     const bool two = options.tethers_per_particle == 2 && pinned.size() >= 2;
+    // Sewn: geodesic distances from the nearest pin (one search from all of them), and from each
+    // pin chosen as a farthest anchor (one search each, kept).
+    const bool geodesic = mesh.rest_corners != nullptr;
+    std::optional<RestGeodesics> geodesics;
+    std::vector<float> nearest_distance;
+    std::vector<uint32_t> nearest_pin;
+    std::vector<std::pair<uint32_t, std::vector<float>>> from_pin;  // (pin, distances), sorted by pin
+    if (geodesic) {
+        geodesics.emplace(mesh.particle_count, corners);
+        geodesics->from(pinned, &nearest_distance, &nearest_pin);
+    }
+    const auto distance_from_pin = [&](uint32_t pin) -> const std::vector<float>& {
+        auto it = std::lower_bound(from_pin.begin(), from_pin.end(), pin, [](const auto& e, uint32_t q) { return e.first < q; });
+        if (it == from_pin.end() || it->first != pin) {
+            std::vector<float> d;
+            std::vector<uint32_t> unused;
+            geodesics->from({pin}, &d, &unused);
+            it = from_pin.insert(it, {pin, std::move(d)});
+        }
+        return it->second;
+    };
 
     struct Tether {
         uint32_t anchor[2], slot;
@@ -549,6 +624,7 @@ Result build_tethers(const ClothMeshDesc& mesh, const std::vector<uint32_t>& slo
     std::vector<Tether> tethers;
     for (uint32_t p = 0; p < mesh.particle_count; ++p) {
         if (inverse_mass[p] == 0.0f) continue;
+        if (geodesic && nearest_pin[p] == ~0u) continue;  // a piece no pin holds
         // The nearest pinned particle, and the farthest: two anchors far apart bound a particle in
         // two directions (a cloth hung along an edge cannot swing below its top pin's reach),
         // where the two nearest of a row of pins would be almost the same ball.
@@ -561,6 +637,12 @@ Result build_tethers(const ClothMeshDesc& mesh, const std::vector<uint32_t>& slo
         for (uint32_t q : pinned) {  // another pin, even where two are equally far (odd grids)
             const float d = distance(rest[p], rest[q]);
             if (q != anchor[0] && d > best[1]) best[1] = d, anchor[1] = q;
+        }
+        if (geodesic) {  // the nearest along the panels; the farthest in the pose, at its distance along them
+            best[0] = nearest_distance[p], anchor[0] = nearest_pin[p];
+            if (two && anchor[1] == anchor[0]) anchor[1] = pinned[pinned[0] == anchor[0] ? 1 : 0];
+            if (two) best[1] = distance_from_pin(anchor[1])[p];
+            if (two && !std::isfinite(best[1])) anchor[1] = anchor[0], best[1] = best[0];
         }
         if (!two) best[1] = best[0], anchor[1] = anchor[0];
         Tether t{{slot_of_particle[anchor[0]], slot_of_particle[anchor[1]]}, slot_of_particle[p], {best[0], best[1]}};
@@ -750,7 +832,7 @@ Result cook_cloth(const ClothMeshDesc& mesh, const CookOptions& options, CookedC
         cook_lanes(std::move(springs), slot_count, options,
                    {cooked.rest_length, cooked.lane_weight, cooked.index_a, cooked.index_b, cooked.batches}, &on_runs);
     uint32_t tethered = 0;
-    if (Result r = build_tethers(mesh, cooked.slot_of_particle, inverse_mass, options, cooked, &tethered); !r.ok())
+    if (Result r = build_tethers(mesh, corners, cooked.slot_of_particle, inverse_mass, options, cooked, &tethered); !r.ok())
         return r;
 
     // Slots: every index a padded lane may touch exists; padding slots are pinned and at the origin.

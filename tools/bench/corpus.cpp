@@ -1,0 +1,335 @@
+// weft-bench corpus (corpus.h): every pattern of a folder through weft-bake's pipeline, flat and
+// sewn, with the figures issue 21 judges a garment by. Each garment bakes in a child process of its
+// own (fork, the result as one JSON line through a pipe), so a crash, a hang or an allocation
+// failure in one garment is that garment's error and the batch goes on.
+#include "corpus.h"
+
+#include <poll.h>
+#include <signal.h>
+#include <sys/wait.h>
+#include <unistd.h>
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <cstdio>
+#include <cstring>
+#include <filesystem>
+#include <fstream>
+#include <iterator>
+#include <string>
+#include <thread>
+#include <vector>
+
+#include <nlohmann/json.hpp>
+
+#include "bake.h"
+#include "body_mesh.h"
+#include "garment.h"
+#include "metrics.h"
+#include "progress.h"
+
+namespace weft::bench {
+namespace {
+
+using nlohmann::json;
+using Clock = std::chrono::steady_clock;
+
+// The garment's name: the file name without "_specification.json" (GarmentCode) or ".json".
+std::string garment_name(const std::filesystem::path& path) {
+    std::string name = path.filename().string();
+    for (const char* suffix : {"_specification.json", ".json"})
+        if (name.size() > std::strlen(suffix) && name.ends_with(suffix)) return name.substr(0, name.size() - std::strlen(suffix));
+    return name;
+}
+
+// Where the garment is worn, from its panels' names (GarmentCode's: torso, skirt, pant panels):
+// "upper", "lower" (skirts, pants, shorts), "full" (dresses, jumpsuits) or "other".
+std::string garment_kind(const bake::Pattern& pattern) {
+    bool upper = false, lower = false;
+    for (const bake::Panel& p : pattern.panels) {
+        upper = upper || p.name.find("torso") != std::string::npos;
+        lower = lower || p.name.find("skirt") != std::string::npos || p.name.find("pant") != std::string::npos;
+    }
+    return upper && lower ? "full" : upper ? "upper" : lower ? "lower" : "other";
+}
+
+double contiguous_fraction(const ClothAsset& a) {
+    const uint32_t total = a.total_constraints();
+    return total > 0 ? double(a.constraints_on_runs) / total : 0.0;
+}
+
+// One garment, flat then sewn: the corpus line (run in the child).
+json bake_one(const std::string& path, const bake::SewBody* body, const CorpusOptions& o) {
+    json j;
+    j["name"] = garment_name(path);
+    j["flat_ok"] = false;
+    j["sewn_ok"] = false;
+    std::ifstream file(path, std::ios::binary);
+    const std::string text{std::istreambuf_iterator<char>(file), std::istreambuf_iterator<char>()};
+    if (!file.good() && !file.eof()) return j["error"] = "cannot read " + path, j;
+    bake::BakeOptions options;
+    bake::Baked flat;
+    const auto flat_start = Clock::now();
+    if (bake::Status s = bake::bake_pattern(text, options, &flat); !s.ok()) {
+        j["error"] = s.error;
+        return j;
+    }
+    j["kind"] = garment_kind(flat.pattern);
+    j["flat_ok"] = true;
+    j["flat_s"] = std::chrono::duration<double>(Clock::now() - flat_start).count();
+    j["particles"] = flat.cooked.asset().particle_count;
+    j["flat_contiguous_fraction"] = contiguous_fraction(flat.cooked.asset());
+    j["flat_padding_ratio"] = lane_padding(flat.cooked.asset()).ratio();
+    if (body == nullptr) return j;
+
+    options.body = body;
+    options.sew.sweeps = o.sweeps;
+    bake::Baked sewn;
+    if (bake::Status s = bake::bake_pattern(text, options, &sewn); !s.ok()) {
+        j["error"] = s.error;
+        return j;
+    }
+    const bake::SewReport& r = sewn.sew_report;
+    const ClothAsset& a = sewn.cooked.asset();
+    const metrics::Strain start = metrics::start_strain(a);
+    const double top_drop = r.top_at_closed_m - r.top_at_rest_m;
+    // Sewn: every seam closed (the sewing fails otherwise) and no particle inside the body.
+    j["sewn_ok"] = r.particles_inside_body == 0;
+    if (r.particles_inside_body > 0) j["error"] = std::to_string(r.particles_inside_body) + " particles inside the body";
+    // Stays on: the top stays within kStaysOnMaxTopDrop_m of where the seams closed, nothing below the soles.
+    j["stayed_on"] = top_drop < kStaysOnMaxTopDrop_m && r.lowest_at_rest_m >= r.body_lowest_m;
+    j["top_drop_m"] = top_drop;
+    j["lowest_m"] = r.lowest_at_rest_m;
+    j["max_seam_gap_m"] = r.max_seam_gap_m;
+    j["particles_inside_body"] = r.particles_inside_body;
+    j["max_penetration_m"] = r.max_penetration_m;
+    j["start_mean_strain"] = start.mean;
+    j["start_max_strain"] = start.max;
+    j["start_max_strain_at_m"] = {start.max_at.x, start.max_at.y, start.max_at.z};
+    j["contiguous_fraction"] = contiguous_fraction(a);
+    j["padding_ratio"] = lane_padding(a).ratio();
+    j["attached_to_body"] = r.attached;
+    j["drape_frames"] = r.drape_frames;
+    j["final_mean_speed_m_s"] = r.mean_speed_m_s;
+    j["sew_s"] = r.sewing_s;
+    return j;
+}
+
+struct Child {
+    pid_t pid = -1;
+    int fd = -1;
+    size_t index = 0;
+    std::string output;
+    Clock::time_point start;
+};
+
+// Forks a child that bakes `path` and writes its JSON line to a pipe.
+Child start_child(size_t index, const std::string& path, const bake::SewBody* body, const CorpusOptions& o) {
+    int fds[2];
+    Child c;
+    c.index = index;
+    c.start = Clock::now();
+    if (pipe(fds) != 0) return c;
+    std::fflush(stdout), std::fflush(stderr);
+    c.pid = fork();
+    if (c.pid == 0) {  // the child: bake, write, leave without running the parent's exit handlers
+        close(fds[0]);
+        std::string line;
+        try {
+            line = bake_one(path, body, o).dump() + "\n";
+        } catch (const std::exception& e) {
+            line = json{{"name", garment_name(path)}, {"error", std::string("exception: ") + e.what()}}.dump() + "\n";
+        }
+        for (size_t done = 0; done < line.size();) {
+            const ssize_t n = write(fds[1], line.data() + done, line.size() - done);
+            if (n <= 0) break;
+            done += size_t(n);
+        }
+        _exit(0);
+    }
+    close(fds[1]);
+    c.fd = fds[0];
+    return c;
+}
+
+// The line of a child that ended (or was stopped): its own, or the reason it gave none.
+json finish_child(Child& c, const std::string& path, bool timed_out) {
+    if (timed_out) kill(c.pid, SIGKILL);
+    int status = 0;
+    waitpid(c.pid, &status, 0);
+    close(c.fd);
+    json j;
+    if (!timed_out && WIFEXITED(status) && WEXITSTATUS(status) == 0 && !c.output.empty()) {
+        j = json::parse(c.output, nullptr, false);
+        if (!j.is_discarded()) return j;
+    }
+    j = json{{"name", garment_name(path)}, {"flat_ok", false}, {"sewn_ok", false}};
+    if (timed_out)
+        j["error"] = "timed out";
+    else if (WIFSIGNALED(status))
+        j["error"] = std::string("crashed: ") + strsignal(WTERMSIG(status));
+    else
+        j["error"] = "no result (exit status " + std::to_string(WEXITSTATUS(status)) + ")";
+    return j;
+}
+
+double median(std::vector<double> v) {
+    if (v.empty()) return NAN;
+    std::sort(v.begin(), v.end());
+    const size_t n = v.size();
+    return n % 2 ? v[n / 2] : 0.5 * (v[n / 2 - 1] + v[n / 2]);
+}
+
+double percentile(std::vector<double> v, double q) {
+    if (v.empty()) return NAN;
+    std::sort(v.begin(), v.end());
+    return v[std::min(v.size() - 1, size_t(q * double(v.size() - 1) + 0.5))];
+}
+
+json summarise(const std::vector<json>& lines, bool sewn) {
+    uint32_t flat_ok = 0, sewn_ok = 0, stayed_on = 0, lower = 0, lower_stayed = 0;
+    std::vector<double> flat_cf, flat_pad, cf, pad, sew_s, mean_strain, max_strain;
+    for (const json& j : lines) {
+        if (j.value("flat_ok", false)) {
+            ++flat_ok;
+            flat_cf.push_back(j["flat_contiguous_fraction"]), flat_pad.push_back(j["flat_padding_ratio"]);
+        }
+        const bool is_lower = j.value("kind", "") == "lower";
+        lower += is_lower;
+        if (!j.contains("sew_s")) continue;
+        sewn_ok += j.value("sewn_ok", false);
+        cf.push_back(j["contiguous_fraction"]), pad.push_back(j["padding_ratio"]), sew_s.push_back(j["sew_s"]);
+        if (!j.value("stayed_on", false)) continue;
+        ++stayed_on, lower_stayed += is_lower;
+        mean_strain.push_back(j["start_mean_strain"]), max_strain.push_back(j["start_max_strain"]);
+    }
+    json s{{"summary", true}, {"garments", lines.size()}, {"flat_ok", flat_ok},
+           {"flat_median_contiguous_fraction", median(flat_cf)}, {"flat_median_padding_ratio", median(flat_pad)}};
+    if (!sewn) return s;
+    s["sewn_ok"] = sewn_ok;
+    s["stayed_on"] = stayed_on;
+    s["lower_body"] = lower;
+    s["lower_body_stayed_on"] = lower_stayed;
+    // Rest strain over the garments that stay on (a garment that fell has no rest on the body).
+    s["median_mean_strain"] = median(mean_strain);
+    s["p90_mean_strain"] = percentile(mean_strain, 0.9);
+    s["median_max_strain"] = median(max_strain);
+    s["p90_max_strain"] = percentile(max_strain, 0.9);
+    s["worst_max_strain"] = max_strain.empty() ? NAN : *std::max_element(max_strain.begin(), max_strain.end());
+    s["median_contiguous_fraction"] = median(cf);
+    s["p10_contiguous_fraction"] = percentile(cf, 0.1);
+    s["median_padding_ratio"] = median(pad);
+    s["median_sew_s"] = median(sew_s);
+    return s;
+}
+
+void print_line(const json& j, bool as_json) {
+    if (as_json) {
+        std::printf("%s\n", j.dump().c_str());
+    } else if (j.value("summary", false)) {
+        std::printf("\n");
+        for (const auto& [key, value] : j.items())
+            if (key != "summary") std::printf("  %-34s %s\n", key.c_str(), value.dump().c_str());
+    } else {
+        const auto num = [&](const char* key, double scale) { return j.contains(key) ? j[key].get<double>() * scale : NAN; };
+        std::printf("%-16s %-5s flat %-3s sewn %-3s on %-3s drop %6.1f cm  strain %5.1f%% / %6.1f%%  runs %.2f  pad %4.1f%%  %5.1f s%s%s\n",
+                    j.value("name", "?").c_str(), j.value("kind", "").c_str(), j.value("flat_ok", false) ? "ok" : "-",
+                    j.value("sewn_ok", false) ? "ok" : "-", j.value("stayed_on", false) ? "yes" : "-", num("top_drop_m", 100),
+                    num("start_mean_strain", 100), num("start_max_strain", 100), num("contiguous_fraction", 1),
+                    num("padding_ratio", 100), num("sew_s", 1), j.contains("error") ? "  " : "",
+                    j.value("error", "").c_str());
+    }
+    std::fflush(stdout);
+}
+
+}  // namespace
+
+int run_corpus(const CorpusOptions& o) {
+    std::vector<std::string> files;
+    std::error_code ec;
+    for (const auto& entry : std::filesystem::directory_iterator(o.dir, ec)) {
+        const std::string name = entry.path().filename().string();
+        bool wanted = o.filter.empty();
+        for (size_t at = 0; !wanted && at <= o.filter.size();) {  // comma-separated parts, any of them
+            const size_t comma = std::min(o.filter.find(',', at), o.filter.size());
+            wanted = comma > at && name.find(o.filter.substr(at, comma - at)) != std::string::npos;
+            at = comma + 1;
+        }
+        if (entry.is_regular_file() && name.ends_with(".json") && wanted) files.push_back(entry.path().string());
+    }
+    if (ec) {
+        std::fprintf(stderr, "weft-bench corpus: cannot read '%s': %s\n", o.dir.c_str(), ec.message().c_str());
+        return 1;
+    }
+    // GarmentCode folders hold other JSON beside the specifications: keep only those when there are any.
+    if (std::any_of(files.begin(), files.end(), [](const std::string& f) { return f.ends_with("_specification.json"); }))
+        std::erase_if(files, [](const std::string& f) { return !f.ends_with("_specification.json"); });
+    std::sort(files.begin(), files.end());
+    if (files.empty()) {
+        std::fprintf(stderr, "weft-bench corpus: no pattern (*.json) in '%s'\n", o.dir.c_str());
+        return 1;
+    }
+    bake::SewBody body;
+    if (!o.body.empty()) {
+        if (o.body == "mannequin") {
+            if (std::string e = mannequin_sew_body(&body); !e.empty()) return std::fprintf(stderr, "weft-bench corpus: %s\n", e.c_str()), 1;
+        } else {
+            body::BodyMesh mesh;
+            if (std::string e = body::load_body_mesh(o.body, &mesh); !e.empty())
+                return std::fprintf(stderr, "weft-bench corpus: --body %s: %s\n", o.body.c_str(), e.c_str()), 1;
+            body.positions = std::move(mesh.positions), body.triangles = std::move(mesh.triangles);
+        }
+    }
+    const bake::SewBody* sew_body = o.body.empty() ? nullptr : &body;
+    const uint32_t jobs = o.jobs > 0 ? o.jobs : std::max(1u, std::thread::hardware_concurrency());
+
+    // Up to `jobs` children at a time; lines are printed in file order as soon as all before them are in.
+    std::vector<json> lines(files.size());
+    std::vector<char> done(files.size(), 0);
+    std::vector<Child> running;
+    size_t next = 0, printed = 0, finished = 0;
+    progress::Bar bar("weft-bench corpus", files.size(), progress::wanted(o.json));
+    while (finished < files.size()) {
+        while (running.size() < jobs && next < files.size()) {
+            Child c = start_child(next, files[next], sew_body, o);
+            if (c.pid < 0) {
+                lines[next] = json{{"name", garment_name(files[next])}, {"flat_ok", false}, {"sewn_ok", false},
+                                   {"error", "cannot start a baking process"}};
+                done[next] = 1, ++finished;
+                if (c.fd >= 0) close(c.fd);
+            } else {
+                running.push_back(std::move(c));
+            }
+            ++next;
+        }
+        std::vector<pollfd> fds;
+        for (const Child& c : running) fds.push_back({c.fd, POLLIN, 0});
+        if (!fds.empty()) poll(fds.data(), fds.size(), 200);
+        for (size_t k = running.size(); k-- > 0;) {
+            Child& c = running[k];
+            bool ended = false;
+            if (fds[k].revents & (POLLIN | POLLHUP | POLLERR)) {
+                char buffer[4096];
+                const ssize_t n = read(c.fd, buffer, sizeof buffer);
+                if (n > 0) c.output.append(buffer, size_t(n));
+                ended = n <= 0;
+            }
+            const bool timed_out = !ended && std::chrono::duration<double>(Clock::now() - c.start).count() > o.timeout_s;
+            if (!ended && !timed_out) continue;
+            lines[c.index] = finish_child(c, files[c.index], timed_out);
+            done[c.index] = 1, ++finished;
+            running.erase(running.begin() + std::ptrdiff_t(k));
+        }
+        bar.update(finished, next < files.size() ? garment_name(files[next]) : std::string());
+        for (; printed < files.size() && done[printed]; ++printed) {
+            if (bar.enabled()) bar.finish();
+            print_line(lines[printed], o.json);
+        }
+    }
+    bar.finish();
+    print_line(summarise(lines, sew_body != nullptr), o.json);
+    return 0;
+}
+
+}  // namespace weft::bench
