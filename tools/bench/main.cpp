@@ -581,7 +581,10 @@ int main(int argc, char** argv) {
     CLI::App* garment = app.add_subcommand("garment", "the dressed garments (skirt, tee, shared dress) on their animated bodies");
     garment->add_option("--steps", garment_steps, "steps measured per scene (after the body's ramp)")->capture_default_str()
         ->check(CLI::Range(1u, 100000u));
-    garment->add_flag("--json", garment_json, "one JSON object per scene");
+    garment->add_flag("--json", garment_json, "one JSON object per scene and model");
+    std::vector<std::string> garment_models = {"exact", "cached_planes"};
+    garment->add_option("--collision", garment_models, "body collision models, each a row (exact, cached_planes)")
+        ->delimiter(',')->capture_default_str();
     bench::BodyBenchOptions body_o;
     CLI::App* body = app.add_subcommand("body", "body collision pass on the shared mean_all body, A-pose <-> T-pose");
     body->add_option("--frames", body_o.frames, "frames measured")->capture_default_str();
@@ -627,7 +630,13 @@ int main(int argc, char** argv) {
                                            : bench::run_reference_study(reference_o);
     }
     if (body->parsed()) return bench::run_body(body_o);
-    if (garment->parsed()) return bench::run_garment(garment_steps, garment_json);
+    if (garment->parsed()) {
+        std::vector<BodyCollision> models(garment_models.size());
+        for (size_t m = 0; m < models.size(); ++m)
+            if (!scenes::body_collision_from_name(garment_models[m], &models[m]))
+                return std::fprintf(stderr, "weft-bench garment: unknown --collision '%s'\n", garment_models[m].c_str()), 2;
+        return bench::run_garment(garment_steps, garment_json, models);
+    }
 
     if (baked->parsed()) return bench::run_baked();
     if (drape->parsed()) return run({SeedScene::drape}, drape_o, true);
