@@ -127,6 +127,11 @@ struct BodyWorld {
         particle_count = asset.particle_count;
     }
     std::vector<Vec3> positions() const { return read_all(owned.world, cloth, particle_count); }
+    // Puts particle k at points[k], free (inverse mass 100 / kg).
+    void place(const std::vector<Vec3>& points) const {
+        for (uint32_t k = 0; k < uint32_t(points.size()); ++k)
+            REQUIRE(set_particle(owned.world, cloth, k, points[k], 100.0f).ok());
+    }
     void step_once() const {
         const Result r = step(owned.world, kDt);
         INFO(r.message);
@@ -573,9 +578,7 @@ void check_same_bits_on_mean_all(bool scattered, int frames, BodyCollision model
     settings.collision = model;
     BodyWorld scalar(pts.cooked.asset(), a, settings, SimdPath::scalar, substeps);
     BodyWorld avx2(pts.cooked.asset(), a, settings, SimdPath::avx2, substeps);
-    for (BodyWorld* w : {&scalar, &avx2})
-        for (uint32_t k = 0; k < uint32_t(start.size()); ++k)
-            REQUIRE(set_particle(w->owned.world, w->cloth, k, start[k], 100.0f).ok());
+    for (BodyWorld* w : {&scalar, &avx2}) w->place(start);
     std::vector<Vec3> pose;
     uint64_t contacts = 0, rays = 0;
     bool same = true;
@@ -634,8 +637,7 @@ TEST_CASE("body: cached planes keep the particles on the moving mean_all within 
         BodyWorld planes(pts.cooked.asset(), a, planes_desc, path, 3);
         for (BodyWorld* w : {&exact, &planes}) {
             REQUIRE(set_gravity(w->owned.world, {0.0f, -9.81f, -6.0f}).ok());
-            for (uint32_t k = 0; k < uint32_t(start.size()); ++k)
-                REQUIRE(set_particle(w->owned.world, w->cloth, k, start[k], 100.0f).ok());
+            w->place(start);
         }
         std::vector<Vec3> pose;
         double deepest[2] = {0.0, 0.0};
@@ -686,9 +688,7 @@ TEST_CASE("body: with one substep a step cached planes are the exact pass, bit f
     BodyWorld planes(pts.cooked.asset(), a, planes_desc, SimdPath::automatic, 1);
     std::vector<Vec3> pose;
     uint64_t contacts = 0;
-    for (BodyWorld* w : {&exact, &planes})
-        for (uint32_t k = 0; k < uint32_t(start.size()); ++k)
-            REQUIRE(set_particle(w->owned.world, w->cloth, k, start[k], 100.0f).ok());
+    for (BodyWorld* w : {&exact, &planes}) w->place(start);
     for (int frame = 1; frame <= 6; ++frame) {
         body::blend(a, t, float(frame) / 6.0f, &pose);
         for (BodyWorld* w : {&exact, &planes}) {
