@@ -100,8 +100,9 @@ struct BodyWorld {
     BodyId body;
     uint32_t particle_count = 0;
 
+    // `substeps` > 0: that many substeps a step, one sweep each (explicit split), else the policy's.
     BodyWorld(const ClothAsset& asset, const BodyMesh& mesh, const BodyDesc& settings,
-              SimdPath path = SimdPath::automatic) {
+              SimdPath path = SimdPath::automatic, uint32_t substeps = 0) {
         WorldDesc d = world_for({&asset}, 0, path);
         d.max_bodies = 1;
         d.max_body_vertices = mesh.vertex_count();
@@ -109,6 +110,11 @@ struct BodyWorld {
         REQUIRE(make_world(d, &owned).ok());
         ClothDesc cd;
         cd.asset = &asset;
+        if (substeps > 0) {
+            cd.policy = BudgetPolicy::explicit_split;
+            cd.substeps = substeps;
+            cd.iterations = 1;
+        }
         REQUIRE(add_cloth(owned.world, cd, &cloth).ok());
         BodyDesc b = settings;
         b.positions = mesh.positions.data();
@@ -121,6 +127,11 @@ struct BodyWorld {
         particle_count = asset.particle_count;
     }
     std::vector<Vec3> positions() const { return read_all(owned.world, cloth, particle_count); }
+    // Puts particle k at points[k], free (inverse mass 100 / kg).
+    void place(const std::vector<Vec3>& points) const {
+        for (uint32_t k = 0; k < uint32_t(points.size()); ++k)
+            REQUIRE(set_particle(owned.world, cloth, k, points[k], 100.0f).ok());
+    }
     void step_once() const {
         const Result r = step(owned.world, kDt);
         INFO(r.message);
@@ -435,17 +446,19 @@ std::vector<Vec3> points_near_skin(const BodyView& v, uint32_t stride, float dee
     return out;
 }
 
+// points_near_skin on the shared A-pose's offset hull.
+std::vector<Vec3> points_near_a_pose(uint32_t stride, float deepest, float highest, uint32_t seed) {
+    Points probe_points({{0.0f, 3.0f, 0.0f}});
+    BodyWorld probe(probe_points.cooked.asset(), *shared_pose(false), BodyDesc{});
+    return points_near_skin(probe.view(), stride, deepest, highest, seed);
+}
+
 // Calls check(world, count) on every SIMD path with a weightless world of the shared A-pose body and
 // one point (far above it until placed) for every `stride`-th vertex, as points_near_skin places them.
 template <class Check>
 void on_every_path_with_skin_points(uint32_t stride, Check&& check) {
     const BodyMesh& a = *shared_pose(false);
-    uint32_t count = 0;
-    {
-        Points probe_points({{0.0f, 3.0f, 0.0f}});
-        BodyWorld probe(probe_points.cooked.asset(), a, BodyDesc{});
-        count = uint32_t(points_near_skin(probe.view(), stride, 0.0f, 0.0f, 1).size());
-    }
+    const uint32_t count = uint32_t(points_near_a_pose(stride, 0.0f, 0.0f, 1).size());
     Points pts(std::vector<Vec3>(count, Vec3{0.0f, 3.0f, 0.0f}));
     for (SimdPath path : available_paths()) {
         CAPTURE(simd_path_name(path));
@@ -543,7 +556,8 @@ namespace {
 // frames. `scattered`: the points placed in a shuffled order of the start positions the pass orders
 // its clusters by, so every cluster of 16 spans the body, its walk meets thousands of leaves and the
 // candidate list is searched and emptied many times per cluster (and the crease search walks again).
-void check_same_bits_on_mean_all(bool scattered, int frames) {
+void check_same_bits_on_mean_all(bool scattered, int frames, BodyCollision model = BodyCollision::exact,
+                                 uint32_t substeps = 0) {
     if (skip_without_shared_body()) return;
     if (!simd_path_available(SimdPath::avx2)) {
         MESSAGE("skipped: no AVX2 on this machine or build");
@@ -551,12 +565,7 @@ void check_same_bits_on_mean_all(bool scattered, int frames) {
     }
     const BodyMesh& a = *shared_pose(false);
     const BodyMesh& t = *shared_pose(true);
-    std::vector<Vec3> start;
-    {
-        Points probe_points({{0.0f, 3.0f, 0.0f}});
-        BodyWorld probe(probe_points.cooked.asset(), a, BodyDesc{});
-        start = points_near_skin(probe.view(), 7, -0.006f, 0.02f, 5);
-    }
+    std::vector<Vec3> start = points_near_a_pose(7, -0.006f, 0.02f, 5);
     Points pts(start);
     if (scattered) {
         uint32_t seed = 77;
@@ -565,11 +574,11 @@ void check_same_bits_on_mean_all(bool scattered, int frames) {
             std::swap(start[k], start[seed % (k + 1)]);
         }
     }
-    BodyWorld scalar(pts.cooked.asset(), a, BodyDesc{}, SimdPath::scalar);
-    BodyWorld avx2(pts.cooked.asset(), a, BodyDesc{}, SimdPath::avx2);
-    for (BodyWorld* w : {&scalar, &avx2})
-        for (uint32_t k = 0; k < uint32_t(start.size()); ++k)
-            REQUIRE(set_particle(w->owned.world, w->cloth, k, start[k], 100.0f).ok());
+    BodyDesc settings;
+    settings.collision = model;
+    BodyWorld scalar(pts.cooked.asset(), a, settings, SimdPath::scalar, substeps);
+    BodyWorld avx2(pts.cooked.asset(), a, settings, SimdPath::avx2, substeps);
+    for (BodyWorld* w : {&scalar, &avx2}) w->place(start);
     std::vector<Vec3> pose;
     uint64_t contacts = 0, rays = 0;
     bool same = true;
@@ -604,6 +613,92 @@ TEST_CASE("body: the scalar and AVX2 body passes give the same bits on the anima
 
 TEST_CASE("body: the scalar and AVX2 body passes give the same bits when every cluster spans the body") {
     check_same_bits_on_mean_all(true, 6);
+}
+
+TEST_CASE("body: the scalar and AVX2 cached-planes passes give the same bits on the animated mean_all") {
+    check_same_bits_on_mean_all(false, 12, BodyCollision::cached_planes, 3);
+}
+
+TEST_CASE("body: cached planes keep the particles on the moving mean_all within 2 mm of the hull, searching fewer") {
+    if (skip_without_shared_body()) return;
+    const BodyMesh& a = *shared_pose(false);
+    const BodyMesh& t = *shared_pose(true);
+    const std::vector<Vec3> start = points_near_a_pose(5, -0.003f, 0.015f, 21);
+    Points pts(start);
+    constexpr int kFrames = 12;
+    for (SimdPath path : available_paths()) {
+        CAPTURE(simd_path_name(path));
+        // The same points through both models at 3 substeps a step, while the arms rise (A to T)
+        // and gravity pulls them down and toward the body's front, so later substeps bring them
+        // against the hull and across it (the fastest faster than the thickness a substep).
+        BodyDesc exact_desc, planes_desc;
+        planes_desc.collision = BodyCollision::cached_planes;
+        BodyWorld exact(pts.cooked.asset(), a, exact_desc, path, 3);
+        BodyWorld planes(pts.cooked.asset(), a, planes_desc, path, 3);
+        for (BodyWorld* w : {&exact, &planes}) {
+            REQUIRE(set_gravity(w->owned.world, {0.0f, -9.81f, -6.0f}).ok());
+            w->place(start);
+        }
+        std::vector<Vec3> pose;
+        double deepest[2] = {0.0, 0.0};
+        uint64_t searched[2] = {0, 0}, contacts[2] = {0, 0};
+        for (int frame = 1; frame <= kFrames; ++frame) {
+            body::blend(a, t, float(frame) / float(kFrames), &pose);
+            int m = 0;
+            for (BodyWorld* w : {&exact, &planes}) {
+                REQUIRE(set_body_vertices(w->owned.world, w->body, pose.data(), uint32_t(pose.size())).ok());
+                w->step_once();
+                searched[m] += world_stats(w->owned.world).body_queried;
+                contacts[m] += world_stats(w->owned.world).body_contacts;
+                for (const Vec3& p : w->positions()) {  // the exact hull query (tested against brute force above)
+                    BodyContact c;
+                    REQUIRE(query_body(w->owned.world, w->body, p, &c).ok());
+                    if (c.found) deepest[m] = std::max(deepest[m], double(c.penetration_m));
+                }
+                ++m;
+            }
+        }
+        // And by brute force over every triangle, every 4th particle, at the last pose.
+        double brute = 0.0;
+        const BodyView v = planes.view();
+        const std::vector<Vec3> last = planes.positions();
+        for (size_t k = 0; k < last.size(); k += 4) {
+            const BruteContact c = brute_force(v, last[k]);
+            if (c.found) brute = std::max(brute, c.penetration);
+        }
+        MESSAGE(std::string(simd_path_name(path)), ": ", start.size(), " particles, ", kFrames, " frames: deepest exact ",
+                deepest[0] * 1e3, " mm, planes ", deepest[1] * 1e3, " mm (brute force at the end ", brute * 1e3,
+                " mm); searched ", searched[0], " / ", searched[1], ", contacts ", contacts[0], " / ", contacts[1]);
+        CHECK(contacts[1] > 10000);
+        CHECK(deepest[1] <= 0.002);
+        CHECK(brute <= 0.002);
+        CHECK(searched[1] < searched[0]);
+    }
+}
+
+TEST_CASE("body: with one substep a step cached planes are the exact pass, bit for bit") {
+    if (skip_without_shared_body()) return;
+    const BodyMesh& a = *shared_pose(false);
+    const BodyMesh& t = *shared_pose(true);
+    const std::vector<Vec3> start = points_near_a_pose(11, -0.003f, 0.015f, 4);
+    Points pts(start);
+    BodyDesc planes_desc;
+    planes_desc.collision = BodyCollision::cached_planes;
+    BodyWorld exact(pts.cooked.asset(), a, BodyDesc{}, SimdPath::automatic, 1);
+    BodyWorld planes(pts.cooked.asset(), a, planes_desc, SimdPath::automatic, 1);
+    std::vector<Vec3> pose;
+    uint64_t contacts = 0;
+    for (BodyWorld* w : {&exact, &planes}) w->place(start);
+    for (int frame = 1; frame <= 6; ++frame) {
+        body::blend(a, t, float(frame) / 6.0f, &pose);
+        for (BodyWorld* w : {&exact, &planes}) {
+            REQUIRE(set_body_vertices(w->owned.world, w->body, pose.data(), uint32_t(pose.size())).ok());
+            w->step_once();
+        }
+        contacts += world_stats(planes.owned.world).body_contacts;
+    }
+    CHECK(contacts > 1000);
+    CHECK(same_bits(exact.positions(), planes.positions()));
 }
 
 TEST_CASE("body: the same inputs give the same bits") {
@@ -676,6 +771,9 @@ TEST_CASE("body: bad input is refused with a message and the world unchanged") {
     e = d;
     e.friction = std::nanf("");
     refused(add_body(roomy.world, e, &id), ErrorCode::non_finite);
+    e = d;
+    e.collision = static_cast<BodyCollision>(7);  // not a model
+    refused(add_body(roomy.world, e, &id), ErrorCode::invalid_argument);
     e = d;
     e.vertex_count = 20;  // more than the world holds
     refused(add_body(roomy.world, e, &id), ErrorCode::capacity_exceeded);

@@ -65,6 +65,20 @@ TEST_CASE("explicit substeps or iterations make the split explicit") {
 }
 
 // Each malformed scene is refused and the message names what is wrong.
+TEST_CASE("a scene's body collides by cached planes unless it names the exact pass") {
+    const std::string head = R"({"format": "weft-scene", "version": 1, "cloths": [{"grid": {"n": 4}}], "body": {"mannequin": {})";
+    for (const auto& [text, model] : {std::pair{head + "}}", BodyCollision::cached_planes},
+                                      std::pair{head + R"(, "collision": "exact"}})", BodyCollision::exact},
+                                      std::pair{head + R"(, "collision": "cached_planes"}})", BodyCollision::cached_planes}}) {
+        scenes::Scene scene;
+        const std::string error = scenes::parse_scene(text, ".", &scene);
+        INFO(text, "\n", error);
+        REQUIRE(error.empty());
+        REQUIRE(scene.body);
+        CHECK(scene.body->collision == model);
+    }
+}
+
 TEST_CASE("malformed scenes are refused with the key's path") {
     const std::string head = R"({"format": "weft-scene", "version": 1, )";
     const std::string cloth = R"("cloths": [{"grid": {"n": 4}}])";
@@ -100,6 +114,8 @@ TEST_CASE("malformed scenes are refused with the key's path") {
         {head + cloth + R"(, "colliders": [{"shape": "sphere"}]})", "needs 'center_m'"},
         {head + cloth + R"(, "colliders": [{"shape": "plane", "point_m": [0,0,0], "normal": [0,0,0]}]})", "normal"},
         {head + cloth + R"(, "colliders": [{"shape": "sphere", "center_m": [0,0,0], "friction": -1}]})", "friction"},
+        {head + cloth + R"(, "body": {"mannequin": {}, "collision": "spheres"}})", "scene.body.collision"},
+        {head + cloth + R"(, "body": {"mannequin": {}, "collision": 1}})", "scene.body.collision"},
     };
     for (const Case& c : cases) {
         scenes::Scene scene;

@@ -42,6 +42,8 @@ Result check_body_desc(const World& world, const BodyDesc& desc) {
     if (!(desc.thickness_m + desc.margin_m > 0.0f) || desc.thickness_m + desc.margin_m > 1.0f)
         return make_error(ErrorCode::out_of_range, "body thickness + margin %g m outside (0, 1]",
                           double(desc.thickness_m + desc.margin_m));
+    if (desc.collision != BodyCollision::exact && desc.collision != BodyCollision::cached_planes)
+        return make_error(ErrorCode::invalid_argument, "unknown body collision model %u", unsigned(desc.collision));
     if (world.body_count >= world.desc.max_bodies)
         return make_error(ErrorCode::capacity_exceeded, "world holds at most %u bodies", world.desc.max_bodies);
     if (desc.vertex_count > world.desc.max_body_vertices - world.body_vertices_used)

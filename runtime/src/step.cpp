@@ -192,12 +192,19 @@ void move_bodies(World& world) {
             std::chrono::duration_cast<std::chrono::nanoseconds>(std::chrono::steady_clock::now() - start).count());
 }
 
-void collide_bodies(World& world, ClothInstance& cloth, uint32_t substeps) {
+void collide_bodies(World& world, ClothInstance& cloth, uint32_t substep, uint32_t substeps) {
     if (world.body_count == 0) return;
     PassTimer timer(world, Pass::body);
     BodyPassCounts counts;
-    for (uint32_t i = 0; i < world.body_count; ++i)
-        collide_body(cloth.particles, cloth.body_order, world.bodies[i], substeps, world.kernels->path, counts);
+    const uint32_t slots = cloth.particles.slot_count;
+    for (uint32_t i = 0; i < world.body_count; ++i) {
+        const BodyState& body = world.bodies[i];
+        const ContactPlanes planes =
+            contact_planes_in(cloth.contact_planes + size_t(i) * kContactPlaneArrays * slots, slots);
+        const bool cached = body.desc.collision == BodyCollision::cached_planes;
+        collide_body(cloth.particles, cloth.body_order, body, substep, substeps, cached ? &planes : nullptr,
+                     world.kernels->path, counts);
+    }
     world.stats.body_contacts += counts.contacts;
     world.stats.body_rays += counts.rays;
     world.stats.body_queried += counts.queried;
@@ -218,7 +225,7 @@ void step_cloth(World& world, ClothInstance& cloth, float dt) {
             correct_springs(world, cloth, h);                  // 3b. the springs, batch by batch
         apply_tethers(world, cloth);                           // 3c. the long-range attachments
         collide(world, cloth, cloth.split.substeps);           // 4. collision response: colliders,
-        collide_bodies(world, cloth, cloth.split.substeps);    //    then bodies
+        collide_bodies(world, cloth, substep, cloth.split.substeps);  // then bodies
         cloth.previous_substep_s = h;
     }
     find_contact_anchors(world, cloth);

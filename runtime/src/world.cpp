@@ -86,8 +86,11 @@ ArenaSizer size_world(const WorldDesc& desc) {
     sizer.add(sizeof(float) * 11 * size_t(desc.max_body_vertices) + sizeof(uint32_t) * 3 * size_t(desc.max_body_triangles) +
               4 * (kCacheLine + 16) * size_t(desc.max_bodies));
     sizer.add(body_hierarchy_bytes(desc.max_body_triangles, desc.max_bodies));
-    if (desc.max_bodies > 0)  // each cloth's slot order for the body pass
+    if (desc.max_bodies > 0) {  // each cloth's slot order for the body pass, its contact planes per body
         sizer.add(sizeof(uint32_t) * size_t(desc.max_particles) + kCacheLine * desc.max_cloths);
+        sizer.add(sizeof(float) * kContactPlaneArrays * size_t(desc.max_bodies) * size_t(desc.max_particles) +
+                  kCacheLine * desc.max_cloths);
+    }
     sizer.bytes += kCacheLine;  // the caller's block may start anywhere on a cache line
     return sizer;
 }
@@ -368,15 +371,19 @@ Result add_cloth(World* world, const ClothDesc& desc, ClothId* out_cloth) {
         return make_error(ErrorCode::capacity_exceeded, "world memory exhausted");
     }
     uint32_t* const body_order = world->desc.max_bodies > 0 ? world->arena.allocate_array<uint32_t>(asset.slot_count) : nullptr;
-    if (body_order == nullptr && world->desc.max_bodies > 0 && asset.slot_count > 0) {
+    const size_t plane_floats = size_t(kContactPlaneArrays) * world->desc.max_bodies * asset.slot_count;
+    float* const contact_planes = plane_floats > 0 ? world->arena.allocate_array<float>(plane_floats) : nullptr;
+    if ((body_order == nullptr || contact_planes == nullptr) && world->desc.max_bodies > 0 && asset.slot_count > 0) {
         world->arena = saved;
         return make_error(ErrorCode::capacity_exceeded, "world memory exhausted");
     }
+    for (size_t f = 0; f < plane_floats; ++f) contact_planes[f] = 0.0f;  // found at each step's first substep
     if (body_order != nullptr) order_for_body_pass(asset, world->validation_scratch, body_order);
     ClothInstance& cloth = world->cloths[world->cloth_count];
     cloth = ClothInstance();
     cloth.asset = &asset;
     cloth.body_order = body_order;
+    cloth.contact_planes = contact_planes;
     cloth.settings = desc;
     cloth.split = resolve_split(desc, asset);
     Particles& p = cloth.particles;

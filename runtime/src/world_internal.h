@@ -17,6 +17,9 @@ struct ClothInstance {
     float previous_substep_s = 0.0f;  // h_prev of time-corrected Verlet; 0 before the first step
     uint32_t attached_body = ~0u;     // the body the asset's attachments follow (weft/attachments.h)
     uint32_t* body_order = nullptr;   // [slot_count] with bodies: the body pass's slot order (collide/body.h)
+    // [max_bodies * kContactPlaneArrays * slot_count] with bodies: per body the contact planes of
+    // BodyCollision::cached_planes (collide/body.h: ContactPlanes, contact_planes_in).
+    float* contact_planes = nullptr;
     // Slots of the lattice planes with inverse mass 0 (pinned, or no particle there). While there
     // are none, the integration pass skips the per-lane pinned check (integrate/verlet.h).
     uint32_t held_plane_slots = 0;

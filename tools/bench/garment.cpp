@@ -4,7 +4,9 @@
 // (WorldDesc::profile). In the same run, after every step, a plain baseline of the body pass is
 // timed with Embree directly: refit of a dynamic scene over the same offset hull, then one
 // rtcPointQuery (closest point within thickness + margin) per particle per substep, no rays.
-//   weft-bench garment [--steps N] [--json]
+// One world per body collision model (--collision), stepped in turn every frame; every row gives
+// the deepest particle by the exact hull query and the cloth's strain over the measured frames.
+//   weft-bench garment [--steps N] [--collision exact,cached_planes] [--json]
 #include "garment.h"
 
 #include <embree3/rtcore.h>
@@ -179,7 +181,7 @@ std::string dress_scene(const std::string& scene_file, const std::string& patter
     return f ? std::string() : "cannot write " + (dir / scene->cloths[0].asset_path).string();
 }
 
-int run_garment(uint32_t steps, bool as_json) {
+int run_garment(uint32_t steps, bool as_json, const std::vector<BodyCollision>& models) {
     const std::string shared = WEFT_SHARED_DATA_DIR;
     std::vector<Case> cases = {{std::string(WEFT_SOURCE_DIR) + "/samples/scenes/skirt-walk.json",
                                 std::string(WEFT_SOURCE_DIR) + "/samples/patterns/skirt.json", true},
@@ -205,7 +207,8 @@ int run_garment(uint32_t steps, bool as_json) {
             mean_all = {b.positions, b.triangles};
     }
     if (!as_json)
-        std::printf("weft-bench garment: %u steps per scene after the walk's 1 s ramp, one thread; us per step (medians)\n", steps);
+        std::printf("weft-bench garment: %u steps per scene after the walk's 1 s ramp, one thread; us per step (medians); "
+                    "the models' worlds step in turn, frame by frame\n", steps);
     for (const Case& c : cases) {
         scenes::Scene scene;
         bake::Baked baked;
@@ -213,66 +216,104 @@ int run_garment(uint32_t steps, bool as_json) {
             !e.empty())
             return std::fprintf(stderr, "weft-bench garment: %s\n", e.c_str()), 1;
         scene.profile = true;
-        scenes::SceneWorld sw;
-        if (std::string e = scenes::build_scene(scene, &sw, {dir.string()}); !e.empty())
-            return std::fprintf(stderr, "weft-bench garment: %s: %s\n", scene.name.c_str(), e.c_str()), 1;
+        // One world per model, stepped in turn every frame: the same load on each, so the ratios
+        // between them hold even when the machine's speed drifts.
+        struct Run {
+            BodyCollision model;
+            scenes::SceneWorld sw;
+            std::vector<double> step_us, integrate_us, constraints_us, body_us, other_us, plain_us;
+            double deepest = 0.0, max_strain = 0.0, strain_sum = 0.0, queried = 0.0;
+        };
+        std::vector<Run> runs(models.size());
+        for (size_t m = 0; m < models.size(); ++m) {
+            runs[m].model = models[m];
+            scene.body->collision = models[m];
+            if (std::string e = scenes::build_scene(scene, &runs[m].sw, {dir.string()}); !e.empty())
+                return std::fprintf(stderr, "weft-bench garment: %s: %s\n", scene.name.c_str(), e.c_str()), 1;
+        }
         BodyView view;
-        view_body(sw.world, sw.body->id, &view);
+        view_body(runs[0].sw.world, runs[0].sw.body->id, &view);
         PlainPass plain;
         if (!plain.open(view)) return std::fprintf(stderr, "weft-bench garment: no Embree device\n"), 1;
         SolverSplit split;
-        cloth_solver_split(sw.world, sw.cloths[0].id, &split);
+        cloth_solver_split(runs[0].sw.world, runs[0].sw.cloths[0].id, &split);
         const uint32_t warmup = uint32_t(std::lround((scene.body->ramp_s + 0.05f) / scene.dt_s));
-        std::vector<double> step_us, integrate_us, constraints_us, body_us, other_us, plain_us;
-        double deepest = 0.0;
         for (uint32_t f = 1; f <= warmup + steps; ++f) {
-            scenes::animate_body(sw, float(f) * scene.dt_s);
-            const WorldStats before = world_stats(sw.world);
-            const auto t0 = Clock::now();
-            step(sw.world, scene.dt_s);
-            const double us = std::chrono::duration<double, std::micro>(Clock::now() - t0).count();
-            const WorldStats after = world_stats(sw.world);
-            ClothView cloth;
-            view_cloth(sw.world, sw.cloths[0].id, &cloth);
-            view_body(sw.world, sw.body->id, &view);
-            const double baseline = plain.run(view, cloth, split.substeps);
-            if (f <= warmup) continue;
-            auto pass = [&](Pass p) { return double(after.pass_ns[int(p)] - before.pass_ns[int(p)]) / 1e3; };
-            const double integrate = pass(Pass::integrate) + pass(Pass::wind);
-            const double constraints = pass(Pass::coarse) + pass(Pass::constraints) + pass(Pass::tethers);
-            const double body = pass(Pass::body);
-            step_us.push_back(us);
-            integrate_us.push_back(integrate);
-            constraints_us.push_back(constraints);
-            body_us.push_back(body);
-            other_us.push_back(us - integrate - constraints - body);
-            plain_us.push_back(baseline);
-            deepest = std::max(deepest, metrics::max_body_penetration_m(sw.world, sw.body->id, cloth));
+            for (Run& r : runs) {
+                scenes::SceneWorld& sw = r.sw;
+                scenes::animate_body(sw, float(f) * scene.dt_s);
+                const WorldStats before = world_stats(sw.world);
+                const auto t0 = Clock::now();
+                step(sw.world, scene.dt_s);
+                const double us = std::chrono::duration<double, std::micro>(Clock::now() - t0).count();
+                const WorldStats after = world_stats(sw.world);
+                ClothView cloth;
+                view_cloth(sw.world, sw.cloths[0].id, &cloth);
+                view_body(sw.world, sw.body->id, &view);
+                // The plain pass once a frame, on the first model's cloth (the exact one by default).
+                const double baseline = &r == &runs[0] ? plain.run(view, cloth, split.substeps) : 0.0;
+                if (f <= warmup) continue;
+                auto pass = [&](Pass p) { return double(after.pass_ns[int(p)] - before.pass_ns[int(p)]) / 1e3; };
+                const double integrate = pass(Pass::integrate) + pass(Pass::wind);
+                const double constraints = pass(Pass::coarse) + pass(Pass::constraints) + pass(Pass::tethers);
+                const double body = pass(Pass::body);
+                r.step_us.push_back(us);
+                r.integrate_us.push_back(integrate);
+                r.constraints_us.push_back(constraints);
+                r.body_us.push_back(body);
+                r.other_us.push_back(us - integrate - constraints - body);
+                if (&r == &runs[0]) r.plain_us.push_back(baseline);
+                // Penetration by the exact hull query (query_body), whatever model stepped the cloth.
+                r.deepest = std::max(r.deepest, metrics::max_body_penetration_m(sw.world, sw.body->id, cloth));
+                const metrics::Strain strain = metrics::stretch_strain(cloth);
+                r.max_strain = std::max(r.max_strain, strain.max);
+                r.strain_sum += strain.mean;
+                r.queried += double(after.body_queried);
+            }
         }
-        const nlohmann::json j = {{"scene", scene.name},
-                                  {"particles", sw.cloths[0].asset->particle_count},
-                                  {"body_triangles", sw.body->triangles.size() / 3},
-                                  {"steps", steps},
-                                  {"substeps", split.substeps},
-                                  {"us_per_step", median(step_us)},
-                                  {"integrate_us", median(integrate_us)},
-                                  {"constraints_us", median(constraints_us)},
-                                  {"body_collision_us", median(body_us)},
-                                  {"other_us", median(other_us)},
-                                  {"baseline_point_query_us", median(plain_us)},
-                                  {"body_vs_baseline", median(plain_us) > 0 ? median(body_us) / median(plain_us) : 0.0},
-                                  // The runtime's pass queries the BVH for every particle every substep.
-                                  {"bvh_query_ratio", 1.0},
-                                  {"max_penetration_m", deepest},
-                                  {"sewing_s", baked.sew_report.sewing_s}};
-        if (as_json) {
-            std::printf("%s\n", j.dump().c_str());
-        } else {
-            std::printf("  %-18s %5u particles, %5zu body triangles: step %7.0f (integrate %5.0f, constraints %5.0f, body %6.0f, "
-                        "other %5.0f); plain rtcPointQuery pass %6.0f; deepest %.2f mm\n",
-                        scene.name.c_str(), sw.cloths[0].asset->particle_count, sw.body->triangles.size() / 3,
-                        median(step_us), median(integrate_us), median(constraints_us), median(body_us), median(other_us),
-                        median(plain_us), deepest * 1e3);
+        const double plain_us = median(runs[0].plain_us);
+        const Run* exact = nullptr;
+        for (const Run& r : runs)
+            if (r.model == BodyCollision::exact) exact = &r;
+        for (const Run& r : runs) {
+            const scenes::SceneWorld& sw = r.sw;
+            const double body_us = median(r.body_us), step_us = median(r.step_us);
+            nlohmann::json j = {{"scene", scene.name},
+                                {"collision", scenes::body_collision_name(r.model)},
+                                {"particles", sw.cloths[0].asset->particle_count},
+                                {"body_triangles", sw.body->triangles.size() / 3},
+                                {"steps", steps},
+                                {"substeps", split.substeps},
+                                {"iterations", split.iterations},
+                                {"us_per_step", step_us},
+                                {"integrate_us", median(r.integrate_us)},
+                                {"constraints_us", median(r.constraints_us)},
+                                {"body_us", body_us},
+                                {"body_share", step_us > 0 ? body_us / step_us : 0.0},
+                                {"other_us", median(r.other_us)},
+                                {"baseline_point_query_us", plain_us},
+                                {"body_vs_baseline", plain_us > 0 ? body_us / plain_us : 0.0},
+                                {"max_penetration_m", r.deepest},
+                                {"max_strain", r.max_strain},
+                                {"body_queried_per_step", r.queried / double(steps)},
+                                {"mean_strain", r.strain_sum / double(steps)},
+                                {"sewing_s", baked.sew_report.sewing_s}};
+            if (exact != nullptr) {  // same-run ratios against the exact model (< 1: cheaper)
+                j["step_vs_exact"] = median(exact->step_us) > 0 ? step_us / median(exact->step_us) : 0.0;
+                j["body_vs_exact"] = median(exact->body_us) > 0 ? body_us / median(exact->body_us) : 0.0;
+                j["max_strain_vs_exact"] = exact->max_strain > 0 ? r.max_strain / exact->max_strain : 0.0;
+            }
+            if (as_json) {
+                std::printf("%s\n", j.dump().c_str());
+            } else {
+                std::printf("  %-18s %-13s %5u particles, %5zu body triangles: step %7.0f (integrate %5.0f, constraints %5.0f, "
+                            "body %6.0f, other %5.0f); plain rtcPointQuery pass %6.0f; deepest %.2f mm; strain max %.1f%% "
+                            "mean %.2f%%; %.0f particles searched a step\n",
+                            scene.name.c_str(), scenes::body_collision_name(r.model), sw.cloths[0].asset->particle_count,
+                            sw.body->triangles.size() / 3, step_us, median(r.integrate_us), median(r.constraints_us), body_us,
+                            median(r.other_us), plain_us, r.deepest * 1e3, 100.0 * r.max_strain,
+                            100.0 * r.strain_sum / double(steps), r.queried / double(steps));
+            }
         }
         std::fflush(stdout);
     }

@@ -4,6 +4,7 @@
 #include <cstdint>
 #include <filesystem>
 #include <string>
+#include <vector>
 
 #include "bake.h"
 #include "scene.h"
@@ -13,7 +14,8 @@ namespace weft::bench {
 // Bakes the sample skirt and tee onto the mannequin (and the shared pencil dress onto mean_all when
 // ../shared/data is there), runs their scene files and prints per-pass costs per step, the plain
 // Embree point-query baseline measured in the same run, and the deepest penetration.
-int run_garment(uint32_t steps, bool as_json);
+// One row per scene and body collision model in `models` (the first also times the plain pass).
+int run_garment(uint32_t steps, bool as_json, const std::vector<BodyCollision>& models);
 
 // The project's mannequin (default measurements, rest pose) as a body to sew onto.
 std::string mannequin_sew_body(bake::SewBody* out);

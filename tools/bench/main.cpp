@@ -583,7 +583,10 @@ int main(int argc, char** argv) {
     CLI::App* garment = app.add_subcommand("garment", "the dressed garments (skirt, tee, shared dress) on their animated bodies");
     garment->add_option("--steps", garment_steps, "steps measured per scene (after the body's ramp)")->capture_default_str()
         ->check(CLI::Range(1u, 100000u));
-    garment->add_flag("--json", garment_json, "one JSON object per scene");
+    garment->add_flag("--json", garment_json, "one JSON object per scene and model");
+    std::vector<std::string> garment_models = {"exact", "cached_planes"};
+    garment->add_option("--collision", garment_models, "body collision models, each a row (exact, cached_planes)")
+        ->delimiter(',')->capture_default_str();
     bench::CorpusOptions corpus_o;
     CLI::App* corpus = app.add_subcommand("corpus", "a folder of sewing patterns baked flat and sewn, one JSON line per garment and a summary");
     corpus->add_option("dir", corpus_o.dir, "folder of patterns (GarmentCode *_specification.json or Weft *.json)")->required();
@@ -640,7 +643,13 @@ int main(int argc, char** argv) {
     }
     if (body->parsed()) return bench::run_body(body_o);
     if (corpus->parsed()) return bench::run_corpus(corpus_o);
-    if (garment->parsed()) return bench::run_garment(garment_steps, garment_json);
+    if (garment->parsed()) {
+        std::vector<BodyCollision> models(garment_models.size());
+        for (size_t m = 0; m < models.size(); ++m)
+            if (!scenes::body_collision_from_name(garment_models[m], &models[m]))
+                return std::fprintf(stderr, "weft-bench garment: unknown --collision '%s'\n", garment_models[m].c_str()), 2;
+        return bench::run_garment(garment_steps, garment_json, models);
+    }
 
     if (baked->parsed()) return bench::run_baked();
     if (drape->parsed()) return run({SeedScene::drape}, drape_o, true);

@@ -13,6 +13,16 @@
 
 namespace weft::scenes {
 
+const char* body_collision_name(BodyCollision c) {
+    return c == BodyCollision::cached_planes ? "cached_planes" : "exact";
+}
+
+bool body_collision_from_name(const std::string& name, BodyCollision* out) {
+    for (BodyCollision c : {BodyCollision::exact, BodyCollision::cached_planes})
+        if (name == body_collision_name(c)) return *out = c, true;
+    return false;
+}
+
 ClothMeshDesc GridMesh::desc() const {
     ClothMeshDesc d;
     d.particle_count = uint32_t(positions.size());
@@ -224,6 +234,7 @@ std::string build_scene(const Scene& scene, SceneWorld* out, const std::vector<s
         bd.thickness_m = b.thickness_m;
         bd.margin_m = b.margin_m;
         bd.friction = b.friction;
+        bd.collision = b.collision;
         if (Result r = add_body(out->world, bd, &out->body->id); !r.ok()) return std::string("body: ") + r.message;
     }
     for (size_t i = 0; i < scene.cloths.size(); ++i) {

@@ -70,7 +70,16 @@ struct BodySpec {
     float period_s = 2.0f;      // blend: rest -> blend_to -> rest
     float ramp_s = 1.0f;        // walk: seconds from the rest pose into the full walk
     float thickness_m = 0.004f, margin_m = 0.002f, friction = 0.5f;  // BodyDesc
+    // BodyDesc::collision. A scene's dressed garment gets the cheaper model, which keeps its
+    // garments within the 2 mm bound on the mannequin and mean_all (docs/garments.md); `exact` is
+    // one key away.
+    BodyCollision collision = BodyCollision::cached_planes;
 };
+
+// The scene files' names of the body collision models ("exact", "cached_planes").
+const char* body_collision_name(BodyCollision c);
+// The model a name stands for; false for an unknown name.
+bool body_collision_from_name(const std::string& name, BodyCollision* out);
 
 struct Scene {
     std::string name;

@@ -39,7 +39,8 @@ struct WorldDesc {
     uint32_t max_colliders = 0;
     uint32_t max_coarse_nodes = 0;  // summed ClothAsset::coarse_slot_count (node slots) of the cloths
     // Body colliders (weft/body.h). With max_bodies > 0, create_world creates an Embree device;
-    // a world without bodies never does.
+    // a world without bodies never does. Every cloth also holds 76 bytes a particle slot per body
+    // for BodyCollision::cached_planes (its contact planes), whichever model the bodies use.
     uint32_t max_bodies = 0;
     uint32_t max_body_vertices = 0;   // summed over bodies
     uint32_t max_body_triangles = 0;  // summed over bodies

@@ -309,24 +309,50 @@ constexpr uint32_t kCreaseRounds = 4;
 // (weft-bench body: of 711 particles a frame pushed again in the second round, 48 by more than 1 um).
 constexpr float kCreaseTolerance_m = 1e-6f;
 
-}  // namespace
+// Slot i's contact plane (planes model): the hull point and normal at `w` on `triangle` and the
+// surface's motion there, or no plane (kNoTriangle); found where the particle now is, held while
+// it stays within sqrt(reach2) of there.
+void keep_plane(const ContactPlanes& c, uint32_t i, const Particles& p, const BodyState& body, uint32_t triangle,
+                Barycentric w, uint32_t crease_triangle, Barycentric crease_w, float share, float reach2) {
+    float point[3] = {p.x[i], p.y[i], p.z[i]}, normal[3] = {0.0f, 0.0f, 0.0f};
+    float crease_point[3] = {p.x[i], p.y[i], p.z[i]}, crease_normal[3] = {0.0f, 0.0f, 0.0f};
+    Vec3 motion{};
+    if (triangle != body_query::kNoTriangle) {
+        interpolate(body, triangle, w, point, normal);
+        motion = surface_motion(body, triangle, w, share);
+    }
+    if (crease_triangle != body_query::kNoTriangle) interpolate(body, crease_triangle, crease_w, crease_point, crease_normal);
+    const float m[3] = {motion.x, motion.y, motion.z};
+    for (int a = 0; a < 3; ++a) {
+        c.point[a][i] = point[a];
+        c.normal[a][i] = normal[a];
+        c.motion[a][i] = m[a];
+        c.crease_point[a][i] = crease_point[a];
+        c.crease_normal[a][i] = crease_normal[a];
+    }
+    c.from[0][i] = p.x[i], c.from[1][i] = p.y[i], c.from[2][i] = p.z[i];
+    c.reach2[i] = reach2;
+}
 
-// The step's pass, per cluster of kClusterSlots slots: one walk of the hierarchy serves the
+// The exact pass, per cluster of kClusterSlots slots: one walk of the hierarchy serves the
 // tunnelling rays of the particles that moved further than the thickness and the closest-point
 // search of all; an entering ray hit wins, else the closest triangle; then the response
 // (projection along the interpolated hull normal, friction against the surface's motion:
-// colliders.h's resolve_contact).
-void collide_body(const Particles& particles, const uint32_t* order, const BodyState& body, uint32_t substeps,
-                  SimdPath path, BodyPassCounts& counts) {
+// colliders.h's resolve_contact). With `planes` it keeps each searched particle's plane; with
+// `marked_only` it searches only the particles project_on_planes marked (reach2 < 0).
+void collide_clusters(const Particles& particles, const uint32_t* order, const BodyState& body, float share,
+                      const ContactPlanes* planes, bool marked_only, const body_query::Path& path,
+                      BodyPassCounts& counts) {
     using F = simd::Float1;
     using namespace body_query;
     const Particles p = particles;
-    const float share = 1.0f / float(substeps);
-    if (body.desc.reference_queries) return collide_body_reference(p, body, share, counts);
-    const SearchCluster search = path_for(path).search;
-    const SearchAgain search_again = path_for(path).search_again;
+    const SearchCluster search = path.search;
+    const SearchAgain search_again = path.search_again;
     const float thickness = body.desc.thickness_m;
     const float reach = base_reach(body);
+    // The planes model wants every particle's closest point within reach, inside or not (a later
+    // substep may bring it behind that plane), so no plane shortcut (in_front_of_every_plane).
+    const bool contacts_only = planes == nullptr;
     ColliderKernelArgs args{};
     args.friction = body.desc.friction;
     Candidates candidates;  // on the stack (about 14 kB): nothing allocates
@@ -339,6 +365,7 @@ void collide_body(const Particles& particles, const uint32_t* order, const BodyS
         for (uint32_t k = 0; k < n; ++k) {
             const uint32_t i = slot[k];
             if (!(p.inverse_mass[i] > 0.0f)) continue;  // pinned and padding slots
+            if (marked_only && !(planes->reach2[i] < 0.0f)) continue;  // held by its plane
             const float x[3] = {p.x[i], p.y[i], p.z[i]};
             const float previous[3] = {p.previous_x[i], p.previous_y[i], p.previous_z[i]};
             q.point[k][0] = x[0], q.point[k][1] = x[1], q.point[k][2] = x[2];
@@ -361,13 +388,16 @@ void collide_body(const Particles& particles, const uint32_t* order, const BodyS
             counts.rays += 1;
         }
         if (q.active == 0) continue;
-        const uint32_t met = search(body.hierarchy, reach, q, candidates, true);
+        const uint32_t met = search(body.hierarchy, reach, q, candidates, contacts_only);
         counts.queried += uint64_t(__builtin_popcount(met));
         uint32_t pushed = 0, pushed_from[kClusterSlots];
+        uint32_t plane_triangle[kClusterSlots];  // the contact plane each point keeps (planes model)
+        Barycentric plane_at[kClusterSlots];
         for (uint32_t k = 0; k < n; ++k) {
             if (!(q.active >> k & 1u)) continue;
             const uint32_t i = slot[k];
             const float* x = q.point[k];
+            plane_triangle[k] = kNoTriangle;
             uint32_t triangle = kNoTriangle;
             Barycentric w{};
             float normal[3], penetration = 0.0f;
@@ -380,6 +410,7 @@ void collide_body(const Particles& particles, const uint32_t* order, const BodyS
                 sub3(at, x, to_hit);
                 penetration = dot3(to_hit, normal);
                 if (penetration > 0.0f) triangle = hit.triangle;
+                if (penetration > 0.0f) plane_triangle[k] = hit.triangle, plane_at[k] = w;
             }
             if (triangle == kNoTriangle) {
                 const Best& best = q.best[k];
@@ -387,6 +418,7 @@ void collide_body(const Particles& particles, const uint32_t* order, const BodyS
                 w = {1.0f - best.v - best.w, best.v, best.w};
                 float hull_point[3], to_hull[3];
                 interpolate(body, best.triangle, w, hull_point, normal);
+                plane_triangle[k] = best.triangle, plane_at[k] = w;
                 sub3(hull_point, x, to_hull);
                 penetration = dot3(to_hull, normal);
                 if (!(penetration > 0.0f)) continue;
@@ -411,6 +443,10 @@ void collide_body(const Particles& particles, const uint32_t* order, const BodyS
         // Each search starts from the triangle the particle was last pushed out of, at its distance
         // from where the particle landed (about zero): only a strictly closer triangle, the other side
         // of a crease, can change the answer, so every leaf whose box lies further away is skipped.
+        const uint32_t searched = q.active;  // the crease rounds reuse q.active
+        uint32_t crease_triangle[kClusterSlots];  // the other side of a crease (planes model)
+        Barycentric crease_at[kClusterSlots];
+        for (uint32_t k = 0; k < n; ++k) crease_triangle[k] = kNoTriangle;
         for (uint32_t round = 0; round < kCreaseRounds && pushed != 0; ++round) {
             q.active = pushed, q.rays = 0;
             for (uint32_t k = 0; k < n; ++k) {
@@ -443,10 +479,33 @@ void collide_body(const Particles& particles, const uint32_t* order, const BodyS
                 p.z[i] = q.point[k][2] + normal[2] * penetration;
                 moved |= penetration > kCreaseTolerance_m ? 1u << k : 0u;
                 pushed_from[k] = best.triangle;
+                crease_triangle[k] = best.triangle, crease_at[k] = w;
             }
             pushed = moved;
         }
+        if (planes == nullptr) continue;
+        // Each point's plane holds while it stays within kPlanesBound_m of where it is now.
+        for (uint32_t k = 0; k < n; ++k)
+            if (searched >> k & 1u)
+                keep_plane(*planes, slot[k], p, body, plane_triangle[k], plane_at[k], crease_triangle[k], crease_at[k],
+                           share, kPlanesBound_m * kPlanesBound_m);
     }
+}
+
+}  // namespace
+
+void collide_body(const Particles& particles, const uint32_t* order, const BodyState& body, uint32_t substep,
+                  uint32_t substeps, const ContactPlanes* planes, SimdPath path, BodyPassCounts& counts) {
+    const float share = 1.0f / float(substeps);
+    if (body.desc.reference_queries) return collide_body_reference(particles, body, share, counts);
+    const body_query::Path& kernels = path_for(path);
+    if (substeps == 1) planes = nullptr;  // no later substep to keep planes for: the exact pass
+    if (planes == nullptr || substep == 0)
+        return collide_clusters(particles, order, body, share, planes, false, kernels, counts);
+    // Later substeps of the planes model: the kept planes, then the exact search for the particles
+    // that moved beyond what their plane holds.
+    if (kernels.project_on_planes(particles, *planes, body.desc.friction, counts.contacts) > 0)
+        collide_clusters(particles, order, body, share, planes, true, kernels, counts);
 }
 
 // Morton code of a point quantised to 10 bits an axis: the bits of x, y and z interleaved.
@@ -481,6 +540,17 @@ void order_for_body_pass(const ClothAsset& asset, uint32_t* key, uint32_t* order
         order[i] = i;
     }
     std::sort(order, order + n, [&](uint32_t a, uint32_t b) { return key[a] != key[b] ? key[a] < key[b] : a < b; });
+}
+
+ContactPlanes contact_planes_in(float* block, uint32_t slot_count) {
+    ContactPlanes c;
+    float** arrays[kContactPlaneArrays] = {&c.point[0],        &c.point[1],        &c.point[2],        &c.normal[0],
+                                           &c.normal[1],       &c.normal[2],       &c.motion[0],       &c.motion[1],
+                                           &c.motion[2],       &c.from[0],         &c.from[1],         &c.from[2],
+                                           &c.reach2,          &c.crease_point[0], &c.crease_point[1], &c.crease_point[2],
+                                           &c.crease_normal[0], &c.crease_normal[1], &c.crease_normal[2]};
+    for (uint32_t a = 0; a < kContactPlaneArrays; ++a) *arrays[a] = block + size_t(a) * slot_count;
+    return c;
 }
 
 BodyContact closest_hull_point_hierarchy(const BodyState& body, const float* point, SimdPath path) {

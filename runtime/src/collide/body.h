@@ -107,10 +107,39 @@ struct BodyPassCounts {
     uint64_t queried = 0;  // particles whose cluster met at least one leaf (needed a closer look)
 };
 
-// One cloth's particles against one body, for one of `substeps` substeps of the step, in clusters
-// of consecutive entries of `order` (order_for_body_pass).
-void collide_body(const Particles& particles, const uint32_t* order, const BodyState& body, uint32_t substeps,
-                  SimdPath path, BodyPassCounts& counts);
+// BodyCollision::cached_planes: each slot's contact plane from the step's first substep, one array
+// per component (structure of arrays, indexed by slot), carved per cloth and body at add_cloth.
+// A slot with no hull within reach has a zero normal (no contact) and may move `reach2` from `from`.
+struct ContactPlanes {
+    float* point[3];   // the closest hull point (m)
+    float* normal[3];  // the unit contact normal there (interpolated hull normal), 0 when none
+    float* motion[3];  // the surface's displacement there over one substep (m): friction's reference
+    float* from[3];    // where the particle was when the plane was found (after its response)
+    // Squared distance the particle may move from `from` before it is searched exactly again (m^2);
+    // negative: marked for that search this substep.
+    float* reach2;
+    // The other side of a crease (the hull point and normal the crease rounds last pushed the
+    // particle out of, collide/body.cpp), projected onto after the first plane; 0 normal when none.
+    float* crease_point[3];
+    float* crease_normal[3];
+};
+inline constexpr uint32_t kContactPlaneArrays = 19;
+// The cached planes' bound: a particle is searched exactly again once it is further than this
+// from where it was last searched (where its plane was found), before or after the projection
+// onto its plane. Where the hull is one consistent surface, getting deeper than this behind any
+// triangle (the plane's own, a neighbour curving up, the other side of a crease, a surface it was
+// far from) takes moving further. Holds measured and not kept (docs/decisions/): the clearance
+// from the hull + 2 mm let particles near overlapping offset hulls (the armpit, fingers, lips) end
+// 2.2-14 mm deep; a fixed 5 mm, 5.1-6.9 mm.
+inline constexpr float kPlanesBound_m = 0.002f;
+// The planes of `slot_count` slots in a block of kContactPlaneArrays * slot_count floats.
+ContactPlanes contact_planes_in(float* block, uint32_t slot_count);
+
+// One cloth's particles against one body, for substep `substep` of `substeps`, in clusters of
+// consecutive entries of `order` (order_for_body_pass). `planes`: the cloth's contact planes for
+// this body (BodyCollision::cached_planes), else null.
+void collide_body(const Particles& particles, const uint32_t* order, const BodyState& body, uint32_t substep,
+                  uint32_t substeps, const ContactPlanes* planes, SimdPath path, BodyPassCounts& counts);
 
 // The body pass's order of a cloth's slots (at add_cloth): by the Morton code of their start
 // positions, so every run of 16 is a compact patch of cloth whatever the slot layout (a garment's

@@ -10,7 +10,8 @@ namespace weft::body_query {
 #if WEFT_HAVE_AVX2
 const Path* avx2_path() {
     if (!__builtin_cpu_supports("avx2") || !__builtin_cpu_supports("fma")) return nullptr;
-    static constexpr Path path{search_cluster<simd::Float8>, search_again<simd::Float8>, refit_leaves<simd::Float8>};
+    static constexpr Path path{search_cluster<simd::Float8>, search_again<simd::Float8>, refit_leaves<simd::Float8>,
+                                 project_on_planes<simd::Float8>};
     return &path;
 }
 #else

@@ -4,7 +4,8 @@
 namespace weft::body_query {
 
 const Path& scalar_path() {
-    static constexpr Path path{search_cluster<simd::Float1>, search_again<simd::Float1>, refit_leaves<simd::Float1>};
+    static constexpr Path path{search_cluster<simd::Float1>, search_again<simd::Float1>, refit_leaves<simd::Float1>,
+                                 project_on_planes<simd::Float1>};
     return path;
 }
 

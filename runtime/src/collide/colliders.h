@@ -33,14 +33,19 @@ struct RelativeMotion {
     Vec3W<F> e;      // x - start
     F e2;            // |e|^2
 };
+// The same with each lane's own collider motion (a body's surface moves differently at each contact).
+template <class F>
+inline RelativeMotion<F> relative_motion(const Particles& p, uint32_t i, const Vec3W<F>& x, const Vec3W<F>& motion) {
+    using namespace simd;
+    const Vec3W<F> start{load(p.previous_x + i, F{}) + motion.x, load(p.previous_y + i, F{}) + motion.y,
+                         load(p.previous_z + i, F{}) + motion.z};
+    const Vec3W<F> e{x.x - start.x, x.y - start.y, x.z - start.z};
+    return {start, e, dot(e, e)};
+}
 template <class F>
 inline RelativeMotion<F> relative_motion(const Particles& p, uint32_t i, const Vec3W<F>& x, const ColliderKernelArgs& c) {
     using namespace simd;
-    const Vec3W<F> start{load(p.previous_x + i, F{}) + splat(c.motion.x, F{}),
-                         load(p.previous_y + i, F{}) + splat(c.motion.y, F{}),
-                         load(p.previous_z + i, F{}) + splat(c.motion.z, F{})};
-    const Vec3W<F> e{x.x - start.x, x.y - start.y, x.z - start.z};
-    return {start, e, dot(e, e)};
+    return relative_motion(p, i, x, Vec3W<F>{splat(c.motion.x, F{}), splat(c.motion.y, F{}), splat(c.motion.z, F{})});
 }
 
 // The response with friction, given the unit normal n, the penetration and e's normal part
