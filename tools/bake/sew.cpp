@@ -121,11 +121,13 @@ void merge_seams(const ClothMeshDesc& unsewn, const std::vector<uint32_t>& root,
             g.sewn_uv_first.push_back(uint32_t(g.sewn_uv.size() / 2));
         }
     }
-    if (unsewn.lattice != nullptr) {
+    if (unsewn.lattice != nullptr) {  // a seam particle keeps the lattice node of its first source that has one
         g.lattice.assign(2 * size_t(m), -1);
-        for (uint32_t q = 0; q < m; ++q)
-            if (count[q] == 1)
-                g.lattice[2 * q] = unsewn.lattice[2 * first_of_new[q]], g.lattice[2 * q + 1] = unsewn.lattice[2 * first_of_new[q] + 1];
+        for (uint32_t p = 0; p < n; ++p) {
+            const uint32_t q = g.new_of_old[p];
+            if (g.lattice[2 * q] < 0 && unsewn.lattice[2 * p] >= 0)
+                g.lattice[2 * q] = unsewn.lattice[2 * p], g.lattice[2 * q + 1] = unsewn.lattice[2 * p + 1];
+        }
     }
     if (unsewn.panel != nullptr) {
         g.panel.resize(m);
