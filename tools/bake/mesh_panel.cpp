@@ -130,10 +130,19 @@ void mesh_panel(const PanelOutline& outline, const PanelGrid& grid, const StripC
         for (uint32_t c = 0; c < grid.cols; ++c) {
             if (!kept(r, c)) continue;
             const uint32_t n00 = r * node_cols + c, n01 = n00 + 1, n10 = n00 + node_cols, n11 = n10 + 1;
-            if (!kept(r - 1, c)) cdt.insert_constraint(grid_vertex(n00), grid_vertex(n01));
-            if (!kept(r + 1, c)) cdt.insert_constraint(grid_vertex(n10), grid_vertex(n11));
-            if (!kept(r, int64_t(c) - 1)) cdt.insert_constraint(grid_vertex(n00), grid_vertex(n10));
-            if (!kept(r, c + 1)) cdt.insert_constraint(grid_vertex(n01), grid_vertex(n11));
+            // One statement per vertex: grid_vertex inserts into the triangulation, and the order
+            // in which a call's arguments are evaluated is unspecified (GCC: last first, Clang:
+            // first first); the insertion order changes the mesh, so the baker wrote other bytes
+            // when built by the other compiler. b before a: the order GCC took, its meshes unchanged.
+            auto constrain = [&](uint32_t a, uint32_t b) {
+                const Cdt::Vertex_handle vb = grid_vertex(b);
+                const Cdt::Vertex_handle va = grid_vertex(a);
+                cdt.insert_constraint(va, vb);
+            };
+            if (!kept(r - 1, c)) constrain(n00, n01);
+            if (!kept(r + 1, c)) constrain(n10, n11);
+            if (!kept(r, int64_t(c) - 1)) constrain(n00, n10);
+            if (!kept(r, c + 1)) constrain(n01, n11);
             if (seeded[size_t(r) * grid.cols + c]) continue;
             // A new piece: flood it (4-neighbours share an unconstrained side) and seed its first cell.
             const Point2 centre = node_point(n00);
