@@ -250,3 +250,17 @@ TEST_CASE("bake: an outline that truly crosses itself is refused, naming its pan
     CHECK(s.error.find("panel \"right_ftorso\"") != std::string::npos);
     CHECK(s.error.find("edge \"1\" meets edge \"4\"") != std::string::npos);
 }
+
+TEST_CASE("bake: the sample skirt bakes to the same bytes whichever compiler built the baker") {
+    // The expected hash is what a GCC build and a Clang build of this baker write (both checked,
+    // docs/decisions/flat-bake-corpus.md). They differed while mesh_panel inserted grid nodes into
+    // CGAL's triangulation as arguments of one call: the two compilers evaluate arguments in other
+    // orders. A change that means to alter the mesh or the file updates the value.
+    Baked baked;
+    const Status s = bake_pattern(read_text(kSamples / "skirt.json"), BakeOptions{}, &baked);
+    REQUIRE_MESSAGE(s.ok(), s.error);
+    uint64_t hash = 0xcbf29ce484222325ull;  // FNV-1a, 64 bits
+    for (std::byte b : baked.bytes) hash = (hash ^ uint64_t(b)) * 0x100000001b3ull;
+    MESSAGE("skirt asset: " << baked.bytes.size() << " bytes, FNV-1a " << hash);
+    CHECK(hash == 0x61818b943ccffc8cull);
+}
