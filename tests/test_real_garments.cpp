@@ -81,3 +81,48 @@ TEST_CASE("arm tips: mean_all's hands and forearms, nothing of its torso or legs
     CHECK(double(count) / double(tip.size()) > 0.1);
     CHECK(double(count) / double(tip.size()) < 0.3);
 }
+
+namespace {
+
+struct Sewn {
+    bake::Baked baked;
+    bake::Status status;
+};
+
+Sewn sew_corpus(const std::string& name) {
+    bake::BakeOptions options;
+    options.body = &mean_all();
+    Sewn s;
+    s.status = bake::bake_pattern(corpus_pattern(name), options, &s.baked);
+    return s;
+}
+
+}  // namespace
+
+TEST_CASE("real garments: a skirt that slid off while its seams closed stays at the waist (gc_1001_0043)") {
+    // Before: the waistband slid over the hips of the frictionless body as the side seams pulled
+    // it round, and the skirt fell 1.02 m. Now its waistline ("lower_interface") keeps its height
+    // while the seams close and is bound to the body.
+    if (!have_shared()) return;
+    const Sewn s = sew_corpus("gc_1001_0043");
+    INFO(s.status.error);
+    REQUIRE(s.status.ok());
+    const bake::SewReport& r = s.baked.sew_report;
+    CHECK(r.attached > 0);
+    CHECK(r.top_at_closed_m - r.top_at_rest_m < 0.05);
+    CHECK(r.top_at_rest_m > 0.9);  // at mean_all's waist (1.0-1.1 m), not its hips
+    CHECK(r.lowest_at_rest_m >= r.body_lowest_m);
+    CHECK(r.particles_inside_body == 0);
+    CHECK(r.max_seam_gap_m == 0.0);
+}
+
+TEST_CASE("real garments: seams that stayed open behind an arm close (gc_1001_0047)") {
+    // Before: "a seam is still 14 cm open after 900 sewing frames": a kinematic source slid over
+    // the hull toward its target on the far side of an arm and stayed caught behind it.
+    if (!have_shared()) return;
+    const Sewn s = sew_corpus("gc_1001_0047");
+    INFO(s.status.error);
+    REQUIRE(s.status.ok());
+    CHECK(s.baked.sew_report.max_seam_gap_m == 0.0);
+    CHECK(s.baked.sew_report.seam_points > 0);
+}
