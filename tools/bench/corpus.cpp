@@ -147,7 +147,7 @@ json bake_one(const std::string& path, const bake::SewBody* body, const CorpusOp
     j["sewn_ok"] = r.particles_inside_body == 0;
     if (r.particles_inside_body > 0) j["error"] = std::to_string(r.particles_inside_body) + " particles inside the body";
     // Stays on: the top stays within kStaysOnMaxTopDrop_m of where the seams closed, nothing below the soles.
-    j["stayed_on"] = top_drop < kStaysOnMaxTopDrop_m && r.lowest_at_rest_m >= r.body_lowest_m;
+    j["stayed_on"] = top_drop < kStaysOnMaxTopDrop_m && r.lowest_at_rest_m >= r.body_lowest_m - kStaysOnBelowSoles_m;
     j["top_drop_m"] = top_drop;
     j["lowest_m"] = r.lowest_at_rest_m;
     j["max_seam_gap_m"] = r.max_seam_gap_m;

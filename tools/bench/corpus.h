@@ -24,6 +24,9 @@ struct CorpusOptions {
 
 // Stays on (issue 21): the top drops less than this between closed seams and the dressed pose.
 inline constexpr double kStaysOnMaxTopDrop_m = 0.05;
+// ...and no particle lower than this below the soles (a hem lying on the sewing's floor sinks into
+// it by a few mm under the cloth's weight; a garment that fell lies there with its top dropped).
+inline constexpr double kStaysOnBelowSoles_m = 0.01;
 // On the moving body: every particle within this of the hull (the game's bound, docs/garments.md)...
 inline constexpr double kMovingMaxPenetration_m = 0.001;
 // ...and at rest (mean speed below this) within kMovingRest_s after the body stops.
