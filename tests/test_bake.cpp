@@ -206,3 +206,61 @@ TEST_CASE("bake: the GarmentCode patterns match the reference areas") {
         check_contiguous(c.file, b.garment, false);
     }
 }
+
+// Corpus garments (../shared/data/patterns/garmentcode-sampled, GarmentCode's own sampler) that
+// showed each cause the flat bake used to stop at (docs/decisions/flat-bake-corpus.md). The whole
+// corpus is a benchmark, not a test: these few stand for it.
+namespace {
+
+const std::filesystem::path kCorpus = kShared / "patterns" / "garmentcode-sampled";
+
+bool have_corpus() {
+    if (std::filesystem::exists(kCorpus)) return true;
+    MESSAGE("skipped: no GarmentCode corpus at " << kCorpus.string());
+    return false;
+}
+
+}  // namespace
+
+TEST_CASE("bake: sharp outline corners no longer keep the strip mesher splitting") {
+    if (!have_corpus()) return;
+    // gc_1001_0014 (a four-panel top): corners under 60 degrees, where CGAL's mesher splits the
+    // outline in every run (a new cluster of Shewchuk's concentric shells each time), so sampling
+    // there finer never ended. gc_1001_0138 (a top with a waistband): darts, whose segments the
+    // mesher splits near their tips; sampled finer there alone, they settle in 3 rounds. Both
+    // stopped at 16 rounds before.
+    for (const char* name : {"gc_1001_0014", "gc_1001_0138"}) {
+        CAPTURE(std::string(name));
+        const Meshed b = bake_text(read_text(kCorpus / (std::string(name) + "_specification.json")));
+        check_garment(b);  // seam sides one to one, masses, every triangle inside, 20 degrees away from sharp corners
+        CHECK(b.garment.quality.rounds <= 3);
+        const PanelQuality& q = b.garment.quality.overall;
+        CHECK(std::fabs(q.mesh_area_m2 - q.outline_area_m2) <= 0.005 * q.outline_area_m2);
+        CHECK(q.edge_max_h <= 2.6);  // the strip's longest edge stays near its 1.5 h bound (the grid: sqrt(2) h)
+    }
+}
+
+TEST_CASE("bake: an outline that truly crosses itself is refused, naming its panel and edges") {
+    if (!have_corpus()) return;
+    // GarmentCode checks its panels with arcs cut into 11 chords; the exact arc of this neckline
+    // (edge 1) crosses the armhole (edge 4) by about 0.45 mm, pinching the shoulder to nothing.
+    Pattern pattern;
+    const Status s = parse_pattern(read_text(kCorpus / "gc_1001_0021_specification.json"), {}, &pattern);
+    REQUIRE_FALSE(s.ok());
+    CHECK(s.error.find("panel \"right_ftorso\"") != std::string::npos);
+    CHECK(s.error.find("edge \"1\" meets edge \"4\"") != std::string::npos);
+}
+
+TEST_CASE("bake: the sample skirt bakes to the same bytes whichever compiler built the baker") {
+    // The expected hash is what a GCC build and a Clang build of this baker write (both checked,
+    // docs/decisions/flat-bake-corpus.md). They differed while mesh_panel inserted grid nodes into
+    // CGAL's triangulation as arguments of one call: the two compilers evaluate arguments in other
+    // orders. A change that means to alter the mesh or the file updates the value.
+    Baked baked;
+    const Status s = bake_pattern(read_text(kSamples / "skirt.json"), BakeOptions{}, &baked);
+    REQUIRE_MESSAGE(s.ok(), s.error);
+    uint64_t hash = 0xcbf29ce484222325ull;  // FNV-1a, 64 bits
+    for (std::byte b : baked.bytes) hash = (hash ^ uint64_t(b)) * 0x100000001b3ull;
+    MESSAGE("skirt asset: " << baked.bytes.size() << " bytes, FNV-1a " << hash);
+    CHECK(hash == 0x61818b943ccffc8cull);
+}

@@ -283,3 +283,53 @@ TEST_CASE("tethers: per-lane anchor batches step to the bits of one-pair batches
     CHECK(!same_bits(results[0], grid.positions));  // it moved
     for (const std::vector<Vec3>& r : results) CHECK(same_bits(r, results[0]));
 }
+
+TEST_CASE("tethers: a mesh with rest corners (sewn) measures them along its flat panels, not across its pose") {
+    // A strip 2 x 21 particles, 1 m long flat, folded in its pose into a hairpin whose free end lies
+    // 5 cm from the pinned one: straight in the pose the far end's tether would be 5 cm and hold the
+    // fold shut; along the panel it is 1 m.
+    const uint32_t columns = 21;
+    const float h = 0.05f;  // m between columns
+    std::vector<Vec3> flat, pose;
+    for (uint32_t c = 0; c < columns; ++c)
+        for (uint32_t r = 0; r < 2; ++r) {
+            flat.push_back({h * float(c), 0.1f * float(r), 0.0f});
+            const float s = h * float(c), half = 0.5f * h * float(columns - 1);  // fold at the middle
+            pose.push_back(s <= half ? Vec3{s, 0.1f * float(r), 0.0f} : Vec3{2.0f * half - s, 0.1f * float(r), 0.05f});
+        }
+    std::vector<uint32_t> triangles;
+    std::vector<Vec3> corners;
+    for (uint32_t c = 0; c + 1 < columns; ++c) {
+        const uint32_t a = 2 * c, b = 2 * c + 1, d = 2 * c + 2, e = 2 * c + 3;
+        for (const uint32_t t : {a, d, e, a, e, b}) triangles.push_back(t), corners.push_back(flat[t]);
+    }
+    std::vector<float> masses(flat.size(), 0.01f);
+    masses[0] = masses[1] = 0.0f;  // the pinned end
+    ClothMeshDesc mesh;
+    mesh.particle_count = uint32_t(pose.size());
+    mesh.positions = pose.data();
+    mesh.triangle_count = uint32_t(triangles.size() / 3);
+    mesh.triangles = triangles.data();
+    mesh.masses = masses.data();
+    mesh.rest_corners = corners.data();
+    CookOptions options;
+    options.coarse_spacing_m = 0.0f;
+    const CookedCloth cooked = cook(mesh, options);
+    const ClothAsset& a = cooked.asset();
+    uint32_t checked = 0;
+    for (uint32_t b = 0; b < a.tether_batch_count; ++b) {
+        const TetherBatch& t = a.tether_batches[b];
+        for (uint32_t k = 0; k < t.lane_count; ++k) {
+            const float rest = a.tether_rest[0][t.first_lane + k];
+            if (!std::isfinite(rest)) continue;
+            const uint32_t p = a.particle_of_slot[t.particle0 + k], pin = a.particle_of_slot[tether_anchor(a, t, k, 0)];
+            REQUIRE(p != kNoParticle);
+            const Vec3 d{flat[p].x - flat[pin].x, flat[p].y - flat[pin].y, 0.0f};
+            const float along = std::sqrt(d.x * d.x + d.y * d.y);  // the flat strip is convex: a straight path on it
+            CHECK(rest >= along * (1.0f - 1e-5f));  // never shorter than the path on the panel
+            CHECK(rest <= along * 1.09f + 1e-6f);   // edges and unfolded bend pairs: close to it
+            ++checked;
+        }
+    }
+    CHECK(checked == pose.size() - 2);
+}

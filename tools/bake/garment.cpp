@@ -25,43 +25,103 @@ struct PanelWork {
     std::vector<Point2> fine;     // the curved outline, finely
     double area_m2 = 0.0;         // signed: > 0 counter-clockwise
     std::vector<double> edge_length;
-    std::vector<uint32_t> count;  // segments per edge
+    // Per edge, its outline points as fractions of its arc length, ascending, from 0 to 1.
+    std::vector<std::vector<double>> cuts;
     std::vector<uint8_t> dropped; // grid cells the mesher split a side of
     PanelOutline outline;
     PanelGrid grid;
     PanelMesh mesh;
     bool dirty = true;
+    // Per edge, its mesh points from start to end (both corners) and their arc-length fractions:
+    // the outline's points and those the mesher kept on unsewn edges (finish_edges).
+    std::vector<std::vector<uint32_t>> edge_point;
+    std::vector<std::vector<double>> edge_fraction;
 };
 
-// The seams each panel edge belongs to, for raising a whole seam's count at once.
+// The seam each panel edge belongs to (-1: none), for cutting every side of a seam at once.
 using SeamOf = std::vector<std::vector<int32_t>>;
 
-void equalise_seam(const Seam& seam, std::vector<PanelWork>& work) {
-    uint32_t count = 0;
-    for (const SeamSide& s : seam.sides) count = std::max(count, work[s.panel].count[s.edge]);
-    for (const SeamSide& s : seam.sides) {
-        if (work[s.panel].count[s.edge] != count) work[s.panel].dirty = true;
-        work[s.panel].count[s.edge] = count;
-    }
+std::vector<double> uniform_cuts(uint32_t count) {
+    std::vector<double> cuts(count + 1);
+    for (uint32_t k = 0; k <= count; ++k) cuts[k] = double(k) / count;
+    return cuts;
 }
 
-PanelOutline sample_outline(const Panel& panel, const std::vector<uint32_t>& count) {
+// Adds the point at arc-length fraction f of edge e of panel p, and the matching point of every
+// other side of its seam (the same fraction along the seam: sewn points stay one to one, gathered
+// seams included). A point within 1e-9 of one already there is not added again.
+void add_cut(const Pattern& pattern, const SeamOf& seam_of, size_t p, size_t e, double f, std::vector<PanelWork>& work) {
+    auto insert = [&](size_t panel, size_t edge, double t) {
+        std::vector<double>& cuts = work[panel].cuts[edge];
+        const auto at = std::lower_bound(cuts.begin(), cuts.end(), t);
+        if ((at != cuts.end() && *at - t < 1e-9) || (at != cuts.begin() && t - *(at - 1) < 1e-9)) return;
+        cuts.insert(at, t);
+        work[panel].dirty = true;
+    };
+    if (seam_of[p][e] < 0) return insert(p, e, f);
+    const Seam& seam = pattern.seams[size_t(seam_of[p][e])];
+    double u = f;  // along the seam: side points are taken end to start when reversed
+    for (const SeamSide& side : seam.sides)
+        if (side.panel == p && side.edge == e) u = side.reverse ? 1.0 - f : f;
+    for (const SeamSide& side : seam.sides) insert(side.panel, side.edge, side.reverse ? 1.0 - u : u);
+}
+
+PanelOutline sample_outline(const Panel& panel, const std::vector<std::vector<double>>& cuts) {
     PanelOutline outline;
     for (size_t e = 0; e < panel.edges.size(); ++e) {
         outline.edge_first.push_back(uint32_t(outline.points.size()));
-        const std::vector<Point2> points = sample_edge(panel, panel.edges[e], count[e]);
+        const std::vector<Point2> points = sample_edge_at(panel, panel.edges[e], cuts[e]);
         outline.points.insert(outline.points.end(), points.begin(), points.end() - 1);  // the end starts the next edge
     }
     outline.edge_first.push_back(uint32_t(outline.points.size()));
     return outline;
 }
 
-// Particles of edge e from its start to its end (the end is the next edge's first point).
-std::vector<uint32_t> edge_points(const PanelOutline& outline, size_t e) {
-    std::vector<uint32_t> points;
-    for (uint32_t k = outline.edge_first[e]; k < outline.edge_first[e + 1]; ++k) points.push_back(k);
-    points.push_back(outline.edge_first[e + 1] % uint32_t(outline.points.size()));
-    return points;
+std::vector<double> corner_angles(const std::vector<Point2>& polygon, bool counter_clockwise);  // below
+
+// True when outline segment k touches a corner sharper than kSharpCornerDeg. CGAL's mesher treats
+// the segments at such a corner as a cluster (Shewchuk's concentric shells): a fresh run splits
+// them whenever a bad triangle's circumcentre encroaches one, and a point added there as input
+// makes a new cluster of the same shape, so sampling the outline finer there never ends (49 of the
+// 150 corpus garments stopped at 16 rounds). Its points there are kept on unsewn edges and taken
+// out again on sewn ones (mesh_panel's fixed segments).
+bool at_sharp_corner(const std::vector<double>& corner, uint32_t k) {
+    return corner[k] < kSharpCornerDeg || corner[(k + 1) % corner.size()] < kSharpCornerDeg;
+}
+
+// Each edge's mesh points in order: the outline's, and the points the mesher kept on its segments.
+void collect_edge_points(PanelWork& w) {
+    const PanelOutline& outline = w.outline;
+    const uint32_t n = uint32_t(outline.points.size());
+    const size_t edges = outline.edge_first.size() - 1;
+    w.edge_point.assign(edges, {});
+    w.edge_fraction.assign(edges, {});
+    size_t s = 0;
+    const std::vector<PanelMesh::OutlineSplit>& splits = w.mesh.split_outline;
+    for (size_t e = 0; e < edges; ++e) {
+        const std::vector<double>& cuts = w.cuts[e];
+        for (uint32_t k = outline.edge_first[e]; k < outline.edge_first[e + 1]; ++k) {
+            const size_t j = k - outline.edge_first[e];
+            w.edge_point[e].push_back(k);
+            w.edge_fraction[e].push_back(cuts[j]);
+            for (; s < splits.size() && splits[s].segment == k; ++s) {
+                w.edge_point[e].push_back(splits[s].point);
+                w.edge_fraction[e].push_back(cuts[j] + splits[s].along * (cuts[j + 1] - cuts[j]));
+            }
+        }
+        w.edge_point[e].push_back(outline.edge_first[e + 1] % n);
+        w.edge_fraction[e].push_back(1.0);
+    }
+}
+
+// After the last round: every edge's points in order. Sewn edges keep only their sampled points
+// (mesh_panel's fixed segments), so a seam's sides still have one point for one.
+void finish_edges(const Pattern& pattern, std::vector<PanelWork>& work) {
+    for (PanelWork& w : work) collect_edge_points(w);
+    for (const Seam& seam : pattern.seams)
+        for (const SeamSide& side : seam.sides)
+            if (work[side.panel].edge_point[side.edge].size() != work[seam.sides[0].panel].edge_point[seam.sides[0].edge].size())
+                throw BakeError("a seam's sides got different counts (bug)");
 }
 
 // Interior angle of the outline polygon at each point, degrees (winding-aware).
@@ -260,7 +320,7 @@ std::vector<uint8_t> near_pins(const Pattern& pattern, size_t p, const PanelWork
     for (const PanelSelector& pin : pattern.pins) {
         if (pin.panel != p) continue;
         if (pin.edge >= 0) {
-            for (uint32_t v : edge_points(w.outline, size_t(pin.edge))) near[v] = 1;
+            for (uint32_t v : w.edge_point[size_t(pin.edge)]) near[v] = 1;
             continue;
         }
         uint32_t best = 0;
@@ -564,7 +624,7 @@ MeshedGarment assemble(const Pattern& pattern, const MeshOptions& options, doubl
         table_x += (max_x - min_x) + 0.05;
         g.edge_particles.emplace_back();
         for (size_t e = 0; e < panel.edges.size(); ++e) {
-            std::vector<uint32_t> points = edge_points(work[p].outline, e);
+            std::vector<uint32_t> points = work[p].edge_point[e];
             for (uint32_t& v : points) v += base[p];
             g.edge_particles.back().push_back(std::move(points));
         }
@@ -693,15 +753,23 @@ Status mesh_garment(const Pattern& pattern, const MeshOptions& options, MeshedGa
             return {"target edge " + std::to_string(h) + " m would give about " + std::to_string(estimate) +
                     " particles, more than the cap of " + std::to_string(options.max_particles)};
 
-        // Segments per edge: ceil(length / h), the same on every side of a seam (the longest side's).
+        // Segments per edge: ceil(length / h), the same on every side of a seam (the longest side's),
+        // at equal arc length.
+        std::vector<std::vector<uint32_t>> count(panels);
         for (size_t p = 0; p < panels; ++p)
-            for (double length : work[p].edge_length) work[p].count.push_back(uint32_t(std::max(1.0, std::ceil(length / h - 1e-9))));
+            for (double length : work[p].edge_length) count[p].push_back(uint32_t(std::max(1.0, std::ceil(length / h - 1e-9))));
         SeamOf seam_of(panels);
         for (size_t p = 0; p < panels; ++p) seam_of[p].assign(pattern.panels[p].edges.size(), -1);
         for (size_t s = 0; s < pattern.seams.size(); ++s) {
-            for (const SeamSide& side : pattern.seams[s].sides) seam_of[side.panel][side.edge] = int32_t(s);
-            equalise_seam(pattern.seams[s], work);
+            uint32_t most = 0;
+            for (const SeamSide& side : pattern.seams[s].sides) {
+                seam_of[side.panel][side.edge] = int32_t(s);
+                most = std::max(most, count[side.panel][side.edge]);
+            }
+            for (const SeamSide& side : pattern.seams[s].sides) count[side.panel][side.edge] = most;
         }
+        for (size_t p = 0; p < panels; ++p)
+            for (uint32_t c : count[p]) work[p].cuts.push_back(uniform_cuts(c));
 
         StripCriteria criteria;
         criteria.min_angle_deg = options.min_angle_deg;
@@ -710,36 +778,63 @@ Status mesh_garment(const Pattern& pattern, const MeshOptions& options, MeshedGa
         criteria.max_edge_m = 1.5 * h;
         uint32_t round = 0;
         for (;; ++round) {
-            if (round == options.max_rounds)
-                return {"the strip mesher still split outline or grid edges after " + std::to_string(round) + " rounds"};
+            // Before the last round, a split outline segment away from sharp corners is sampled finer
+            // there; at sharp corners (at_sharp_corner) and in the last round the mesher's points stay
+            // on unsewn edges and go again on sewn ones.
+            const bool last = round + 1 >= options.max_rounds;
             bool again = false;
             for (size_t p = 0; p < panels; ++p) {
                 PanelWork& w = work[p];
                 if (!w.dirty) continue;
                 w.dirty = false;
-                w.outline = sample_outline(pattern.panels[p], w.count);
+                w.outline = sample_outline(pattern.panels[p], w.cuts);
                 PanelGrid& grid = w.grid;
                 grid = grid_frame(w.fine, h);
                 if (w.dropped.empty()) w.dropped.assign(grid.keep.size(), 0);
                 choose_cells(w.outline.points, options.grid_clearance, w.dropped, grid);
-                mesh_panel(w.outline, grid, criteria, &w.mesh);
-                // Split outline segments: that edge gets one more segment per split (and its seam
-                // the same count); split grid sides: their cells go to the strip.
-                for (uint32_t k : w.mesh.split_outline) {
+                // Sewn segments at sharp corners (and every sewn segment in the last round) keep no
+                // point the mesher adds: the seam's other sides would need the same points.
+                const std::vector<double> corner = corner_angles(w.outline.points, w.area_m2 > 0.0);
+                std::vector<uint8_t> fixed(w.outline.points.size(), 0);
+                for (size_t e = 0; e < pattern.panels[p].edges.size(); ++e)
+                    if (seam_of[p][e] >= 0)
+                        for (uint32_t k = w.outline.edge_first[e]; k < w.outline.edge_first[e + 1]; ++k)
+                            fixed[k] = last || at_sharp_corner(corner, k);
+                mesh_panel(w.outline, grid, criteria, fixed, &w.mesh);
+                // Split outline segments: sampled there in the next round (the seam's other sides
+                // too), except at sharp corners and in the last round, where the mesher's points
+                // stay; split grid sides: their cells go to the strip.
+                std::vector<std::pair<size_t, double>> added;  // (edge, fraction), against the cuts this mesh had
+                for (const PanelMesh::OutlineSplit& split : w.mesh.split_outline) {
+                    if (last || at_sharp_corner(corner, split.segment)) continue;
+                    const uint32_t k = split.segment;
                     const size_t e = size_t(std::upper_bound(w.outline.edge_first.begin(), w.outline.edge_first.end(), k) -
                                             w.outline.edge_first.begin()) - 1;
-                    w.count[e] += 1;
-                    if (seam_of[p][e] >= 0) equalise_seam(pattern.seams[size_t(seam_of[p][e])], work);
+                    const std::vector<double>& cuts = w.cuts[e];
+                    const size_t j = k - w.outline.edge_first[e];
+                    const double f = cuts[j] + split.along * (cuts[j + 1] - cuts[j]);
+                    added.push_back({e, f});
                 }
+                for (const auto& [e, f] : added) add_cut(pattern, seam_of, p, e, f, work);
                 for (uint32_t cell : w.mesh.split_cells) w.dropped[cell] = 1;
-                if (!w.mesh.split_outline.empty() || !w.mesh.split_cells.empty()) w.dirty = again = true;
+                if (!w.mesh.split_cells.empty()) w.dirty = true;
+                again = again || w.dirty;
             }
+            for (const PanelWork& w : work) again = again || w.dirty;
             if (!again) break;
+            if (last) {
+                std::string names;
+                for (size_t p = 0; p < panels; ++p)
+                    if (work[p].dirty) names += (names.empty() ? "\"" : ", \"") + pattern.panels[p].name + "\"";
+                return {"the strip mesher still split grid sides of panel " + names + " after " +
+                        std::to_string(round + 1) + " rounds"};
+            }
             double particles = 0.0;
             for (const PanelWork& w : work)
-                for (uint32_t c : w.count) particles += c;
+                for (const std::vector<double>& c : w.cuts) particles += double(c.size() - 1);
             if (particles > options.max_particles) return {"outline sampling exceeded the particle cap while remeshing"};
         }
+        finish_edges(pattern, work);
         MeshedGarment garment = assemble(pattern, options, h, work);
         garment.quality.rounds = round + 1;
         if (garment.positions.size() > options.max_particles)

@@ -238,6 +238,11 @@ int main(int argc, char** argv) {
     j["target_edge_m"] = garment.quality.target_edge_m;
     j["min_angle_deg"] = q.min_angle_deg;
     j["min_angle_deg_away_from_sharp_corners"] = q.min_angle_deg_smooth;
+    j["edge_min_h"] = q.edge_min_h;  // edge lengths / target_edge_m
+    j["edge_mean_h"] = q.edge_mean_h;
+    j["edge_max_h"] = q.edge_max_h;
+    j["outline_area_m2"] = q.outline_area_m2;  // the exact curved outlines (area_m2: the mesh)
+    j["mesh_rounds"] = garment.quality.rounds;
     j["total_mass_kg"] = garment.total_mass_kg;
     j["area_m2"] = garment.area_m2;
     j["pinned"] = garment.pinned.size();

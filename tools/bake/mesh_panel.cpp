@@ -12,6 +12,7 @@
 #include <algorithm>
 #include <cmath>
 #include <numbers>
+#include <numeric>
 #include <stdexcept>
 
 #include "outline.h"
@@ -94,7 +95,8 @@ void choose_cells(const std::vector<Point2>& outline, double clearance, const st
         }
 }
 
-void mesh_panel(const PanelOutline& outline, const PanelGrid& grid, const StripCriteria& criteria, PanelMesh* out) {
+void mesh_panel(const PanelOutline& outline, const PanelGrid& grid, const StripCriteria& criteria,
+                const std::vector<uint8_t>& fixed_segments, PanelMesh* out) {
     const uint32_t n_outline = uint32_t(outline.points.size());
     const uint32_t node_cols = grid.cols + 1;
     auto kept = [&](int64_t r, int64_t c) {
@@ -128,10 +130,19 @@ void mesh_panel(const PanelOutline& outline, const PanelGrid& grid, const StripC
         for (uint32_t c = 0; c < grid.cols; ++c) {
             if (!kept(r, c)) continue;
             const uint32_t n00 = r * node_cols + c, n01 = n00 + 1, n10 = n00 + node_cols, n11 = n10 + 1;
-            if (!kept(r - 1, c)) cdt.insert_constraint(grid_vertex(n00), grid_vertex(n01));
-            if (!kept(r + 1, c)) cdt.insert_constraint(grid_vertex(n10), grid_vertex(n11));
-            if (!kept(r, int64_t(c) - 1)) cdt.insert_constraint(grid_vertex(n00), grid_vertex(n10));
-            if (!kept(r, c + 1)) cdt.insert_constraint(grid_vertex(n01), grid_vertex(n11));
+            // One statement per vertex: grid_vertex inserts into the triangulation, and the order
+            // in which a call's arguments are evaluated is unspecified (GCC: last first, Clang:
+            // first first); the insertion order changes the mesh, so the baker wrote other bytes
+            // when built by the other compiler. b before a: the order GCC took, its meshes unchanged.
+            auto constrain = [&](uint32_t a, uint32_t b) {
+                const Cdt::Vertex_handle vb = grid_vertex(b);
+                const Cdt::Vertex_handle va = grid_vertex(a);
+                cdt.insert_constraint(va, vb);
+            };
+            if (!kept(r - 1, c)) constrain(n00, n01);
+            if (!kept(r + 1, c)) constrain(n10, n11);
+            if (!kept(r, int64_t(c) - 1)) constrain(n00, n10);
+            if (!kept(r, c + 1)) constrain(n01, n11);
             if (seeded[size_t(r) * grid.cols + c]) continue;
             // A new piece: flood it (4-neighbours share an unconstrained side) and seed its first cell.
             const Point2 centre = node_point(n00);
@@ -162,6 +173,9 @@ void mesh_panel(const PanelOutline& outline, const PanelGrid& grid, const StripC
     // original points at both ends.
     out->split_outline.clear();
     out->split_cells.clear();
+    out->points.clear();
+    out->lattice.clear();
+    out->triangles.clear();
     auto constrained_neighbours = [&](Cdt::Vertex_handle v) {
         std::vector<Cdt::Vertex_handle> result;
         Cdt::Edge_circulator e = cdt.incident_edges(v), end = e;
@@ -183,7 +197,8 @@ void mesh_panel(const PanelOutline& outline, const PanelGrid& grid, const StripC
         }
         return next->info().id;
     };
-    std::vector<Cdt::Vertex_handle> added;  // the mesher's points inside the strip
+    std::vector<Cdt::Vertex_handle> added;       // the mesher's points inside the strip
+    std::vector<Cdt::Vertex_handle> on_outline;  // its points on the outline, as split_outline
     for (auto v = cdt.finite_vertices_begin(); v != cdt.finite_vertices_end(); ++v) {
         if (v->info().id != kNone) continue;
         const std::vector<Cdt::Vertex_handle> around = constrained_neighbours(v);
@@ -194,7 +209,12 @@ void mesh_panel(const PanelOutline& outline, const PanelGrid& grid, const StripC
         const uint32_t a = walk_to_original(v, around[0]), b = walk_to_original(v, around[1]);
         if (a == kNone || b == kNone) throw std::runtime_error("mesh_panel: a split constraint has no original ends");
         if (a < n_outline && b < n_outline) {
-            out->split_outline.push_back((a + 1) % n_outline == b ? a : b);
+            const uint32_t k = (a + 1) % n_outline == b ? a : b;
+            const Point2 p0 = outline.points[k], p1 = outline.points[(k + 1) % n_outline];
+            const double dx = p1.x - p0.x, dy = p1.y - p0.y;
+            const double along = ((v->point().x() - p0.x) * dx + (v->point().y() - p0.y) * dy) / (dx * dx + dy * dy);
+            out->split_outline.push_back({k, std::clamp(along, 0.0, 1.0), 0});
+            on_outline.push_back(v);
         } else if (a >= n_outline && b >= n_outline) {
             const uint32_t na = a - n_outline, nb = b - n_outline, lo = std::min(na, nb), hi = std::max(na, nb);
             const int64_t r = lo / node_cols, c = lo % node_cols;
@@ -212,9 +232,50 @@ void mesh_panel(const PanelOutline& outline, const PanelGrid& grid, const StripC
         std::sort(v.begin(), v.end());
         v.erase(std::unique(v.begin(), v.end()), v.end());
     };
-    unique(out->split_outline);
     unique(out->split_cells);
-    if (!out->split_outline.empty() || !out->split_cells.empty()) return;
+    if (!out->split_cells.empty()) return;
+    // The mesher's points on fixed segments go again (the triangulation around them is redone,
+    // without refinement), as GarmentCode's own mesher does with every point it adds to an outline.
+    std::vector<uint32_t> restored;  // segments whose points are all gone, constrained again after
+    for (size_t k = 0; k < on_outline.size(); ++k) {
+        if (fixed_segments.empty() || !fixed_segments[out->split_outline[k].segment]) continue;
+        cdt.remove_incident_constraints(on_outline[k]);
+        cdt.remove(on_outline[k]);
+        restored.push_back(out->split_outline[k].segment);
+        on_outline[k] = Cdt::Vertex_handle();
+    }
+    for (uint32_t a : restored) cdt.insert_constraint(outline_vertex[a], outline_vertex[(a + 1) % n_outline]);
+    // The mesher's inner points inside a restored segment's diametral circle would leave slivers on it.
+    for (uint32_t a : restored) {
+        const Point2 p0 = outline.points[a], p1 = outline.points[(a + 1) % n_outline];
+        const double mx = 0.5 * (p0.x + p1.x), my = 0.5 * (p0.y + p1.y);
+        const double r2 = 0.25 * ((p1.x - p0.x) * (p1.x - p0.x) + (p1.y - p0.y) * (p1.y - p0.y));
+        for (Cdt::Vertex_handle& v : added)
+            if (v != Cdt::Vertex_handle() &&
+                (v->point().x() - mx) * (v->point().x() - mx) + (v->point().y() - my) * (v->point().y() - my) < r2) {
+                cdt.remove(v);
+                v = Cdt::Vertex_handle();
+            }
+    }
+    added.erase(std::remove(added.begin(), added.end(), Cdt::Vertex_handle()), added.end());
+    if (!restored.empty()) {
+        mesher.mark_facets();
+        size_t kept = 0;
+        for (size_t k = 0; k < on_outline.size(); ++k)
+            if (on_outline[k] != Cdt::Vertex_handle()) on_outline[kept] = on_outline[k], out->split_outline[kept++] = out->split_outline[k];
+        on_outline.resize(kept);
+        out->split_outline.resize(kept);
+    }
+    // Points on the outline join the mesh after the mesher's inner points, ordered along the outline.
+    std::vector<uint32_t> order(out->split_outline.size());
+    std::iota(order.begin(), order.end(), 0u);
+    std::sort(order.begin(), order.end(), [&](uint32_t a, uint32_t b) { return out->split_outline[a] < out->split_outline[b]; });
+    std::vector<PanelMesh::OutlineSplit> splits;
+    for (uint32_t k : order) {
+        splits.push_back(out->split_outline[k]);
+        added.push_back(on_outline[k]);
+    }
+    out->split_outline = std::move(splits);
 
     // The mesh: outline points, grid nodes (row-major), the mesher's points; strip and grid triangles.
     out->points = outline.points;
@@ -231,6 +292,8 @@ void mesh_panel(const PanelOutline& outline, const PanelGrid& grid, const StripC
     out->grid_points = uint32_t(out->points.size()) - n_outline;
     // Ids past the grid's nodes number the mesher's points, in the order they are appended.
     const uint32_t first_added_id = n_outline + uint32_t(node_vertex.size()), first_added = uint32_t(out->points.size());
+    const uint32_t first_on_outline = first_added + uint32_t(added.size() - out->split_outline.size());
+    for (size_t k = 0; k < out->split_outline.size(); ++k) out->split_outline[k].point = first_on_outline + uint32_t(k);
     for (size_t k = 0; k < added.size(); ++k) {
         added[k]->info().id = first_added_id + uint32_t(k);
         out->points.push_back({added[k]->point().x(), added[k]->point().y()});

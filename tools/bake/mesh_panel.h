@@ -46,10 +46,18 @@ struct PanelMesh {
     std::vector<int32_t> lattice;     // 2 per point: (row, col) of a grid node, (-1, -1) otherwise
     std::vector<uint32_t> triangles;  // 3 per triangle, counter-clockwise in the panel frame
     uint32_t grid_points = 0, grid_triangles = 0;
-    // Constraints the mesher split; when either is non-empty the mesh is not usable: the caller
-    // samples that outline edge finer or drops those cells and meshes again.
-    std::vector<uint32_t> split_outline;  // outline segments k (points k -> k + 1)
-    std::vector<uint32_t> split_cells;    // row * cols + col
+    // Constraints the mesher split. A split grid side leaves no mesh (points and triangles are
+    // empty): the caller drops those cells and meshes again. Points the mesher put on the outline
+    // are in the mesh (after its inner points); the caller keeps them or samples the outline there
+    // and meshes again.
+    struct OutlineSplit {
+        uint32_t segment;    // outline segment k (points k -> k + 1)
+        double along;        // where the mesher put its point: fraction of the segment from point k, in (0, 1)
+        uint32_t point;      // the point's index in `points` (when there is a mesh)
+        bool operator<(const OutlineSplit& o) const { return segment != o.segment ? segment < o.segment : along < o.along; }
+    };
+    std::vector<OutlineSplit> split_outline;  // ordered by segment, then along
+    std::vector<uint32_t> split_cells;        // row * cols + col
 };
 
 struct StripCriteria {
@@ -57,7 +65,11 @@ struct StripCriteria {
     double max_edge_m = 0.0;  // longest edge the mesher leaves in the strip
 };
 
-// Meshes the strip and joins it to the grid. Throws std::runtime_error if CGAL fails.
-void mesh_panel(const PanelOutline& outline, const PanelGrid& grid, const StripCriteria& criteria, PanelMesh* out);
+// Meshes the strip and joins it to the grid. Points the mesher put on an outline segment k with
+// fixed_segments[k] != 0 are taken out again (the segment stays whole; the triangles around it are
+// redone without refinement); fixed_segments may be empty (none fixed). Throws std::runtime_error
+// if CGAL fails.
+void mesh_panel(const PanelOutline& outline, const PanelGrid& grid, const StripCriteria& criteria,
+                const std::vector<uint8_t>& fixed_segments, PanelMesh* out);
 
 }  // namespace weft::bake

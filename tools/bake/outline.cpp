@@ -82,16 +82,23 @@ double edge_length(const Panel& panel, const PatternEdge& edge) {
 }
 
 std::vector<Point2> sample_edge(const Panel& panel, const PatternEdge& edge, uint32_t count) {
+    std::vector<double> fractions(count + 1);
+    for (uint32_t k = 0; k <= count; ++k) fractions[k] = double(k) / count;
+    return sample_edge_at(panel, edge, fractions);
+}
+
+std::vector<Point2> sample_edge_at(const Panel& panel, const PatternEdge& edge, const std::vector<double>& fractions) {
     const uint32_t fine = edge.shape == EdgeShape::straight ? 1 : kFineSegmentsPerCurve;
     const std::vector<Point2> line = edge_polyline(panel, edge, fine);
     std::vector<double> run(line.size(), 0.0);  // arc length at each fine point
     for (size_t k = 1; k < line.size(); ++k) run[k] = run[k - 1] + length(line[k - 1], line[k]);
-    std::vector<Point2> points(count + 1);
+    const size_t last = fractions.size() - 1;
+    std::vector<Point2> points(fractions.size());
     points[0] = line.front();
-    points[count] = line.back();
+    points[last] = line.back();
     size_t piece = 1;
-    for (uint32_t k = 1; k < count; ++k) {
-        const double target = run.back() * k / count;
+    for (size_t k = 1; k < last; ++k) {
+        const double target = run.back() * fractions[k];
         while (piece + 1 < run.size() && run[piece] < target) ++piece;
         const double span = run[piece] - run[piece - 1];
         const double f = span > 0.0 ? (target - run[piece - 1]) / span : 0.0;
@@ -184,7 +191,7 @@ double SegmentIndex::distance(Point2 p, double limit) const {
     return best;
 }
 
-bool SegmentIndex::self_intersects(uint32_t* first) const {
+bool SegmentIndex::self_intersects(uint32_t* first, uint32_t* second) const {
     const size_t n = polygon_.size();
     auto touches = [&](uint32_t i, uint32_t j) {
         const Point2 a = polygon_[i], b = polygon_[(i + 1) % n], c = polygon_[j], d = polygon_[(j + 1) % n];
@@ -208,6 +215,7 @@ bool SegmentIndex::self_intersects(uint32_t* first) const {
             for (uint32_t t = s + 1; t < first_[bucket + 1]; ++t)
                 if (segments_[s] != segments_[t] && touches(segments_[s], segments_[t])) {
                     *first = segments_[s];
+                    if (second != nullptr) *second = segments_[t];
                     return true;
                 }
     return false;

@@ -26,6 +26,10 @@ double edge_length(const Panel& panel, const PatternEdge& edge);
 // count + 1 points along the edge at equal arc length, both ends included, exactly on the curve.
 std::vector<Point2> sample_edge(const Panel& panel, const PatternEdge& edge, uint32_t count);
 
+// The points at the given fractions of the edge's arc length (ascending, first 0, last 1; both
+// ends are the edge's end points exactly), on the curve.
+std::vector<Point2> sample_edge_at(const Panel& panel, const PatternEdge& edge, const std::vector<double>& fractions);
+
 // The outline as one closed polygon (no repeated first point), curves fine.
 std::vector<Point2> fine_outline(const Panel& panel);
 
@@ -47,8 +51,8 @@ public:
     double distance(Point2 p, double limit) const;
 
     // True when two segments that are not neighbours touch or cross, or two neighbours fold back
-    // over each other. Sets *first to one offending segment.
-    bool self_intersects(uint32_t* first) const;
+    // over each other. Sets *first and *second (may be null) to the two offending segments.
+    bool self_intersects(uint32_t* first, uint32_t* second = nullptr) const;
 
 private:
     template <class Visit>

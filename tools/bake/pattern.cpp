@@ -5,6 +5,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdio>
 #include <map>
 #include <nlohmann/json.hpp>
 #include <numbers>
@@ -570,11 +571,19 @@ void check_pattern(const Pattern& pattern) {
             const Point2 a = outline[k], b = outline[(k + 1) % outline.size()];
             perimeter += std::hypot(b.x - a.x, b.y - a.y);
         }
-        uint32_t segment = 0;
-        if (SegmentIndex(outline, 2.0 * perimeter / double(outline.size())).self_intersects(&segment))
-            fail(where, "outline crosses or touches itself (near edge \"" +
-                            panel.edges[std::min<size_t>(segment / kFineSegmentsPerCurve, panel.edges.size() - 1)].name +
-                            "\")");
+        uint32_t segment[2] = {0, 0};
+        if (SegmentIndex(outline, 2.0 * perimeter / double(outline.size())).self_intersects(&segment[0], &segment[1])) {
+            // fine_outline gives a straight edge one segment and a curve kFineSegmentsPerCurve.
+            std::vector<uint32_t> edge_of;
+            for (uint32_t e = 0; e < panel.edges.size(); ++e)
+                edge_of.insert(edge_of.end(), panel.edges[e].shape == EdgeShape::straight ? 1 : kFineSegmentsPerCurve, e);
+            const PatternEdge& a = panel.edges[edge_of[std::min<size_t>(segment[0], edge_of.size() - 1)]];
+            const PatternEdge& b = panel.edges[edge_of[std::min<size_t>(segment[1], edge_of.size() - 1)]];
+            const Point2 at = outline[segment[0]];
+            char place[96];
+            std::snprintf(place, sizeof place, " near (%.4g, %.4g) m in the panel's frame", at.x, at.y);
+            fail(where, "outline crosses or touches itself: edge \"" + a.name + "\" meets edge \"" + b.name + "\"" + place);
+        }
     }
     std::set<std::pair<uint32_t, uint32_t>> sewn;
     for (size_t s = 0; s < pattern.seams.size(); ++s) {

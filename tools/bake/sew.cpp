@@ -170,6 +170,7 @@ Status open_body_world(const ClothAsset& asset, const SewBody& body, const SewOp
     desc.max_cloths = 0;
     reserve_cloth(desc, asset);
     desc.max_bodies = 1;
+    desc.max_colliders = o.floor ? 1 : 0;
     desc.max_body_vertices = uint32_t(body.positions.size());
     desc.max_body_triangles = uint32_t(body.triangles.size() / 3);
     desc.gravity_m_s2 = {0.0f, -gravity, 0.0f};
@@ -186,6 +187,17 @@ Status open_body_world(const ClothAsset& asset, const SewBody& body, const SewOp
     b.friction = o.body_friction;
     b.margin_m = margin_m;
     if (Result r = add_body(w->world, b, &w->body); !r.ok()) return {std::string("body: ") + r.message};
+    if (o.floor) {  // the ground under the soles, as thick as the body's hull
+        ColliderDesc ground;
+        ground.shape = ColliderShape::plane;
+        ground.p0 = {0.0f, HUGE_VALF, 0.0f};
+        for (const Vec3& p : body.positions) ground.p0.y = std::min(ground.p0.y, p.y);
+        ground.p1 = {0.0f, 1.0f, 0.0f};
+        ground.inflation_m = o.body_thickness_m;
+        ground.friction = o.body_friction;
+        ColliderId id;
+        if (Result r = add_collider(w->world, ground, &id); !r.ok()) return {std::string("floor: ") + r.message};
+    }
     ClothDesc c;
     c.asset = &asset;
     c.sweeps = o.sweeps;
@@ -578,12 +590,14 @@ Status sew_garment(const ClothMeshDesc& unsewn, const std::vector<uint32_t>& att
         d.attached_weight = g.attached_weight.data();
     }
 
-    // 3. Draping under full gravity until at rest.
-    {
-        CookedCloth sewn;
+    // 3. Draping under full gravity until at rest; a garment sewn without the arm tips then drapes
+    // again on the whole body, so the dressed pose is outside the body the game steps it with.
+    for (const SewBody* drape_body : {static_cast<const SewBody*>(&body), &whole_body}) {
+        if (drape_body == &whole_body && !o.ignore_arm_tips) break;
+        CookedCloth sewn;  // starting where the garment is (d.positions)
         if (Result r = cook_cloth(d, sewn_cook_options(cook), &sewn); !r.ok()) return {std::string("sewn garment: ") + r.message};
         BodyWorld w;
-        if (Status s = open_body_world(sewn.asset(), body, o, o.gravity_m_s2, o.drape_damping_per_s, &w); !s.ok()) return s;
+        if (Status s = open_body_world(sewn.asset(), *drape_body, o, o.gravity_m_s2, o.drape_damping_per_s, &w); !s.ok()) return s;
         std::vector<Vec3> now(m), before(g.positions);
         const auto watch = [&](const std::vector<Vec3>& pose, bool last) {
             if (o.on_frame && (last || rep.drape_frames % std::max(o.frame_every, 1u) == 0))
@@ -591,8 +605,8 @@ Status sew_garment(const ClothMeshDesc& unsewn, const std::vector<uint32_t>& att
                             uint32_t(g.triangles.size() / 3), g.uv.empty() ? nullptr : g.uv.data(), 0.0f});
         };
         watch(before, false);
-        uint32_t calm = 0;
-        while (rep.drape_frames < o.max_drape_frames && calm < o.rest_frames) {
+        uint32_t calm = 0, frames = 0;
+        while (frames++ < o.max_drape_frames && calm < o.rest_frames) {
             if (Result r = step(w.world, o.dt_s); !r.ok()) return {r.message};
             ++rep.drape_frames;
             read_positions(w.world, w.cloth, now.data(), m);
@@ -600,12 +614,14 @@ Status sew_garment(const ClothMeshDesc& unsewn, const std::vector<uint32_t>& att
             for (uint32_t q = 0; q < m; ++q) sum += length(sub(now[q], before[q]));
             rep.mean_speed_m_s = sum / m / o.dt_s;
             calm = rep.mean_speed_m_s < o.rest_speed_m_s ? calm + 1 : 0;
-            if (rep.drape_frames < o.max_drape_frames && calm < o.rest_frames) watch(now, false);  // (the last below)
+            if (frames < o.max_drape_frames && calm < o.rest_frames) watch(now, false);  // (the last below)
             std::swap(now, before);
         }
         g.positions = before;
         d.positions = g.positions.data();
-        watch(g.positions, true);
+        const bool final_drape = !o.ignore_arm_tips || drape_body == &whole_body;
+        watch(g.positions, final_drape);
+        if (!final_drape) continue;  // the report is of the last drape
         rep.top_at_rest_m = top_of_openings(g.triangles, g.positions, g.attached_particle);
         rep.lowest_at_rest_m = HUGE_VAL, rep.body_lowest_m = HUGE_VAL;
         for (const Vec3& p : g.positions) rep.lowest_at_rest_m = std::min(rep.lowest_at_rest_m, double(p.y));

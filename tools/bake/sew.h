@@ -77,6 +77,9 @@ struct SewOptions {
     // wrapped around the hands as its side seams closed (GarmentCode's simulator filters the arms
     // out of a skirt's collisions likewise). Bindings still name the whole body's triangles.
     bool ignore_arm_tips = false;
+    // A floor under the body's soles (its lowest vertex), with the body's friction: a garment longer
+    // than the legs (GarmentCode samples maxi skirts) lies on it instead of hanging below the feet.
+    bool floor = true;
     float body_thickness_m = 0.004f;    // the body's offset hull (BodyDesc::thickness_m)
     float body_friction = 0.5f;
     // Watching (weft-bake --sewing-frames): called with frame 0, every frame_every-th and the last

@@ -28,6 +28,7 @@
 #include "garment.h"
 #include "metrics.h"
 #include "progress.h"
+#include "scene.h"
 
 namespace weft::bench {
 namespace {
@@ -57,6 +58,54 @@ std::string garment_kind(const bake::Pattern& pattern) {
 double contiguous_fraction(const ClothAsset& a) {
     const uint32_t total = a.total_constraints();
     return total > 0 ? double(a.constraints_on_runs) / total : 0.0;
+}
+
+// The dressed garment in a scene whose body blends from its pose to `o.blend_to` over o.moving_s
+// and then stands still: the deepest particle below the moving hull (exact query, every frame),
+// whether it stays finite, and its mean speed kMovingRest_s after the body stops.
+void run_moving(const std::vector<std::byte>& asset_bytes, const CorpusOptions& o, json& j) {
+    const std::string dir = std::filesystem::temp_directory_path() / ("weft_corpus_" + std::to_string(getpid()));
+    std::filesystem::create_directories(dir);
+    std::ofstream(dir + "/garment.weft", std::ios::binary)
+        .write(reinterpret_cast<const char*>(asset_bytes.data()), std::streamsize(asset_bytes.size()));
+    scenes::Scene scene;
+    scene.name = "corpus-moving";
+    scene.dt_s = 1.0f / 60.0f;
+    scenes::BodySpec body;
+    body.mesh_path = std::filesystem::absolute(o.body).string();
+    body.blend_to_path = std::filesystem::absolute(o.blend_to).string();
+    body.animation = scenes::BodyAnimation::blend;
+    body.period_s = 2.0f * o.moving_s;  // rest -> blend_to in moving_s
+    scene.body = body;
+    scenes::ClothSpec cloth;
+    cloth.name = "garment";
+    cloth.asset_path = "garment.weft";
+    scene.cloths.push_back(cloth);
+    scenes::SceneWorld sw;
+    const std::string e = scenes::build_scene(scene, &sw, {dir});
+    std::filesystem::remove_all(dir);
+    if (!e.empty()) {
+        j["moving_error"] = e;
+        return;
+    }
+    const uint32_t moving = uint32_t(std::lround(o.moving_s / scene.dt_s)), resting = uint32_t(std::lround(kMovingRest_s / scene.dt_s));
+    double deepest = 0.0, speed = 0.0;
+    bool finite = true;
+    for (uint32_t f = 1; f <= moving + resting && finite; ++f) {
+        if (!scenes::animate_body(sw, float(std::min(f, moving)) * scene.dt_s).empty() || !step(sw.world, scene.dt_s).ok()) {
+            j["moving_error"] = "the scene did not step";
+            return;
+        }
+        ClothView view;
+        view_cloth(sw.world, sw.cloths[0].id, &view);
+        finite = metrics::bounds(view).finite;
+        deepest = std::max(deepest, metrics::max_body_penetration_m(sw.world, sw.body->id, view));
+        speed = metrics::mean_speed(view);
+    }
+    j["moving_finite"] = finite;
+    j["moving_max_penetration_m"] = deepest;
+    j["moving_final_speed_m_s"] = speed;
+    j["moving_ok"] = finite && deepest <= kMovingMaxPenetration_m && speed < kMovingRestSpeed_m_s;
 }
 
 // One garment, flat then sewn: the corpus line (run in the child).
@@ -113,6 +162,7 @@ json bake_one(const std::string& path, const bake::SewBody* body, const CorpusOp
     j["drape_frames"] = r.drape_frames;
     j["final_mean_speed_m_s"] = r.mean_speed_m_s;
     j["sew_s"] = r.sewing_s;
+    if (!o.blend_to.empty() && j["stayed_on"].get<bool>()) run_moving(sewn.bytes, o, j);
     return j;
 }
 
@@ -188,7 +238,7 @@ double percentile(std::vector<double> v, double q) {
 }
 
 json summarise(const std::vector<json>& lines, bool sewn) {
-    uint32_t flat_ok = 0, sewn_ok = 0, stayed_on = 0, lower = 0, lower_stayed = 0;
+    uint32_t flat_ok = 0, sewn_ok = 0, stayed_on = 0, lower = 0, lower_stayed = 0, moving = 0, moving_ok = 0;
     std::vector<double> flat_cf, flat_pad, cf, pad, sew_s, mean_strain, max_strain;
     for (const json& j : lines) {
         if (j.value("flat_ok", false)) {
@@ -201,6 +251,7 @@ json summarise(const std::vector<json>& lines, bool sewn) {
         sewn_ok += j.value("sewn_ok", false);
         cf.push_back(j["contiguous_fraction"]), pad.push_back(j["padding_ratio"]), sew_s.push_back(j["sew_s"]);
         if (!j.value("stayed_on", false)) continue;
+        if (j.contains("moving_ok") || j.contains("moving_error")) ++moving, moving_ok += j.value("moving_ok", false);
         ++stayed_on, lower_stayed += is_lower;
         mean_strain.push_back(j["start_mean_strain"]), max_strain.push_back(j["start_max_strain"]);
     }
@@ -221,6 +272,7 @@ json summarise(const std::vector<json>& lines, bool sewn) {
     s["p10_contiguous_fraction"] = percentile(cf, 0.1);
     s["median_padding_ratio"] = median(pad);
     s["median_sew_s"] = median(sew_s);
+    if (moving > 0) s["moving"] = moving, s["moving_ok"] = moving_ok;
     return s;
 }
 

@@ -1,6 +1,6 @@
 // weft-bench corpus: a folder of sewing patterns baked flat and sewn, one garment per child process
 // (a crash or a hang fails that garment, never the batch), --jobs at a time.
-//   weft-bench corpus DIR [--body BODY] [--jobs N] [--json] [--filter TEXT] [--timeout S]
+//   weft-bench corpus DIR [--body BODY [--blend-to POSE]] [--jobs N] [--json] [--filter A,B] [--timeout S]
 #pragma once
 
 #include <cstdint>
@@ -11,6 +11,10 @@ namespace weft::bench {
 struct CorpusOptions {
     std::string dir;           // every *_specification.json (GarmentCode) or *.json pattern in it
     std::string body;          // OBJ / glTF / "mannequin"; empty: flat bakes only
+    // The same body's second pose (same faces): each garment that stays on is then run in a scene
+    // that blends the body to it over moving_s and holds it (issue 21, point 4).
+    std::string blend_to;
+    float moving_s = 4.0f;
     uint32_t jobs = 0;         // 0: one per core
     uint32_t sweeps = 8;       // the sewing and drape budget (weft-bake --sweeps)
     double timeout_s = 600.0;  // a garment still baking after this fails with "timed out"
@@ -20,6 +24,11 @@ struct CorpusOptions {
 
 // Stays on (issue 21): the top drops less than this between closed seams and the dressed pose.
 inline constexpr double kStaysOnMaxTopDrop_m = 0.05;
+// On the moving body: every particle within this of the hull (the game's bound, docs/garments.md)...
+inline constexpr double kMovingMaxPenetration_m = 0.001;
+// ...and at rest (mean speed below this) within kMovingRest_s after the body stops.
+inline constexpr double kMovingRestSpeed_m_s = 0.001;
+inline constexpr float kMovingRest_s = 3.0f;
 
 int run_corpus(const CorpusOptions& options);
 

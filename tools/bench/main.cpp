@@ -591,6 +591,8 @@ int main(int argc, char** argv) {
     CLI::App* corpus = app.add_subcommand("corpus", "a folder of sewing patterns baked flat and sewn, one JSON line per garment and a summary");
     corpus->add_option("dir", corpus_o.dir, "folder of patterns (GarmentCode *_specification.json or Weft *.json)")->required();
     corpus->add_option("--body", corpus_o.body, "sew onto this body (OBJ, glTF or 'mannequin'); none: flat bakes only");
+    corpus->add_option("--blend-to", corpus_o.blend_to, "with --body: run each garment that stays on while the body blends to this pose (same faces)");
+    corpus->add_option("--moving-s", corpus_o.moving_s, "seconds the blend takes")->check(CLI::Range(0.1f, 60.0f))->capture_default_str();
     corpus->add_option("--jobs", corpus_o.jobs, "garments baked at once (0: one per core)")->capture_default_str();
     corpus->add_option("--sweeps", corpus_o.sweeps, "the sewing and drape budget (weft-bake --sweeps)")
         ->check(CLI::Range(1u, 1000u))->capture_default_str();

@@ -277,8 +277,9 @@ struct ClothMeshDesc {
 
 struct CookOptions {
     // Tethers per free particle: 1 = to its nearest pinned particle, 2 = also to its farthest (two
-    // anchors far apart bound it in two directions); straight-line lengths on the rest mesh.
-    // 0 = no tethers in the asset.
+    // anchors far apart bound it in two directions); straight-line lengths on the rest mesh, or
+    // with rest_corners (a sewn garment) lengths along the flat panels, never shorter than the
+    // straight line in any pose. 0 = no tethers in the asset.
     uint32_t tethers_per_particle = 2;
     // Allow runs to bridge gaps of up to this many missing constraints with padding lanes.
     uint32_t max_run_gap = 4;

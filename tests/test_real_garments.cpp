@@ -1,0 +1,128 @@
+// Real garments (issue 21): GarmentCode's randomly sampled garments (../shared/data/patterns/
+// garmentcode-sampled/) on the shared mean_all body. Each test is one corpus garment that showed a
+// cause (the whole corpus runs in `weft-bench corpus`, docs/garments.md): its body labels, the
+// body's arm tips, a skirt that slid off, a circle skirt caught on the hands.
+#include <doctest/doctest.h>
+
+#include <cmath>
+#include <filesystem>
+#include <fstream>
+#include <iterator>
+#include <string>
+
+#include "bake.h"
+#include "body_mesh.h"
+
+using namespace weft;
+
+namespace {
+
+const std::string kShared = WEFT_SHARED_DATA_DIR;
+
+bool have_shared() {
+    if (std::filesystem::exists(kShared + "/bodies/mean_all.obj")) return true;
+    MESSAGE("../shared/data is not there: skipped");
+    return false;
+}
+
+std::string corpus_pattern(const std::string& name) {
+    std::ifstream f(kShared + "/patterns/garmentcode-sampled/" + name + "_specification.json", std::ios::binary);
+    REQUIRE(f);
+    return {std::istreambuf_iterator<char>(f), std::istreambuf_iterator<char>()};
+}
+
+const bake::SewBody& mean_all() {
+    static const bake::SewBody body = [] {
+        body::BodyMesh mesh;
+        REQUIRE(body::load_body_mesh(kShared + "/bodies/mean_all.obj", &mesh).empty());
+        return bake::SewBody{mesh.positions, mesh.triangles};
+    }();
+    return body;
+}
+
+}  // namespace
+
+TEST_CASE("GarmentCode labels: waistline and necklines become body attachments; stitched armholes mean sleeves") {
+    if (!have_shared()) return;
+    bake::Pattern dress;  // a sleeveless dress: bodice, waistband, skirt
+    REQUIRE(bake::parse_pattern(corpus_pattern("gc_1001_0000"), {}, &dress).ok());
+    size_t waist = 0, neck = 0;
+    for (const bake::BodyAttachment& a : dress.attachments) {
+        CHECK(a.where.edge >= 0);  // whole edges
+        waist += a.label == "lower_interface";
+        neck += a.label == "left_collar" || a.label == "right_collar";
+    }
+    CHECK(waist == 10);  // the waistband's upper edges
+    CHECK(neck == 4);    // front and back, both sides
+    CHECK(dress.attachments.size() == waist + neck);
+    CHECK_FALSE(dress.sleeves);  // its armholes are hemmed, not sewn to sleeves
+    bake::Pattern shirt;         // sleeves sewn into the armholes
+    REQUIRE(bake::parse_pattern(corpus_pattern("gc_1001_0003"), {}, &shirt).ok());
+    CHECK(shirt.sleeves);
+}
+
+TEST_CASE("arm tips: mean_all's hands and forearms, nothing of its torso or legs") {
+    if (!have_shared()) return;
+    const bake::SewBody& body = mean_all();
+    const std::vector<bool> tip = bake::arm_tip_triangles(body);
+    size_t count = 0, left = 0, right = 0;
+    for (size_t t = 0; t < tip.size(); ++t) {
+        if (!tip[t]) continue;
+        ++count;
+        const Vec3 p = body.positions[body.triangles[3 * t]];
+        // The A-pose's torso and legs lie within 0.2 m of the body's axis; its forearms beyond.
+        CHECK(std::fabs(p.x) > 0.2f);
+        CHECK(p.y > 0.7f);  // above the thighs' middle
+        (p.x < 0.0f ? left : right) += 1;
+    }
+    CHECK(left > 0);
+    CHECK(right > 0);
+    // Hands and forearms: 22% of mean_all's triangles (its fingers are finely meshed).
+    CHECK(double(count) / double(tip.size()) > 0.1);
+    CHECK(double(count) / double(tip.size()) < 0.3);
+}
+
+namespace {
+
+struct Sewn {
+    bake::Baked baked;
+    bake::Status status;
+};
+
+Sewn sew_corpus(const std::string& name) {
+    bake::BakeOptions options;
+    options.body = &mean_all();
+    Sewn s;
+    s.status = bake::bake_pattern(corpus_pattern(name), options, &s.baked);
+    return s;
+}
+
+}  // namespace
+
+TEST_CASE("real garments: a skirt that slid off while its seams closed stays at the waist (gc_1001_0043)") {
+    // Before: the waistband slid over the hips of the frictionless body as the side seams pulled
+    // it round, and the skirt fell 1.02 m. Now its waistline ("lower_interface") keeps its height
+    // while the seams close and is bound to the body.
+    if (!have_shared()) return;
+    const Sewn s = sew_corpus("gc_1001_0043");
+    INFO(s.status.error);
+    REQUIRE(s.status.ok());
+    const bake::SewReport& r = s.baked.sew_report;
+    CHECK(r.attached > 0);
+    CHECK(r.top_at_closed_m - r.top_at_rest_m < 0.05);
+    CHECK(r.top_at_rest_m > 0.9);  // at mean_all's waist (1.0-1.1 m), not its hips
+    CHECK(r.lowest_at_rest_m >= r.body_lowest_m);
+    CHECK(r.particles_inside_body == 0);
+    CHECK(r.max_seam_gap_m == 0.0);
+}
+
+TEST_CASE("real garments: seams that stayed open behind an arm close (gc_1001_0047)") {
+    // Before: "a seam is still 14 cm open after 900 sewing frames": a kinematic source slid over
+    // the hull toward its target on the far side of an arm and stayed caught behind it.
+    if (!have_shared()) return;
+    const Sewn s = sew_corpus("gc_1001_0047");
+    INFO(s.status.error);
+    REQUIRE(s.status.ok());
+    CHECK(s.baked.sew_report.max_seam_gap_m == 0.0);
+    CHECK(s.baked.sew_report.seam_points > 0);
+}
