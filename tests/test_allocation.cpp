@@ -408,6 +408,7 @@ TEST_CASE("stepping with a body allocates nothing; Embree's reference pass at mo
         desc.max_cloths = 0;
         reserve_cloth(desc, cooked.asset());
         desc.max_bodies = 1;
+        desc.max_cached_plane_bodies = pass == 1 ? 1 : 0;
         desc.max_body_vertices = uint32_t(sphere.positions.size());
         desc.max_body_triangles = uint32_t(sphere.triangles.size() / 3);
         desc.simd = path;

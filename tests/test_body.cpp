@@ -105,6 +105,7 @@ struct BodyWorld {
               SimdPath path = SimdPath::automatic, uint32_t substeps = 0) {
         WorldDesc d = world_for({&asset}, 0, path);
         d.max_bodies = 1;
+        d.max_cached_plane_bodies = settings.collision == BodyCollision::cached_planes ? 1 : 0;
         d.max_body_vertices = mesh.vertex_count();
         d.max_body_triangles = mesh.triangle_count();
         REQUIRE(make_world(d, &owned).ok());
@@ -699,6 +700,122 @@ TEST_CASE("body: with one substep a step cached planes are the exact pass, bit f
     }
     CHECK(contacts > 1000);
     CHECK(same_bits(exact.positions(), planes.positions()));
+}
+
+// A world pays for the cached planes only when it reserves them (WorldDesc::max_cached_plane_bodies).
+TEST_CASE("body: the cached planes take memory only in a world that reserves them") {
+    const scenes::GridMesh grid = scenes::make_grid(20, 0.5f, 0.5f, false, 0.4f);
+    const CookedCloth cooked = cook(grid.desc());
+    const ClothAsset& asset = cooked.asset();
+    // The world's bytes for `planes` cached-plane bodies of `bodies`, with `extra` particle slots.
+    auto bytes = [&](uint32_t bodies, uint32_t planes, uint32_t extra) {
+        WorldDesc d = world_for({&asset});
+        d.max_particles += extra;
+        d.max_bodies = bodies;
+        d.max_cached_plane_bodies = planes;
+        d.max_body_vertices = bodies > 0 ? 1000 : 0;
+        d.max_body_triangles = bodies > 0 ? 2000 : 0;
+        return world_memory_requirements(d).bytes;
+    };
+    constexpr uint32_t kSlots = 1024;
+    auto per_slots = [&](uint32_t bodies, uint32_t planes) {
+        const size_t small = bytes(bodies, planes, 0), large = bytes(bodies, planes, kSlots);
+        REQUIRE(small > 0);
+        return large - small;
+    };
+    // With bodies but no cached-plane body, a slot costs only the body pass's order (4 bytes) more
+    // than in a world without bodies, however many bodies; each reserved body adds 76 bytes a slot.
+    const size_t plain = per_slots(0, 0);
+    for (uint32_t bodies : {1u, 2u, 4u}) {
+        CAPTURE(bodies);
+        CHECK(per_slots(bodies, 0) == plain + 4 * kSlots);
+        CHECK(per_slots(bodies, 1) == plain + (4 + 76) * kSlots);
+    }
+    CHECK(per_slots(4, 3) == plain + (4 + 3 * 76) * kSlots);
+    CHECK(bytes(2, 0, 0) + 76 * asset.slot_count <= bytes(2, 1, 0));
+    // More cached-plane bodies than bodies makes no sense.
+    CHECK(bytes(1, 2, 0) == 0);
+    WorldDesc too_many = world_for({&asset});
+    too_many.max_bodies = 1;
+    too_many.max_cached_plane_bodies = 2;
+    too_many.max_body_vertices = 1000;
+    too_many.max_body_triangles = 2000;
+    World* refused = nullptr;
+    const Result r = create_world(too_many, nullptr, 0, &refused);  // checked before the memory
+    INFO(r.message);
+    CHECK(r.code == ErrorCode::invalid_argument);
+    CHECK(std::strstr(r.message, "max_cached_plane_bodies") != nullptr);
+}
+
+TEST_CASE("body: add_body refuses a cached_planes body beyond the world's reserved planes, changing nothing") {
+    const BodyMesh sphere = body::make_icosphere({0, 0, 0}, 0.3f, 3);
+    const BodyMesh far_sphere = body::make_icosphere({0, 5, 0}, 0.3f, 2);
+    const scenes::GridMesh grid = scenes::make_grid(16, 0.8f, 0.8f, false, 0.35f);
+    const CookedCloth cooked = cook(grid.desc());
+    auto desc_of = [](const BodyMesh& m, BodyCollision model) {
+        BodyDesc b;
+        b.positions = m.positions.data();
+        b.vertex_count = m.vertex_count();
+        b.triangles = m.triangles.data();
+        b.triangle_count = m.triangle_count();
+        b.collision = model;
+        return b;
+    };
+    // `planes` cached-plane bodies reserved of 2; the cloth runs 3 substeps a step.
+    auto world_with = [&](uint32_t planes, OwnedWorld* out, ClothId* cloth) {
+        WorldDesc d = world_for({&cooked.asset()});
+        d.max_bodies = 2;
+        d.max_cached_plane_bodies = planes;
+        d.max_body_vertices = sphere.vertex_count() + far_sphere.vertex_count();
+        d.max_body_triangles = sphere.triangle_count() + far_sphere.triangle_count();
+        REQUIRE(make_world(d, out).ok());
+        ClothDesc cd;
+        cd.asset = &cooked.asset();
+        cd.policy = BudgetPolicy::explicit_split;
+        cd.substeps = 3;
+        cd.iterations = 1;
+        REQUIRE(add_cloth(out->world, cd, cloth).ok());
+    };
+    BodyId id;
+    {  // None reserved: exact bodies only.
+        OwnedWorld w;
+        ClothId cloth;
+        world_with(0, &w, &cloth);
+        const Result r = add_body(w.world, desc_of(sphere, BodyCollision::cached_planes), &id);
+        INFO(r.message);
+        CHECK(r.code == ErrorCode::capacity_exceeded);
+        CHECK(std::strstr(r.message, "max_cached_plane_bodies") != nullptr);
+        BodyView none;
+        CHECK(view_body(w.world, BodyId{0}, &none).code == ErrorCode::out_of_range);  // nothing was added
+        REQUIRE(add_body(w.world, desc_of(sphere, BodyCollision::exact), &id).ok());
+        CHECK(id.index == 0);
+        REQUIRE(step(w.world, kDt).ok());
+    }
+    // One reserved: the second cached-plane body is refused, an exact one is not; the planes sit at
+    // the cached body's own place, so an exact body before it (far away, never touched) changes no bit.
+    OwnedWorld both, alone;
+    ClothId both_cloth, alone_cloth;
+    world_with(1, &both, &both_cloth);
+    world_with(1, &alone, &alone_cloth);
+    REQUIRE(add_body(both.world, desc_of(far_sphere, BodyCollision::exact), &id).ok());
+    REQUIRE(add_body(both.world, desc_of(sphere, BodyCollision::cached_planes), &id).ok());
+    CHECK(id.index == 1);
+    REQUIRE(add_body(alone.world, desc_of(sphere, BodyCollision::cached_planes), &id).ok());
+    CHECK(add_body(alone.world, desc_of(far_sphere, BodyCollision::cached_planes), &id).code ==
+          ErrorCode::capacity_exceeded);
+    std::vector<Vec3> moved = sphere.positions;
+    uint64_t contacts = 0;
+    for (int i = 0; i < 30; ++i) {
+        for (size_t v = 0; v < moved.size(); ++v) moved[v].y = sphere.positions[v].y + 0.004f * float(i);
+        REQUIRE(set_body_vertices(both.world, BodyId{1}, moved.data(), uint32_t(moved.size())).ok());
+        REQUIRE(set_body_vertices(alone.world, BodyId{0}, moved.data(), uint32_t(moved.size())).ok());
+        REQUIRE(step(both.world, kDt).ok());
+        REQUIRE(step(alone.world, kDt).ok());
+        contacts += world_stats(both.world).body_contacts;
+    }
+    const uint32_t n = cooked.asset().particle_count;
+    CHECK(contacts > 1000);
+    CHECK(same_bits(read_all(both.world, both_cloth, n), read_all(alone.world, alone_cloth, n)));
 }
 
 TEST_CASE("body: the same inputs give the same bits") {

@@ -79,6 +79,24 @@ TEST_CASE("a scene's body collides by cached planes unless it names the exact pa
     }
 }
 
+// A scene reserves the cached planes (WorldDesc::max_cached_plane_bodies) only when its body uses them.
+TEST_CASE("a scene's world holds the cached planes only when its body collides by them") {
+    const std::string head = R"({"format": "weft-scene", "version": 1, "cloths": [{"grid": {"n": 4}}], "body": {"mannequin": {})";
+    size_t bytes[2] = {0, 0};
+    uint32_t slots = 0;
+    for (int m = 0; m < 2; ++m) {
+        scenes::Scene scene;
+        REQUIRE(scenes::parse_scene(head + (m == 0 ? R"(, "collision": "exact"}})" : "}}"), ".", &scene).empty());
+        scenes::SceneWorld w;
+        const std::string error = scenes::build_scene(scene, &w);
+        INFO(error);
+        REQUIRE(error.empty());
+        bytes[m] = w.memory_bytes;
+        slots = w.cloths[0].asset->slot_count;
+    }
+    CHECK(bytes[0] + 76 * size_t(slots) <= bytes[1]);
+}
+
 TEST_CASE("malformed scenes are refused with the key's path") {
     const std::string head = R"({"format": "weft-scene", "version": 1, )";
     const std::string cloth = R"("cloths": [{"grid": {"n": 4}}])";

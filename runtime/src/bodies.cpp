@@ -46,6 +46,11 @@ Result check_body_desc(const World& world, const BodyDesc& desc) {
         return make_error(ErrorCode::invalid_argument, "unknown body collision model %u", unsigned(desc.collision));
     if (world.body_count >= world.desc.max_bodies)
         return make_error(ErrorCode::capacity_exceeded, "world holds at most %u bodies", world.desc.max_bodies);
+    if (desc.collision == BodyCollision::cached_planes && world.cached_plane_bodies >= world.desc.max_cached_plane_bodies)
+        return make_error(ErrorCode::capacity_exceeded,
+                          "cached_planes: the world has contact planes for %u bodies "
+                          "(WorldDesc::max_cached_plane_bodies), all taken",
+                          world.desc.max_cached_plane_bodies);
     if (desc.vertex_count > world.desc.max_body_vertices - world.body_vertices_used)
         return make_error(ErrorCode::capacity_exceeded, "body needs %u vertices, %u left", desc.vertex_count,
                           world.desc.max_body_vertices - world.body_vertices_used);
@@ -138,6 +143,7 @@ Result add_body(World* world, const BodyDesc& desc, BodyId* out_body) {
     }
     world->body_vertices_used += v;
     world->body_triangles_used += t;
+    if (desc.collision == BodyCollision::cached_planes) body.plane_index = world->cached_plane_bodies++;
     out_body->index = world->body_count++;
     return {};
 }

@@ -199,11 +199,12 @@ void collide_bodies(World& world, ClothInstance& cloth, uint32_t substep, uint32
     const uint32_t slots = cloth.particles.slot_count;
     for (uint32_t i = 0; i < world.body_count; ++i) {
         const BodyState& body = world.bodies[i];
-        const ContactPlanes planes =
-            contact_planes_in(cloth.contact_planes + size_t(i) * kContactPlaneArrays * slots, slots);
-        const bool cached = body.desc.collision == BodyCollision::cached_planes;
-        collide_body(cloth.particles, cloth.body_order, body, substep, substeps, cached ? &planes : nullptr,
-                     world.kernels->path, counts);
+        ContactPlanes planes{};
+        if (body.plane_index != ~0u)  // a cached_planes body (add_body gave it its place)
+            planes = contact_planes_in(cloth.contact_planes + size_t(body.plane_index) * kContactPlaneArrays * slots,
+                                       slots);
+        collide_body(cloth.particles, cloth.body_order, body, substep, substeps,
+                     body.plane_index != ~0u ? &planes : nullptr, world.kernels->path, counts);
     }
     world.stats.body_contacts += counts.contacts;
     world.stats.body_rays += counts.rays;

@@ -86,11 +86,12 @@ ArenaSizer size_world(const WorldDesc& desc) {
     sizer.add(sizeof(float) * 11 * size_t(desc.max_body_vertices) + sizeof(uint32_t) * 3 * size_t(desc.max_body_triangles) +
               4 * (kCacheLine + 16) * size_t(desc.max_bodies));
     sizer.add(body_hierarchy_bytes(desc.max_body_triangles, desc.max_bodies));
-    if (desc.max_bodies > 0) {  // each cloth's slot order for the body pass, its contact planes per body
+    if (desc.max_bodies > 0)  // each cloth's slot order for the body pass
         sizer.add(sizeof(uint32_t) * size_t(desc.max_particles) + kCacheLine * desc.max_cloths);
-        sizer.add(sizeof(float) * kContactPlaneArrays * size_t(desc.max_bodies) * size_t(desc.max_particles) +
+    if (desc.max_cached_plane_bodies > 0)  // each cloth's contact planes per cached_planes body
+        sizer.add(sizeof(float) * kContactPlaneArrays * size_t(desc.max_cached_plane_bodies) *
+                      size_t(desc.max_particles) +
                   kCacheLine * desc.max_cloths);
-    }
     sizer.bytes += kCacheLine;  // the caller's block may start anywhere on a cache line
     return sizer;
 }
@@ -106,6 +107,9 @@ Result check_world_desc(const WorldDesc& desc) {
         return make_error(ErrorCode::non_finite, "gravity or air density is not finite");
     if (desc.air_density_kg_m3 < 0.0f)
         return make_error(ErrorCode::out_of_range, "air density is negative");
+    if (desc.max_cached_plane_bodies > desc.max_bodies)
+        return make_error(ErrorCode::invalid_argument, "max_cached_plane_bodies %u is more than max_bodies %u",
+                          desc.max_cached_plane_bodies, desc.max_bodies);
     if (desc.max_bodies > 0 && (desc.max_body_vertices < 3 || desc.max_body_triangles < 1))
         return make_error(ErrorCode::invalid_argument, "bodies need max_body_vertices >= 3 and max_body_triangles >= 1");
     if (desc.simd != SimdPath::automatic && !simd_path_available(desc.simd))
@@ -371,9 +375,10 @@ Result add_cloth(World* world, const ClothDesc& desc, ClothId* out_cloth) {
         return make_error(ErrorCode::capacity_exceeded, "world memory exhausted");
     }
     uint32_t* const body_order = world->desc.max_bodies > 0 ? world->arena.allocate_array<uint32_t>(asset.slot_count) : nullptr;
-    const size_t plane_floats = size_t(kContactPlaneArrays) * world->desc.max_bodies * asset.slot_count;
+    const size_t plane_floats = size_t(kContactPlaneArrays) * world->desc.max_cached_plane_bodies * asset.slot_count;
     float* const contact_planes = plane_floats > 0 ? world->arena.allocate_array<float>(plane_floats) : nullptr;
-    if ((body_order == nullptr || contact_planes == nullptr) && world->desc.max_bodies > 0 && asset.slot_count > 0) {
+    if (((body_order == nullptr && world->desc.max_bodies > 0) || (contact_planes == nullptr && plane_floats > 0)) &&
+        asset.slot_count > 0) {
         world->arena = saved;
         return make_error(ErrorCode::capacity_exceeded, "world memory exhausted");
     }

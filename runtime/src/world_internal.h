@@ -17,8 +17,8 @@ struct ClothInstance {
     float previous_substep_s = 0.0f;  // h_prev of time-corrected Verlet; 0 before the first step
     uint32_t attached_body = ~0u;     // the body the asset's attachments follow (weft/attachments.h)
     uint32_t* body_order = nullptr;   // [slot_count] with bodies: the body pass's slot order (collide/body.h)
-    // [max_bodies * kContactPlaneArrays * slot_count] with bodies: per body the contact planes of
-    // BodyCollision::cached_planes (collide/body.h: ContactPlanes, contact_planes_in).
+    // [max_cached_plane_bodies * kContactPlaneArrays * slot_count]: the contact planes of each
+    // cached_planes body, at its BodyState::plane_index (collide/body.h: contact_planes_in).
     float* contact_planes = nullptr;
     // Slots of the lattice planes with inverse mass 0 (pinned, or no particle there). While there
     // are none, the integration pass skips the per-lane pinned check (integrate/verlet.h).
@@ -46,6 +46,7 @@ struct World {
     uint32_t body_count = 0;
     uint32_t body_vertices_used = 0;
     uint32_t body_triangles_used = 0;
+    uint32_t cached_plane_bodies = 0;  // bodies added with BodyCollision::cached_planes
     EmbreeCommitHook commit_hook = nullptr;
     void* commit_hook_user = nullptr;
     uint32_t* validation_scratch = nullptr;  // [max(max_particles, max_coarse_nodes)], for validate_asset

@@ -297,7 +297,8 @@ int run_garment(uint32_t steps, bool as_json, const std::vector<BodyCollision>& 
                                 {"max_strain", r.max_strain},
                                 {"body_queried_per_step", r.queried / double(steps)},
                                 {"mean_strain", r.strain_sum / double(steps)},
-                                {"sewing_s", baked.sew_report.sewing_s}};
+                                {"sewing_s", baked.sew_report.sewing_s},
+                                {"world_bytes", sw.memory_bytes}};
             if (exact != nullptr) {  // same-run ratios against the exact model (< 1: cheaper)
                 j["step_vs_exact"] = median(exact->step_us) > 0 ? step_us / median(exact->step_us) : 0.0;
                 j["body_vs_exact"] = median(exact->body_us) > 0 ? body_us / median(exact->body_us) : 0.0;

@@ -156,6 +156,7 @@ SceneWorld& SceneWorld::operator=(SceneWorld&& other) noexcept {
     cloths = std::move(other.cloths);
     body = std::move(other.body);
     memory = std::move(other.memory);
+    memory_bytes = other.memory_bytes;
     world = std::exchange(other.world, nullptr);
     colliders = std::move(other.colliders);
     dt_s = other.dt_s;
@@ -208,6 +209,7 @@ std::string build_scene(const Scene& scene, SceneWorld* out, const std::vector<s
         out->body = std::make_unique<SceneBody>();
         if (std::string e = load_body(*scene.body, scene, asset_dirs, out->body.get()); !e.empty()) return "body: " + e;
         wd.max_bodies = 1;
+        wd.max_cached_plane_bodies = scene.body->collision == BodyCollision::cached_planes ? 1 : 0;  // 76 B a slot
         wd.max_body_vertices = uint32_t(out->body->rest.size());
         wd.max_body_triangles = uint32_t(out->body->triangles.size() / 3);
     }
@@ -222,6 +224,7 @@ std::string build_scene(const Scene& scene, SceneWorld* out, const std::vector<s
     const size_t bytes = (need.bytes + need.alignment - 1) / need.alignment * need.alignment;
     out->memory = {static_cast<unsigned char*>(std::aligned_alloc(need.alignment, bytes)), std::free};
     if (!out->memory) return "out of memory";
+    out->memory_bytes = need.bytes;
     if (Result r = create_world(wd, out->memory.get(), bytes, &out->world); !r.ok()) return r.message;
 
     if (out->body) {

@@ -127,6 +127,7 @@ struct SceneWorld {
     std::vector<SceneCloth> cloths;
     std::unique_ptr<SceneBody> body;
     std::unique_ptr<unsigned char[], void (*)(void*)> memory{nullptr, nullptr};
+    size_t memory_bytes = 0;  // world_memory_requirements of the scene's world
     World* world = nullptr;
     std::vector<ColliderId> colliders;
     float dt_s = kSeedTimeStep_s;

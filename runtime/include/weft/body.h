@@ -45,7 +45,9 @@ enum class BodyCollision : uint8_t {
     // was last searched: getting deeper than that behind the hull takes moving further, so no
     // particle ends a step more than 2 mm inside a hull the exact pass would have kept it out of
     // (tested on the moving mean_all's torso, hips and arms). Unreal's Chaos Cloth calls these
-    // planar constraints. With one substep a step it is the exact pass.
+    // planar constraints. With one substep a step it is the exact pass. The planes take every cloth
+    // 76 bytes a particle slot, reserved by WorldDesc::max_cached_plane_bodies (add_body refuses a
+    // cached_planes body beyond it).
     cached_planes,
 };
 

@@ -39,11 +39,13 @@ struct WorldDesc {
     uint32_t max_colliders = 0;
     uint32_t max_coarse_nodes = 0;  // summed ClothAsset::coarse_slot_count (node slots) of the cloths
     // Body colliders (weft/body.h). With max_bodies > 0, create_world creates an Embree device;
-    // a world without bodies never does. Every cloth also holds 76 bytes a particle slot per body
-    // for BodyCollision::cached_planes (its contact planes), whichever model the bodies use.
+    // a world without bodies never does.
     uint32_t max_bodies = 0;
     uint32_t max_body_vertices = 0;   // summed over bodies
     uint32_t max_body_triangles = 0;  // summed over bodies
+    // Bodies that may use BodyCollision::cached_planes (at most max_bodies): each costs every cloth
+    // 76 bytes a particle slot for its contact planes; add_body refuses one more. 0: none, no bytes.
+    uint32_t max_cached_plane_bodies = 0;
 
     // Features: a pass that is not enabled is not in the step at all (and costs nothing).
     bool wind = false;

@@ -76,6 +76,7 @@ struct BodyState {
     BodyHierarchy hierarchy;
     bool refit_pending = false;  // new vertices since the last step
     bool moving = false;         // hull and previous_hull differ (the body moved at the last step)
+    uint32_t plane_index = ~0u;  // cached_planes: its planes' place in each cloth's contact_planes
 };
 
 // Closest point on triangle (a, b, c) to p as barycentric weights (w0 + w1 + w2 = 1).
