@@ -289,6 +289,32 @@ TEST_CASE("sewing: the watched frames (weft-bake --sewing-frames, figure 13) go 
     CHECK(read.uv == last.uv);
 }
 
+TEST_CASE("sewing: the binned inside test answers as the ray parity against every triangle") {
+    const bake::SewBody& body = mannequin();
+    const bake::BodyInsideTest inside(body);
+    Vec3 lo{1e9f, 1e9f, 1e9f}, hi{-1e9f, -1e9f, -1e9f};
+    for (const Vec3& p : body.positions)
+        lo = {std::min(lo.x, p.x), std::min(lo.y, p.y), std::min(lo.z, p.z)}, hi = {std::max(hi.x, p.x), std::max(hi.y, p.y), std::max(hi.z, p.z)};
+    // Points through the body's box, and points just off every 7th vertex (on the skin: where
+    // rounding decides), both ways.
+    std::vector<Vec3> points;
+    uint32_t state = 12345u;
+    const auto unit = [&] { return float((state = state * 1664525u + 1013904223u) >> 8) / float(1u << 24); };
+    for (int k = 0; k < 3000; ++k)
+        points.push_back({lo.x + (hi.x - lo.x) * unit(), lo.y + (hi.y - lo.y) * unit(), lo.z + (hi.z - lo.z) * unit()});
+    for (size_t v = 0; v < body.positions.size(); v += 7)
+        for (float d : {-0.002f, 0.0f, 0.002f}) points.push_back({body.positions[v].x + d, body.positions[v].y, body.positions[v].z + d});
+    uint32_t inside_count = 0;
+    for (const Vec3& p : points) {
+        const bool reference = bake::inside_body(body, p);
+        CHECK(inside.contains(p) == reference);
+        inside_count += reference;
+    }
+    CHECK(inside_count > 100);  // the box holds the body: many samples fall in it
+    CHECK_FALSE(inside.contains({NAN, 0.0f, 0.0f}));
+    CHECK_FALSE(inside.contains({0.0f, 50.0f, 0.0f}));
+}
+
 TEST_CASE("sewing: bad input is refused with a message") {
     bake::BakeOptions options;
     bake::SewBody empty;

@@ -262,6 +262,7 @@ int main(int argc, char** argv) {
         j["max_penetration_m"] = r.max_penetration_m;
         j["max_skin_penetration_m"] = r.max_skin_penetration_m;
         j["particles_inside_body"] = r.particles_inside_body;
+        j["untangled_particles"] = r.untangled_particles;
         j["final_mean_speed_m_s"] = r.mean_speed_m_s;
         j["top_drop_m"] = r.top_at_closed_m - r.top_at_rest_m;  // from closed seams to the dressed pose
         j["lowest_m"] = r.lowest_at_rest_m;

@@ -19,6 +19,7 @@ Vec3 sub(Vec3 a, Vec3 b) { return {a.x - b.x, a.y - b.y, a.z - b.z}; }
 float dot(Vec3 a, Vec3 b) { return a.x * b.x + a.y * b.y + a.z * b.z; }
 Vec3 cross(Vec3 a, Vec3 b) { return {a.y * b.z - a.z * b.y, a.z * b.x - a.x * b.z, a.x * b.y - a.y * b.x}; }
 float length(Vec3 a) { return std::sqrt(dot(a, a)); }
+Vec3 normalize(Vec3 a) { const float l = length(a); return {a.x / l, a.y / l, a.z / l}; }
 
 // Seam points as sets of particles joined transitively (a particle in two seam points, where
 // seams meet, joins them): root of every particle.
@@ -294,24 +295,91 @@ std::vector<bool> arm_tip_triangles(const SewBody& body) {
     return tip;
 }
 
+namespace {
+
+constexpr Vec3 kInsideRay{0.5773f, 0.5774f, 0.5773f};  // a direction no mesh axis shares
+
+// Moeller-Trumbore: whether the ray from p along kInsideRay crosses triangle t ahead of p.
+bool ray_crosses(const SewBody& body, size_t t, Vec3 p) {
+    const Vec3 a = body.positions[body.triangles[3 * t]], b = body.positions[body.triangles[3 * t + 1]],
+               c = body.positions[body.triangles[3 * t + 2]];
+    const Vec3 e1 = sub(b, a), e2 = sub(c, a), h = cross(kInsideRay, e2);
+    const float det = dot(e1, h);
+    if (std::fabs(det) < 1e-12f) return false;
+    const Vec3 s = sub(p, a);
+    const float u = dot(s, h) / det;
+    if (u < 0.0f || u > 1.0f) return false;
+    const Vec3 q = cross(s, e1);
+    const float v = dot(kInsideRay, q) / det;
+    if (v < 0.0f || u + v > 1.0f) return false;
+    return dot(e2, q) / det > 0.0f;
+}
+
+// A point's shadow along the ray: its coordinates on two axes across it.
+void shadow(Vec3 p, float out[2]) {
+    static const Vec3 u = normalize(cross(kInsideRay, Vec3{0.0f, 0.0f, 1.0f})), v = normalize(cross(kInsideRay, u));
+    out[0] = dot(p, u), out[1] = dot(p, v);
+}
+
+}  // namespace
+
 bool inside_body(const SewBody& body, Vec3 p) {
-    // Ray parity along a direction no mesh axis shares (Moeller-Trumbore against every triangle).
-    const Vec3 dir{0.5773f, 0.5774f, 0.5773f};
     uint32_t crossings = 0;
-    for (size_t t = 0; t + 2 < body.triangles.size(); t += 3) {
-        const Vec3 a = body.positions[body.triangles[t]], b = body.positions[body.triangles[t + 1]],
-                   c = body.positions[body.triangles[t + 2]];
-        const Vec3 e1 = sub(b, a), e2 = sub(c, a), h = cross(dir, e2);
-        const float det = dot(e1, h);
-        if (std::fabs(det) < 1e-12f) continue;
-        const Vec3 s = sub(p, a);
-        const float u = dot(s, h) / det;
-        if (u < 0.0f || u > 1.0f) continue;
-        const Vec3 q = cross(s, e1);
-        const float v = dot(dir, q) / det;
-        if (v < 0.0f || u + v > 1.0f) continue;
-        crossings += dot(e2, q) / det > 0.0f;
+    for (size_t t = 0; 3 * t + 2 < body.triangles.size(); ++t) crossings += ray_crosses(body, t, p);
+    return crossings % 2 == 1;
+}
+
+BodyInsideTest::BodyInsideTest(const SewBody& body) : body_(body) {
+    const size_t count = body.triangles.size() / 3;
+    std::vector<float> box(4 * count);  // per triangle: its shadow's min u, min v, max u, max v
+    float lo[2] = {HUGE_VALF, HUGE_VALF}, hi[2] = {-HUGE_VALF, -HUGE_VALF};
+    for (size_t t = 0; t < count; ++t) {
+        float* b = &box[4 * t];
+        b[0] = b[1] = HUGE_VALF, b[2] = b[3] = -HUGE_VALF;
+        for (int k = 0; k < 3; ++k) {
+            float s[2];
+            shadow(body.positions[body.triangles[3 * t + k]], s);
+            b[0] = std::min(b[0], s[0]), b[1] = std::min(b[1], s[1]), b[2] = std::max(b[2], s[0]), b[3] = std::max(b[3], s[1]);
+        }
+        lo[0] = std::min(lo[0], b[0]), lo[1] = std::min(lo[1], b[1]), hi[0] = std::max(hi[0], b[2]), hi[1] = std::max(hi[1], b[3]);
     }
+    if (count == 0) {
+        first_.assign(2, 0);
+        return;
+    }
+    // About one triangle a cell; the shadows grow by a margin, so a point on a shadow's edge
+    // (rounded differently in the projection than in the ray test) still finds its triangle.
+    cells_ = std::clamp(uint32_t(std::sqrt(double(count))), 1u, 1024u);
+    const float margin = 1e-3f;
+    origin_[0] = lo[0] - margin, origin_[1] = lo[1] - margin;
+    cell_ = std::max(hi[0] - lo[0], hi[1] - lo[1]) / float(cells_) + 4.0f * margin / float(cells_);
+    const auto cell_of = [&](float x, float o) { return uint32_t(std::clamp((x - o) / cell_, 0.0f, float(cells_ - 1))); };
+    first_.assign(size_t(cells_) * cells_ + 1, 0);
+    for (int pass = 0; pass < 2; ++pass) {  // count, then fill
+        std::vector<uint32_t> fill(first_.begin(), first_.end() - 1);
+        for (size_t t = 0; t < count; ++t) {
+            const float* b = &box[4 * t];
+            for (uint32_t j = cell_of(b[1] - margin, origin_[1]); j <= cell_of(b[3] + margin, origin_[1]); ++j)
+                for (uint32_t i = cell_of(b[0] - margin, origin_[0]); i <= cell_of(b[2] + margin, origin_[0]); ++i) {
+                    if (pass == 0) ++first_[size_t(j) * cells_ + i + 1];
+                    else triangle_[fill[size_t(j) * cells_ + i]++] = uint32_t(t);
+                }
+        }
+        if (pass == 0) {
+            for (size_t c = 0; c + 1 < first_.size(); ++c) first_[c + 1] += first_[c];
+            triangle_.resize(first_.back());
+        }
+    }
+}
+
+bool BodyInsideTest::contains(Vec3 p) const {
+    float s[2];
+    shadow(p, s);
+    if (!(s[0] >= origin_[0] && s[1] >= origin_[1]) || s[0] >= origin_[0] + cell_ * cells_ || s[1] >= origin_[1] + cell_ * cells_)
+        return false;  // (NaN too) no triangle's shadow reaches it
+    const size_t c = size_t(uint32_t((s[1] - origin_[1]) / cell_)) * cells_ + uint32_t((s[0] - origin_[0]) / cell_);
+    uint32_t crossings = 0;
+    for (uint32_t k = first_[c]; k < first_[c + 1]; ++k) crossings += ray_crosses(body_, triangle_[k], p);
     return crossings % 2 == 1;
 }
 
@@ -605,17 +673,38 @@ Status sew_garment(const ClothMeshDesc& unsewn, const std::vector<uint32_t>& att
                             uint32_t(g.triangles.size() / 3), g.uv.empty() ? nullptr : g.uv.data(), 0.0f});
         };
         watch(before, false);
+        // Particles the sewing left deeper inside the body than the step's contacts reach stay
+        // there (a band pulled through the waist's side as its seams closed): at rest they go to
+        // the closest hull point, found with a 0.5 m reach, and the drape goes on.
+        BodyWorld reach;
+        if (Status s = open_body_world(sewn.asset(), *drape_body, o, 0.0f, 1.0f, &reach, 0.5f); !s.ok()) return s;
+        const BodyInsideTest inside(*drape_body);
         uint32_t calm = 0, frames = 0;
-        while (frames++ < o.max_drape_frames && calm < o.rest_frames) {
-            if (Result r = step(w.world, o.dt_s); !r.ok()) return {r.message};
-            ++rep.drape_frames;
-            read_positions(w.world, w.cloth, now.data(), m);
-            double sum = 0.0;
-            for (uint32_t q = 0; q < m; ++q) sum += length(sub(now[q], before[q]));
-            rep.mean_speed_m_s = sum / m / o.dt_s;
-            calm = rep.mean_speed_m_s < o.rest_speed_m_s ? calm + 1 : 0;
-            if (frames < o.max_drape_frames && calm < o.rest_frames) watch(now, false);  // (the last below)
-            std::swap(now, before);
+        for (uint32_t round = 0;; ++round) {
+            while (frames++ < o.max_drape_frames && calm < o.rest_frames) {
+                if (Result r = step(w.world, o.dt_s); !r.ok()) return {r.message};
+                ++rep.drape_frames;
+                read_positions(w.world, w.cloth, now.data(), m);
+                double sum = 0.0;
+                for (uint32_t q = 0; q < m; ++q) sum += length(sub(now[q], before[q]));
+                rep.mean_speed_m_s = sum / m / o.dt_s;
+                calm = rep.mean_speed_m_s < o.rest_speed_m_s ? calm + 1 : 0;
+                if (frames < o.max_drape_frames && calm < o.rest_frames) watch(now, false);  // (the last below)
+                std::swap(now, before);
+            }
+            if (round == o.untangle_rounds || frames >= o.max_drape_frames) break;
+            uint32_t moved = 0;
+            for (uint32_t q = 0; q < m; ++q) {
+                if (g.masses[q] == 0.0f || !inside.contains(before[q])) continue;
+                BodyContact c;
+                if (!query_body(reach.world, reach.body, before[q], &c).ok() || !c.found) continue;
+                before[q] = c.hull_point;
+                set_particle(w.world, w.cloth, q, c.hull_point, 1.0f / g.masses[q]);
+                ++moved;
+            }
+            if (moved == 0) break;
+            rep.untangled_particles += moved;
+            calm = 0;
         }
         g.positions = before;
         d.positions = g.positions.data();
@@ -626,12 +715,14 @@ Status sew_garment(const ClothMeshDesc& unsewn, const std::vector<uint32_t>& att
         rep.lowest_at_rest_m = HUGE_VAL, rep.body_lowest_m = HUGE_VAL;
         for (const Vec3& p : g.positions) rep.lowest_at_rest_m = std::min(rep.lowest_at_rest_m, double(p.y));
         for (const Vec3& p : body.positions) rep.body_lowest_m = std::min(rep.body_lowest_m, double(p.y));
+        const BodyInsideTest inside_whole(whole_body);
         for (uint32_t q = 0; q < m; ++q) {
             BodyContact c;
             if (query_body(w.world, w.body, g.positions[q], &c).ok() && c.found)
                 rep.max_penetration_m = std::max(rep.max_penetration_m, double(c.penetration_m));
-            if (inside_body(whole_body, g.positions[q])) {
+            if (inside_whole.contains(g.positions[q])) {
                 ++rep.particles_inside_body;
+                if (std::getenv("WEFT_DEBUG_INSIDE")) std::fprintf(stderr, "inside %u %.4f %.4f %.4f found %d pen %.5f\n", q, g.positions[q].x, g.positions[q].y, g.positions[q].z, int(c.found), c.penetration_m);
                 if (c.found) rep.max_skin_penetration_m = std::max(rep.max_skin_penetration_m, double(c.penetration_m - o.body_thickness_m));
             }
         }

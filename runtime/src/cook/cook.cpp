@@ -530,24 +530,35 @@ uint32_t slots_touched(const std::vector<ConstraintBatch>& batches, uint32_t slo
 namespace {
 
 // Distances along the flat panels of a mesh that has no rest pose of its own (a sewn garment: a
-// seam particle has one flat position per panel), for its tethers: Dijkstra over the mesh's edges
-// and its bend pairs (two triangles unfolded flat about their edge: the grid's other diagonal, so
-// paths across the grid are not staircases), rest lengths from rest_corners (CornerRest). A path
-// along the surface is never shorter than the straight line between its ends in any pose, so a
-// tether this long never pulls a garment at rest (Kim, Chentanez, Mueller 2012, geodesic LRA).
+// seam particle has one flat position per panel), for its tethers. A path along the surface is
+// never shorter than the straight line between its ends in any pose, so a tether this long never
+// pulls a garment at rest (Kim, Chentanez, Mueller 2012, geodesic LRA); every bit it is longer is
+// sag the tether lets through. So the distances come from fast marching (Kimmel and Sethian 1998)
+// on each triangle's flat corners: a particle's distance also follows a straight front across a
+// triangle from its two other corners, not only the mesh's edges and bend pairs (two triangles
+// unfolded about their edge), whose zigzag paths ran up to 6% long. A front crosses a triangle
+// only from corners reached from the same source: fronts of two pins joined measure the distance
+// to the row of pins, shorter than to either anchor (the sample skirt's waist pulled to 9x).
 class RestGeodesics {
 public:
-    RestGeodesics(uint32_t particle_count, const CornerRest& corners) : first_(particle_count + 1, 0) {
+    RestGeodesics(const ClothMeshDesc& mesh, const CornerRest& corners)
+        : mesh_(mesh), first_(mesh.particle_count + 1, 0), first_triangle_(mesh.particle_count + 1, 0) {
+        const uint32_t n = mesh.particle_count;
         for (const auto* pairs : {&corners.edge, &corners.bend})
             for (const auto& [key, length] : *pairs) ++first_[(key >> 32) + 1], ++first_[uint32_t(key) + 1];
-        for (uint32_t p = 0; p < particle_count; ++p) first_[p + 1] += first_[p];
-        next_.resize(first_[particle_count]);
+        for (uint32_t p = 0; p < n; ++p) first_[p + 1] += first_[p];
+        next_.resize(first_[n]);
         std::vector<uint32_t> fill(first_.begin(), first_.end() - 1);
         for (const auto* pairs : {&corners.edge, &corners.bend})
             for (const auto& [key, length] : *pairs) {
                 const uint32_t a = uint32_t(key >> 32), b = uint32_t(key);
                 next_[fill[a]++] = {b, length}, next_[fill[b]++] = {a, length};
             }
+        for (uint32_t k = 0; k < 3 * mesh.triangle_count; ++k) ++first_triangle_[mesh.triangles[k] + 1];
+        for (uint32_t p = 0; p < n; ++p) first_triangle_[p + 1] += first_triangle_[p];
+        corner_of_.resize(first_triangle_[n]);
+        fill.assign(first_triangle_.begin(), first_triangle_.end() - 1);
+        for (uint32_t k = 0; k < 3 * mesh.triangle_count; ++k) corner_of_[fill[mesh.triangles[k]]++] = k;
     }
     // Distance of every particle from the nearest of `sources` (infinity where none is reachable),
     // and which source that is (ties to the lower source index).
@@ -555,29 +566,62 @@ public:
         const uint32_t n = uint32_t(first_.size() - 1);
         distance->assign(n, std::numeric_limits<float>::infinity());
         nearest->assign(n, ~0u);
+        std::vector<char> done(n, 0);
         using Entry = std::pair<float, uint32_t>;  // (distance, particle): ordered, so the result is deterministic
         std::vector<Entry> heap;
+        const auto offer = [&](uint32_t q, float dq, uint32_t from_source) {
+            if (dq < (*distance)[q] || (dq == (*distance)[q] && from_source < (*nearest)[q])) {
+                if (dq < (*distance)[q]) heap.push_back({dq, q}), std::push_heap(heap.begin(), heap.end(), std::greater<>());
+                (*distance)[q] = dq, (*nearest)[q] = from_source;
+            }
+        };
         for (uint32_t s : sources) (*distance)[s] = 0.0f, (*nearest)[s] = std::min((*nearest)[s], s), heap.push_back({0.0f, s});
         std::make_heap(heap.begin(), heap.end(), std::greater<>());
         while (!heap.empty()) {
             std::pop_heap(heap.begin(), heap.end(), std::greater<>());
             const auto [d, p] = heap.back();
             heap.pop_back();
-            if (d > (*distance)[p]) continue;
-            for (uint32_t k = first_[p]; k < first_[p + 1]; ++k) {
-                const auto [q, length] = next_[k];
-                const float dq = d + length;
-                if (dq < (*distance)[q] || (dq == (*distance)[q] && (*nearest)[p] < (*nearest)[q])) {
-                    if (dq < (*distance)[q]) heap.push_back({dq, q}), std::push_heap(heap.begin(), heap.end(), std::greater<>());
-                    (*distance)[q] = dq, (*nearest)[q] = (*nearest)[p];
+            if (d > (*distance)[p] || done[p]) continue;
+            done[p] = 1;
+            for (uint32_t k = first_[p]; k < first_[p + 1]; ++k) offer(next_[k].first, d + next_[k].second, (*nearest)[p]);
+            // Each triangle around p with one other corner done: a front through both reaches the third.
+            for (uint32_t k = first_triangle_[p]; k < first_triangle_[p + 1]; ++k) {
+                const uint32_t t = corner_of_[k] / 3, c = corner_of_[k] % 3;
+                for (uint32_t side = 1; side <= 2; ++side) {
+                    const uint32_t cq = (c + side) % 3, cr = (c + 3 - side) % 3;
+                    const uint32_t q = mesh_.triangles[3 * t + cq], r = mesh_.triangles[3 * t + cr];
+                    if (!done[q] || done[r] || (*nearest)[q] != (*nearest)[p]) continue;
+                    const Vec3* corner = mesh_.rest_corners + 3 * t;
+                    const float dr = front_across(corner[c], corner[cq], corner[cr], d, (*distance)[q]);
+                    offer(r, dr, (*nearest)[p]);
                 }
             }
         }
     }
 
 private:
-    std::vector<uint32_t> first_;                       // CSR over particles
+    // The distance at C of a straight front that has reached A at tA and B at tB (fast marching's
+    // update in triangle ABC), or infinity when the front's ray to C does not cross the edge AB
+    // (the edges' paths then serve).
+    static float front_across(Vec3 a, Vec3 b, Vec3 c, float ta, float tb) {
+        const double ex = double(b.x) - a.x, ey = double(b.y) - a.y, ez = double(b.z) - a.z;
+        const double cx = double(c.x) - a.x, cy = double(c.y) - a.y, cz = double(c.z) - a.z;
+        const double length = std::sqrt(ex * ex + ey * ey + ez * ez);
+        if (!(length > 0.0)) return std::numeric_limits<float>::infinity();
+        const double along = (cx * ex + cy * ey + cz * ez) / length;  // C's foot on AB, from A
+        const double height = std::sqrt(std::max(0.0, cx * cx + cy * cy + cz * cz - along * along));
+        const double slope = (double(tb) - ta) / length;  // the front's direction: cosine along AB
+        if (!(height > 0.0) || !(std::fabs(slope) < 1.0)) return std::numeric_limits<float>::infinity();
+        const double across = std::sqrt(1.0 - slope * slope);
+        const double foot = along - height * slope / across;  // where the ray to C crosses AB
+        if (foot < 0.0 || foot > length) return std::numeric_limits<float>::infinity();
+        return float(ta + slope * along + across * height);
+    }
+
+    const ClothMeshDesc& mesh_;
+    std::vector<uint32_t> first_;                       // CSR over particles: edges and bend pairs
     std::vector<std::pair<uint32_t, float>> next_;      // (neighbour, rest length)
+    std::vector<uint32_t> first_triangle_, corner_of_;  // CSR over particles: 3 * triangle + corner
 };
 
 // Step 5: tethers from every free particle to its nearest pinned particle and (with two per
@@ -603,7 +647,7 @@ Result build_tethers(const ClothMeshDesc& mesh, const CornerRest& corners, const
     std::vector<uint32_t> nearest_pin;
     std::vector<std::pair<uint32_t, std::vector<float>>> from_pin;  // (pin, distances), sorted by pin
     if (geodesic) {
-        geodesics.emplace(mesh.particle_count, corners);
+        geodesics.emplace(mesh, corners);
         geodesics->from(pinned, &nearest_distance, &nearest_pin);
     }
     const auto distance_from_pin = [&](uint32_t pin) -> const std::vector<float>& {
