@@ -179,6 +179,7 @@ void check_dressed(const Dressed* d, const bake::SewBody& body, uint32_t sweeps)
         speed = sum / a.particle_count / dt;
         std::swap(now, before);
     }
+    MESSAGE("mean speed after 2 s on the still body: " << speed * 1000.0 << " mm/s");
     CHECK(speed < 0.001);
     float deepest = 0.0f;
     for (uint32_t p = 0; p < a.particle_count; ++p) {

@@ -146,9 +146,13 @@ Status bake_pattern(std::string_view text, const BakeOptions& options, Baked* ou
         }
         SewOptions sew = options.sew;
         sew.ignore_arm_tips = sew.ignore_arm_tips || !out->pattern.sleeves;
+        const CookOptions sewn_cook = sewn_cook_options(options.cook);
+        sew.cook_sewn = [&](const ClothMeshDesc& desc, CookedCloth* cooked) {
+            return cook_garment(desc, sewn_cook, options.choose_runs, cooked);
+        };
         if (Status s = sew_garment(flat, attached, held, *options.body, sew, &out->sewn, &out->sew_report); !s.ok())
             return {"sewing: " + s.error};
-        if (Result r = cook_garment(out->sewn.desc, sewn_cook_options(options.cook), options.choose_runs, &out->cooked,
+        if (Result r = cook_garment(out->sewn.desc, sewn_cook, options.choose_runs, &out->cooked,
                                     &out->cook_options);
             !r.ok())
             return {r.message};

@@ -123,10 +123,15 @@ void merge_seams(const ClothMeshDesc& unsewn, const std::vector<uint32_t>& root,
         }
     }
     if (unsewn.lattice != nullptr) {
+        // A seam particle keeps the lattice node of its first source that has one: its springs into
+        // that source's panel (and along the seam) then join the panel's runs; off the lattice all
+        // of them went one lane at a time (sewn contiguous_fraction 0.70 against 0.88 flat).
         g.lattice.assign(2 * size_t(m), -1);
-        for (uint32_t q = 0; q < m; ++q)
-            if (count[q] == 1)
-                g.lattice[2 * q] = unsewn.lattice[2 * first_of_new[q]], g.lattice[2 * q + 1] = unsewn.lattice[2 * first_of_new[q] + 1];
+        for (uint32_t p = 0; p < n; ++p) {
+            const uint32_t q = g.new_of_old[p];
+            if (g.lattice[2 * q] >= 0 || unsewn.lattice[2 * p] < 0 || unsewn.lattice[2 * p + 1] < 0) continue;
+            g.lattice[2 * q] = unsewn.lattice[2 * p], g.lattice[2 * q + 1] = unsewn.lattice[2 * p + 1];
+        }
     }
     if (unsewn.panel != nullptr) {
         g.panel.resize(m);
@@ -663,7 +668,8 @@ Status sew_garment(const ClothMeshDesc& unsewn, const std::vector<uint32_t>& att
     for (const SewBody* drape_body : {static_cast<const SewBody*>(&body), &whole_body}) {
         if (drape_body == &whole_body && !o.ignore_arm_tips) break;
         CookedCloth sewn;  // starting where the garment is (d.positions)
-        if (Result r = cook_cloth(d, sewn_cook_options(cook), &sewn); !r.ok()) return {std::string("sewn garment: ") + r.message};
+        if (Result r = o.cook_sewn ? o.cook_sewn(d, &sewn) : cook_cloth(d, sewn_cook_options(cook), &sewn); !r.ok())
+            return {std::string("sewn garment: ") + r.message};
         BodyWorld w;
         if (Status s = open_body_world(sewn.asset(), *drape_body, o, o.gravity_m_s2, o.drape_damping_per_s, &w); !s.ok()) return s;
         std::vector<Vec3> now(m), before(g.positions);

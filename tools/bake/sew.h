@@ -86,6 +86,10 @@ struct SewOptions {
     // Watching (weft-bake --sewing-frames): called with frame 0, every frame_every-th and the last
     // frame of each stage. It only reads, so the bake is the same with it or without it.
     std::function<void(const SewFrame&)> on_frame;
+    // How the sewn garment is cooked for its drape. bake_pattern cooks it as its asset will be (the
+    // same run shapes, so the same projection order): the stored pose is then at rest for the
+    // asset's own solver, not another order's. Empty: cook_cloth with sewn_cook_options.
+    std::function<Result(const ClothMeshDesc&, CookedCloth*)> cook_sewn;
     uint32_t frame_every = 10;
 };
 

@@ -726,6 +726,27 @@ Result build_tethers(const ClothMeshDesc& mesh, const CornerRest& corners, const
         for (; next < batch.lane_count; ++next) emit(padding, padding, last[-1].anchor);
         out.tether_batches.push_back(batch);
     };
+    // Tethers [first, last) cut into batches with the fewest lanes: a batch pads every hole in its
+    // slot span and its tail to `width`, so bridging a hole of g slots costs g lanes and cutting
+    // there costs a tail; the cheapest cuts by dynamic programming over batches of at most
+    // kMaxSpan slots (a longer batch can always be cut on a multiple of `width` for free).
+    auto emit_batches = [&](const Tether* first, const Tether* last, bool per_lane) {
+        constexpr uint32_t kMaxSpan = 512;
+        const size_t n = size_t(last - first);
+        std::vector<uint32_t> lanes(n + 1, 0), start(n + 1, 0);  // best lanes for first[0..j), its last batch's start
+        for (size_t j = 1; j <= n; ++j) {
+            lanes[j] = ~0u;
+            for (size_t i = j; i-- > 0 && first[j - 1].slot - first[i].slot < kMaxSpan;) {
+                const uint32_t cost = lanes[i] + round_up(first[j - 1].slot - first[i].slot + 1, width);
+                if (cost <= lanes[j]) lanes[j] = cost, start[j] = uint32_t(i);  // ties: the longest batch
+            }
+        }
+        std::vector<size_t> cuts;
+        for (size_t j = n; j > 0; j = start[j]) cuts.push_back(start[j]);
+        std::reverse(cuts.begin(), cuts.end());
+        cuts.push_back(n);
+        for (size_t k = 0; k + 1 < cuts.size(); ++k) emit_batch(first + cuts[k], first + cuts[k + 1], per_lane);
+    };
     // The run's tethers grouped by anchor pair (then slot, at most `width` apart): f(first, last).
     auto by_pair = [&](std::vector<Tether>& run, auto&& f) {
         std::sort(run.begin(), run.end(), [](const Tether& l, const Tether& r) {
@@ -750,9 +771,9 @@ Result build_tethers(const ClothMeshDesc& mesh, const CornerRest& corners, const
         uint32_t pair_lanes = 0;
         by_pair(run, [&](const Tether* a, const Tether* b) { pair_lanes += round_up(b[-1].slot - a->slot + 1, width); });
         if (pair_lanes > 2 * round_up(tethers[j - 1].slot - tethers[i].slot + 1, width))
-            emit_batch(tethers.data() + i, tethers.data() + j, true);
+            emit_batches(tethers.data() + i, tethers.data() + j, true);
         else
-            by_pair(run, [&](const Tether* a, const Tether* b) { emit_batch(a, b, false); });
+            by_pair(run, [&](const Tether* a, const Tether* b) { emit_batches(a, b, false); });
         i = j;
     }
     if (!any_per_lane) out.tether_anchor[0].clear(), out.tether_anchor[1].clear();
