@@ -283,7 +283,6 @@ int bake_batch(const std::vector<bake::BatchEntry>& entries, const std::string& 
             j = json{{"name", entries[k].name}, {"pattern", entries[k].pattern},
                      {"error", outcome.error.empty() ? std::string("no result") : outcome.error}};
         if (j.contains("error")) {
-            failed.push_back(entries[k].name);
             std::filesystem::remove(output(entries[k]) + ".partial", ec);  // what a crash left
             std::filesystem::remove(output(entries[k]), ec);
         }
@@ -297,6 +296,8 @@ int bake_batch(const std::vector<bake::BatchEntry>& entries, const std::string& 
     };
     jobs::run_in_children(entries.size(), {jobs, 0.0}, work, asset_done);
     bar.finish();
+    for (size_t k = 0; k < entries.size(); ++k)
+        if (lines[k].contains("error")) failed.push_back(entries[k].name);
 
     const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
     const uint32_t used_jobs = jobs > 0 ? jobs : jobs::every_core();
