@@ -10,8 +10,10 @@
 #include <fstream>
 #include <sstream>
 #include <string>
+#include <vector>
 
 #include "bake.h"
+#include "batch.h"
 #include "garment.h"
 #include "outline.h"
 #include "pattern.h"
@@ -263,4 +265,55 @@ TEST_CASE("bake: the sample skirt bakes to the same bytes whichever compiler bui
     for (std::byte b : baked.bytes) hash = (hash ^ uint64_t(b)) * 0x100000001b3ull;
     MESSAGE("skirt asset: " << baked.bytes.size() << " bytes, FNV-1a " << hash);
     CHECK(hash == 0x61818b943ccffc8cull);
+}
+
+// weft-bake's manifests (batch.h): paths relative to the manifest, "defaults" under each entry's
+// own keys and over the command line's, mistakes refused naming the entry.
+TEST_CASE("bake: a manifest's entries take the defaults, their own options and paths beside it") {
+    BatchEntry command_line;
+    command_line.sweeps = 12;
+    command_line.body = "mannequin";
+    const std::string manifest = R"({
+      "format": "weft-bake-manifest",
+      "defaults": { "target_edge_m": 0.03, "body": "bodies/mean_all.obj" },
+      "assets": [
+        { "pattern": "patterns/skirt.json" },
+        { "pattern": "gc/gc_1001_0000_specification.json", "target_edge_m": 0.015, "body": null },
+        { "pattern": "patterns/skirt.json", "name": "skirt-16", "simd_width": 16, "sweeps": 16, "offset_m": [0, 0.1, 0] }
+      ]
+    })";
+    REQUIRE(is_manifest(manifest));
+    std::vector<BatchEntry> entries;
+    REQUIRE(read_manifest("/art/assets.json", manifest, command_line, &entries) == "");
+    REQUIRE(entries.size() == 3);
+    CHECK(entries[0].name == "skirt");
+    CHECK(entries[0].pattern == "/art/patterns/skirt.json");
+    CHECK(entries[0].body == "/art/bodies/mean_all.obj");
+    CHECK(entries[0].target_edge_m == 0.03);
+    CHECK(entries[0].sweeps == 12);
+    CHECK(entries[0].manifest == "/art/assets.json");
+    CHECK(entries[1].name == "gc_1001_0000");
+    CHECK(entries[1].body.empty());
+    CHECK(entries[1].target_edge_m == 0.015);
+    CHECK(entries[2].name == "skirt-16");
+    CHECK(entries[2].simd_width == 16);
+    CHECK(entries[2].sweeps == 16);
+    CHECK(entries[2].offset_m[1] == 0.1);
+}
+
+TEST_CASE("bake: a manifest's mistakes are refused, naming the entry") {
+    const auto error = [](const std::string& assets) {
+        std::vector<BatchEntry> entries;
+        return read_manifest("m.json", R"({"format": "weft-bake-manifest", "assets": )" + assets + "}", BatchEntry{}, &entries);
+    };
+    CHECK(error(R"([{"pattern": "a.json", "traget_edge_m": 0.02}])") == "m.json: assets[0]: unknown key 'traget_edge_m'");
+    CHECK(error(R"([{"pattern": "a.json"}, {"pattern": "b/a.json"}])") ==
+          "m.json: assets[1]: a second asset named 'a' (give it a \"name\")");
+    CHECK(error(R"([{"name": "a"}])") == "m.json: assets[0]: no \"pattern\"");
+    CHECK(error(R"([{"pattern": "a.json", "simd_width": 4}])") == "m.json: assets[0].simd_width: not 8 or 16");
+    CHECK(error(R"([{"pattern": "a.json", "name": "../a"}])") ==
+          "m.json: assets[0].name: not an asset name (a file name without folders)");
+    CHECK(error("[]") == "m.json: \"assets\" is not a list of patterns");
+    CHECK_FALSE(is_manifest(R"({"format": "weft-pattern"})"));
+    CHECK_FALSE(is_manifest("{ not json"));
 }

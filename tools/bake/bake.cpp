@@ -2,6 +2,8 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstring>
+#include <filesystem>
 
 #include "asset_writer.h"
 
@@ -165,5 +167,27 @@ Status bake_pattern(std::string_view text, const BakeOptions& options, Baked* ou
     return {};
 }
 
-}  // namespace weft::bake
+std::vector<std::string> pattern_files(const std::string& folder, std::string* error) {
+    std::vector<std::string> files;
+    std::error_code ec;
+    for (const auto& entry : std::filesystem::directory_iterator(folder, ec)) {
+        if (entry.is_regular_file() && entry.path().extension() == ".json") files.push_back(entry.path().string());
+    }
+    if (ec) {
+        *error = "cannot read '" + folder + "': " + ec.message();
+        return {};
+    }
+    if (std::any_of(files.begin(), files.end(), [](const std::string& f) { return f.ends_with("_specification.json"); }))
+        std::erase_if(files, [](const std::string& f) { return !f.ends_with("_specification.json"); });
+    std::sort(files.begin(), files.end());
+    return files;
+}
 
+std::string asset_name(const std::string& pattern_path) {
+    std::string name = std::filesystem::path(pattern_path).filename().string();
+    for (const char* suffix : {"_specification.json", ".json"})
+        if (name.size() > std::strlen(suffix) && name.ends_with(suffix)) return name.substr(0, name.size() - std::strlen(suffix));
+    return name;
+}
+
+}  // namespace weft::bake

@@ -8,6 +8,7 @@
 
 #include <cstddef>
 #include <functional>
+#include <string>
 #include <string_view>
 #include <vector>
 
@@ -83,5 +84,12 @@ struct Baked {
 };
 
 Status bake_pattern(std::string_view pattern_json, const BakeOptions& options, Baked* out);
+
+// A folder's patterns, sorted by file name: every *_specification.json when there is one
+// (GarmentCode keeps other JSON beside its specifications), else every *.json. An empty list and
+// *error set when the folder cannot be read.
+std::vector<std::string> pattern_files(const std::string& folder, std::string* error);
+// A pattern's asset name: its file name without "_specification.json" (GarmentCode) or ".json".
+std::string asset_name(const std::string& pattern_path);
 
 }  // namespace weft::bake

@@ -1,30 +1,26 @@
 // weft-bench corpus (corpus.h): every pattern of a folder through weft-bake's pipeline, flat and
 // sewn, with the figures issue 21 judges a garment by. Each garment bakes in a child process of its
-// own (fork, the result as one JSON line through a pipe), so a crash, a hang or an allocation
-// failure in one garment is that garment's error and the batch goes on.
+// own (tools/common/child_jobs.h; the result, one JSON line, through a pipe), so a crash, a hang or
+// an allocation failure in one garment is that garment's error and the batch goes on.
 #include "corpus.h"
 
-#include <poll.h>
-#include <signal.h>
-#include <sys/wait.h>
 #include <unistd.h>
 
 #include <algorithm>
 #include <chrono>
 #include <cmath>
 #include <cstdio>
-#include <cstring>
 #include <filesystem>
 #include <fstream>
 #include <iterator>
 #include <string>
-#include <thread>
 #include <vector>
 
 #include <nlohmann/json.hpp>
 
 #include "bake.h"
 #include "body_mesh.h"
+#include "child_jobs.h"
 #include "garment.h"
 #include "metrics.h"
 #include "progress.h"
@@ -35,14 +31,6 @@ namespace {
 
 using nlohmann::json;
 using Clock = std::chrono::steady_clock;
-
-// The garment's name: the file name without "_specification.json" (GarmentCode) or ".json".
-std::string garment_name(const std::filesystem::path& path) {
-    std::string name = path.filename().string();
-    for (const char* suffix : {"_specification.json", ".json"})
-        if (name.size() > std::strlen(suffix) && name.ends_with(suffix)) return name.substr(0, name.size() - std::strlen(suffix));
-    return name;
-}
 
 // Where the garment is worn, from its panels' names (GarmentCode's: torso, skirt, pant panels):
 // "upper", "lower" (skirts, pants, shorts), "full" (dresses, jumpsuits) or "other".
@@ -111,7 +99,7 @@ void run_moving(const std::vector<std::byte>& asset_bytes, const CorpusOptions& 
 // One garment, flat then sewn: the corpus line (run in the child).
 json bake_one(const std::string& path, const bake::SewBody* body, const CorpusOptions& o) {
     json j;
-    j["name"] = garment_name(path);
+    j["name"] = bake::asset_name(path);
     j["flat_ok"] = false;
     j["sewn_ok"] = false;
     std::ifstream file(path, std::ios::binary);
@@ -163,64 +151,6 @@ json bake_one(const std::string& path, const bake::SewBody* body, const CorpusOp
     j["final_mean_speed_m_s"] = r.mean_speed_m_s;
     j["sew_s"] = r.sewing_s;
     if (!o.blend_to.empty() && j["stayed_on"].get<bool>()) run_moving(sewn.bytes, o, j);
-    return j;
-}
-
-struct Child {
-    pid_t pid = -1;
-    int fd = -1;
-    size_t index = 0;
-    std::string output;
-    Clock::time_point start;
-};
-
-// Forks a child that bakes `path` and writes its JSON line to a pipe.
-Child start_child(size_t index, const std::string& path, const bake::SewBody* body, const CorpusOptions& o) {
-    int fds[2];
-    Child c;
-    c.index = index;
-    c.start = Clock::now();
-    if (pipe(fds) != 0) return c;
-    std::fflush(stdout), std::fflush(stderr);
-    c.pid = fork();
-    if (c.pid == 0) {  // the child: bake, write, leave without running the parent's exit handlers
-        close(fds[0]);
-        std::string line;
-        try {
-            line = bake_one(path, body, o).dump() + "\n";
-        } catch (const std::exception& e) {
-            line = json{{"name", garment_name(path)}, {"error", std::string("exception: ") + e.what()}}.dump() + "\n";
-        }
-        for (size_t done = 0; done < line.size();) {
-            const ssize_t n = write(fds[1], line.data() + done, line.size() - done);
-            if (n <= 0) break;
-            done += size_t(n);
-        }
-        _exit(0);
-    }
-    close(fds[1]);
-    c.fd = fds[0];
-    return c;
-}
-
-// The line of a child that ended (or was stopped): its own, or the reason it gave none.
-json finish_child(Child& c, const std::string& path, bool timed_out) {
-    if (timed_out) kill(c.pid, SIGKILL);
-    int status = 0;
-    waitpid(c.pid, &status, 0);
-    close(c.fd);
-    json j;
-    if (!timed_out && WIFEXITED(status) && WEXITSTATUS(status) == 0 && !c.output.empty()) {
-        j = json::parse(c.output, nullptr, false);
-        if (!j.is_discarded()) return j;
-    }
-    j = json{{"name", garment_name(path)}, {"flat_ok", false}, {"sewn_ok", false}};
-    if (timed_out)
-        j["error"] = "timed out";
-    else if (WIFSIGNALED(status))
-        j["error"] = std::string("crashed: ") + strsignal(WTERMSIG(status));
-    else
-        j["error"] = "no result (exit status " + std::to_string(WEXITSTATUS(status)) + ")";
     return j;
 }
 
@@ -298,26 +228,22 @@ void print_line(const json& j, bool as_json) {
 }  // namespace
 
 int run_corpus(const CorpusOptions& o) {
-    std::vector<std::string> files;
-    std::error_code ec;
-    for (const auto& entry : std::filesystem::directory_iterator(o.dir, ec)) {
-        const std::string name = entry.path().filename().string();
+    std::string error;
+    std::vector<std::string> files = bake::pattern_files(o.dir, &error);
+    if (!error.empty()) {
+        std::fprintf(stderr, "weft-bench corpus: %s\n", error.c_str());
+        return 1;
+    }
+    std::erase_if(files, [&](const std::string& path) {  // --filter: comma-separated parts, any of them
+        const std::string name = std::filesystem::path(path).filename().string();
         bool wanted = o.filter.empty();
-        for (size_t at = 0; !wanted && at <= o.filter.size();) {  // comma-separated parts, any of them
+        for (size_t at = 0; !wanted && at <= o.filter.size();) {
             const size_t comma = std::min(o.filter.find(',', at), o.filter.size());
             wanted = comma > at && name.find(o.filter.substr(at, comma - at)) != std::string::npos;
             at = comma + 1;
         }
-        if (entry.is_regular_file() && name.ends_with(".json") && wanted) files.push_back(entry.path().string());
-    }
-    if (ec) {
-        std::fprintf(stderr, "weft-bench corpus: cannot read '%s': %s\n", o.dir.c_str(), ec.message().c_str());
-        return 1;
-    }
-    // GarmentCode folders hold other JSON beside the specifications: keep only those when there are any.
-    if (std::any_of(files.begin(), files.end(), [](const std::string& f) { return f.ends_with("_specification.json"); }))
-        std::erase_if(files, [](const std::string& f) { return !f.ends_with("_specification.json"); });
-    std::sort(files.begin(), files.end());
+        return !wanted;
+    });
     if (files.empty()) {
         std::fprintf(stderr, "weft-bench corpus: no pattern (*.json) in '%s'\n", o.dir.c_str());
         return 1;
@@ -334,51 +260,34 @@ int run_corpus(const CorpusOptions& o) {
         }
     }
     const bake::SewBody* sew_body = o.body.empty() ? nullptr : &body;
-    const uint32_t jobs = o.jobs > 0 ? o.jobs : std::max(1u, std::thread::hardware_concurrency());
-
-    // Up to `jobs` children at a time; lines are printed in file order as soon as all before them are in.
+    // One child per garment, --jobs at a time; lines are printed in file order as soon as all
+    // before them are in.
     std::vector<json> lines(files.size());
     std::vector<char> done(files.size(), 0);
-    std::vector<Child> running;
-    size_t next = 0, printed = 0, finished = 0;
+    size_t printed = 0, finished = 0;
     progress::Bar bar("weft-bench corpus", files.size(), progress::wanted(o.json));
-    while (finished < files.size()) {
-        while (running.size() < jobs && next < files.size()) {
-            Child c = start_child(next, files[next], sew_body, o);
-            if (c.pid < 0) {
-                lines[next] = json{{"name", garment_name(files[next])}, {"flat_ok", false}, {"sewn_ok", false},
-                                   {"error", "cannot start a baking process"}};
-                done[next] = 1, ++finished;
-                if (c.fd >= 0) close(c.fd);
-            } else {
-                running.push_back(std::move(c));
-            }
-            ++next;
+    const auto work = [&](size_t k) {
+        try {
+            return bake_one(files[k], sew_body, o).dump();
+        } catch (const std::exception& e) {
+            return json{{"name", bake::asset_name(files[k])}, {"error", std::string("exception: ") + e.what()}}.dump();
         }
-        std::vector<pollfd> fds;
-        for (const Child& c : running) fds.push_back({c.fd, POLLIN, 0});
-        if (!fds.empty()) poll(fds.data(), fds.size(), 200);
-        for (size_t k = running.size(); k-- > 0;) {
-            Child& c = running[k];
-            bool ended = false;
-            if (fds[k].revents & (POLLIN | POLLHUP | POLLERR)) {
-                char buffer[4096];
-                const ssize_t n = read(c.fd, buffer, sizeof buffer);
-                if (n > 0) c.output.append(buffer, size_t(n));
-                ended = n <= 0;
-            }
-            const bool timed_out = !ended && std::chrono::duration<double>(Clock::now() - c.start).count() > o.timeout_s;
-            if (!ended && !timed_out) continue;
-            lines[c.index] = finish_child(c, files[c.index], timed_out);
-            done[c.index] = 1, ++finished;
-            running.erase(running.begin() + std::ptrdiff_t(k));
+    };
+    const auto garment_done = [&](size_t k, jobs::Outcome outcome) {
+        json j = outcome.error.empty() ? json::parse(outcome.output, nullptr, false) : json();
+        if (!outcome.error.empty() || j.is_discarded() || !j.is_object()) {
+            j = json{{"name", bake::asset_name(files[k])}, {"flat_ok", false}, {"sewn_ok", false},
+                     {"error", outcome.error.empty() ? std::string("no result") : outcome.error}};
         }
-        bar.update(finished, next < files.size() ? garment_name(files[next]) : std::string());
+        lines[k] = std::move(j);
+        done[k] = 1, ++finished;
+        bar.update(finished, bake::asset_name(files[k]));
         for (; printed < files.size() && done[printed]; ++printed) {
             if (bar.enabled()) bar.finish();
             print_line(lines[printed], o.json);
         }
-    }
+    };
+    jobs::run_in_children(files.size(), {o.jobs, o.timeout_s}, work, garment_done);
     bar.finish();
     print_line(summarise(lines, sew_body != nullptr), o.json);
     return 0;
