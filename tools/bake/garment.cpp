@@ -522,9 +522,14 @@ std::vector<PackedLattice> pack_lattice(const std::vector<std::vector<std::pair<
             for (const bool turn : {false, true}) {
                 if (!(turn ? down : up)) continue;
                 const Footprint& f = turn ? turned[p] : upright[p];
+                int64_t tried[5];  // offsets placed already: the same offset leaves the same waste
+                uint32_t tries = 0;
                 for (const uint32_t limit : {0u, 2u, 4u, 8u, 16u}) {
+                    const int64_t offset = helix.first_fit(f, limit);
+                    if (std::find(tried, tried + tries, offset) != tried + tries) continue;
+                    tried[tries++] = offset;
                     Helix with = helix;
-                    Choice c{turn, with.first_fit(f, limit), {}};
+                    Choice c{turn, offset, {}};
                     with.place(f, c.offset, uint32_t(p), &c.dropped);
                     if (const double w = with.waste(); w < pick_waste)
                         pick_waste = w, trial[p] = std::move(c), picked = std::move(with);
