@@ -580,14 +580,6 @@ Status sew_garment(const ClothMeshDesc& unsewn, const std::vector<uint32_t>& att
                 if (Status s = slide_attachments(o.sewing_speed_m_s * o.dt_s); !s.ok()) return s;
                 ++settled;
             }
-            if (rep.sewing_frames == o.max_sewing_frames && getenv("WEFT_DEBUG_SEW")) {
-                for (size_t k = 0; k < groups.size(); ++k) {
-                    if (closed[k]) continue;
-                    fprintf(stderr, "open group %zu target %.3f %.3f %.3f:", k, target[k].x, target[k].y, target[k].z);
-                    for (uint32_t p : groups[k]) fprintf(stderr, " [%u: %.3f %.3f %.3f]", p, x[p].x, x[p].y, x[p].z);
-                    fprintf(stderr, "\n");
-                }
-            }
             if (rep.sewing_frames == o.max_sewing_frames)
                 return {"a seam is still " + std::to_string(gap * 100.0) + " cm open after " +
                         std::to_string(o.max_sewing_frames) + " sewing frames"};
@@ -728,7 +720,6 @@ Status sew_garment(const ClothMeshDesc& unsewn, const std::vector<uint32_t>& att
                 rep.max_penetration_m = std::max(rep.max_penetration_m, double(c.penetration_m));
             if (inside_whole.contains(g.positions[q])) {
                 ++rep.particles_inside_body;
-                if (std::getenv("WEFT_DEBUG_INSIDE")) std::fprintf(stderr, "inside %u %.4f %.4f %.4f found %d pen %.5f\n", q, g.positions[q].x, g.positions[q].y, g.positions[q].z, int(c.found), c.penetration_m);
                 if (c.found) rep.max_skin_penetration_m = std::max(rep.max_skin_penetration_m, double(c.penetration_m - o.body_thickness_m));
             }
         }
