@@ -197,6 +197,7 @@ std::string bake_asset(const bake::BatchEntry& e, const bake::SewBody* body, con
     (*j)["edge_max_h"] = q.edge_max_h;
     (*j)["outline_area_m2"] = q.outline_area_m2;  // the exact curved outlines (area_m2: the mesh)
     (*j)["mesh_rounds"] = garment.quality.rounds;
+    (*j)["repairs"] = baked.pattern.repairs;  // what parsing changed to make the pattern valid
     (*j)["total_mass_kg"] = garment.total_mass_kg;
     (*j)["area_m2"] = garment.area_m2;
     (*j)["pinned"] = garment.pinned.size();
@@ -423,6 +424,7 @@ int main(int argc, char** argv) {
         return fail(e);
     if (!frames_error.empty()) return fail("--sewing-frames: " + frames_error);
     if (runs) std::fprintf(stderr, "%s", run_text.c_str());
+    for (const json& repair : j["repairs"]) std::fprintf(stderr, "weft-bake: %s: repaired: %s\n", pattern_path.c_str(), repair.get<std::string>().c_str());
     if (!sewing_frames.empty()) j["sewing_frames_written"] = frames_written;
     if (as_json) {
         std::printf("%s\n", j.dump().c_str());

@@ -533,6 +533,113 @@ Pattern read_weft(const json& root) {
 
 bool finite(Point2 p) { return std::isfinite(p.x) && std::isfinite(p.y); }
 
+// The edge that fine_outline's segment `segment` belongs to: a straight edge is one segment, a
+// curve kFineSegmentsPerCurve.
+uint32_t edge_of_segment(const Panel& panel, uint32_t segment) {
+    uint32_t first = 0;
+    for (uint32_t e = 0; e < panel.edges.size(); ++e) {
+        first += panel.edges[e].shape == EdgeShape::straight ? 1 : kFineSegmentsPerCurve;
+        if (segment < first) return e;
+    }
+    return uint32_t(panel.edges.size() - 1);
+}
+
+bool outline_crosses(const Panel& panel, uint32_t* edge_a, uint32_t* edge_b, Point2* near) {
+    const std::vector<Point2> outline = fine_outline(panel);
+    double perimeter = 0.0;
+    for (size_t k = 0; k < outline.size(); ++k) {
+        const Point2 a = outline[k], b = outline[(k + 1) % outline.size()];
+        perimeter += std::hypot(b.x - a.x, b.y - a.y);
+    }
+    uint32_t segment[2] = {0, 0};
+    if (!SegmentIndex(outline, 2.0 * perimeter / double(outline.size())).self_intersects(&segment[0], &segment[1]))
+        return false;
+    *edge_a = edge_of_segment(panel, segment[0]);
+    *edge_b = edge_of_segment(panel, segment[1]);
+    *near = outline[segment[0]];
+    return true;
+}
+
+// The curve with its bulge off the chord scaled by `factor` (< 1: flatter), ends unchanged: a
+// Bezier's control points move toward the chord, an arc keeps its ends and takes the radius of
+// the lower sagitta.
+PatternEdge flattened(const Panel& panel, const PatternEdge& edge, double factor) {
+    PatternEdge out = edge;
+    const Point2 p0 = panel.vertices[edge.start], p1 = panel.vertices[edge.end];
+    const double chord = std::hypot(p1.x - p0.x, p1.y - p0.y);
+    if (!(chord > 0.0)) return out;  // a closed curve has no chord to flatten toward
+    const double ux = (p1.x - p0.x) / chord, uy = (p1.y - p0.y) / chord;
+    if (edge.shape == EdgeShape::quadratic || edge.shape == EdgeShape::cubic) {
+        for (Point2& c : out.control) {
+            const double along = (c.x - p0.x) * ux + (c.y - p0.y) * uy;
+            const double off = factor * ((c.y - p0.y) * ux - (c.x - p0.x) * uy);  // right of the chord
+            c = {p0.x + along * ux + off * uy, p0.y + along * uy - off * ux};
+        }
+    } else if (edge.shape == EdgeShape::arc) {
+        const double half = 0.5 * chord, r = std::max(edge.arc_radius_m, half);
+        const double s = std::sqrt(std::max(0.0, r * r - half * half));
+        const double sagitta = factor * (edge.arc_large ? r + s : r - s);
+        if (!(sagitta > 1e-9 * chord)) return out;  // already (numerically) straight
+        out.arc_radius_m = (sagitta * sagitta + half * half) / (2.0 * sagitta);
+        out.arc_large = sagitta > half;
+    }
+    return out;
+}
+
+// A curve whose end overshoots its corner crosses the next edge right beside their common vertex:
+// GarmentCode checks outlines with each curve cut into 10 chords, so an arc leaving its corner a few
+// degrees outside it passes (gc_1001_0080's hem, gc_1001_0144's neckline). Such a curve is made
+// flatter, by the least factor down to kMostFlattening that clears the crossing and one step more,
+// leaving every vertex (and so every seam's ends) where it was; the pattern notes what changed.
+// Crossings between edges that do not meet at a vertex are left to check_pattern to refuse.
+void flatten_corner_overshoots(Pattern& pattern) {
+    constexpr double kStep = 0.01, kMostFlattening = 0.8;
+    for (Panel& panel : pattern.panels) {
+        const size_t n = panel.edges.size();
+        if (n < 2) continue;
+        bool valid = true;  // check_pattern reports anything malformed; nothing to repair here
+        for (const Point2& v : panel.vertices) valid = valid && finite(v);
+        for (size_t e = 0; e < n; ++e)
+            valid = valid && panel.edges[e].start < panel.vertices.size() && panel.edges[e].end < panel.vertices.size() &&
+                    panel.edges[e].start == panel.edges[(e + n - 1) % n].end &&
+                    edge_length(panel, panel.edges[e]) >= kMinEdgeLength_m;
+        if (!valid) continue;
+        for (size_t round = 0; round < n; ++round) {
+            uint32_t a = 0, b = 0;
+            Point2 near{};
+            if (!outline_crosses(panel, &a, &b, &near)) break;
+            if (a == b || ((a + 1) % n != b && (b + 1) % n != a)) break;
+            double best_factor = 0.0;
+            uint32_t best_edge = a;
+            for (uint32_t e : {a, b}) {
+                if (panel.edges[e].shape == EdgeShape::straight) continue;
+                const PatternEdge original = panel.edges[e];
+                for (double f = 1.0 - kStep; f >= kMostFlattening - 1e-9; f -= kStep) {
+                    panel.edges[e] = flattened(panel, original, f);
+                    uint32_t x, y;
+                    Point2 p;
+                    if (!outline_crosses(panel, &x, &y, &p) || (x != a && x != b) || (y != a && y != b)) {
+                        if (f > best_factor) best_factor = f, best_edge = e;
+                        break;
+                    }
+                }
+                panel.edges[e] = original;
+            }
+            if (best_factor == 0.0) break;
+            const double factor = std::max(kMostFlattening - kStep, best_factor - kStep);
+            panel.edges[best_edge] = flattened(panel, panel.edges[best_edge], factor);
+            const uint32_t other = best_edge == a ? b : a;
+            char note[256];
+            std::snprintf(note, sizeof note,
+                          "panel \"%s\": edge \"%s\" made %.0f%% flatter: its end crossed edge \"%s\" beside their "
+                          "corner, near (%.4g, %.4g) m",
+                          panel.name.c_str(), panel.edges[best_edge].name.c_str(), 100.0 * (1.0 - factor),
+                          panel.edges[other].name.c_str(), near.x, near.y);
+            pattern.repairs.push_back(note);
+        }
+    }
+}
+
 void check_pattern(const Pattern& pattern) {
     if (pattern.panels.empty()) fail("pattern", "has no panels");
     const Fabric& f = pattern.fabric;
@@ -573,12 +680,8 @@ void check_pattern(const Pattern& pattern) {
         }
         uint32_t segment[2] = {0, 0};
         if (SegmentIndex(outline, 2.0 * perimeter / double(outline.size())).self_intersects(&segment[0], &segment[1])) {
-            // fine_outline gives a straight edge one segment and a curve kFineSegmentsPerCurve.
-            std::vector<uint32_t> edge_of;
-            for (uint32_t e = 0; e < panel.edges.size(); ++e)
-                edge_of.insert(edge_of.end(), panel.edges[e].shape == EdgeShape::straight ? 1 : kFineSegmentsPerCurve, e);
-            const PatternEdge& a = panel.edges[edge_of[std::min<size_t>(segment[0], edge_of.size() - 1)]];
-            const PatternEdge& b = panel.edges[edge_of[std::min<size_t>(segment[1], edge_of.size() - 1)]];
+            const PatternEdge& a = panel.edges[edge_of_segment(panel, segment[0])];
+            const PatternEdge& b = panel.edges[edge_of_segment(panel, segment[1])];
             const Point2 at = outline[segment[0]];
             char place[96];
             std::snprintf(place, sizeof place, " near (%.4g, %.4g) m in the panel's frame", at.x, at.y);
@@ -633,6 +736,7 @@ Status parse_pattern(std::string_view json_text, const ParseOptions& options, Pa
                 return {"pattern: neither a Weft pattern (\"format\": \"weft-pattern\") nor GarmentCode (\"pattern\")"};
             pattern = read_weft(root);
         }
+        flatten_corner_overshoots(pattern);
         check_pattern(pattern);
         *out = std::move(pattern);
         return {};

@@ -114,6 +114,9 @@ struct Pattern {
     // Whether the garment covers the arms (sleeves sewn into armholes). GarmentCode: an edge labelled
     // "left_armhole" or "right_armhole" is stitched. Weft patterns: assumed (the arms stay in the sewing).
     bool sleeves = true;
+    // What parse_pattern changed to make the pattern valid, one sentence each (a curve that
+    // overshot its corner made flatter); weft-bake prints them.
+    std::vector<std::string> repairs;
 };
 
 struct ParseOptions {
