@@ -62,20 +62,35 @@ CookScore cook_score(const ClothAsset& a) {
 Result cook_garment(const ClothMeshDesc& mesh, const CookOptions& options, bool choose_runs, CookedCloth* out,
                     CookOptions* chosen) {
     if (chosen != nullptr) *chosen = options;
-    if (Result r = cook_cloth(mesh, options, out); !r.ok() || !choose_runs) return r;
-    CookScore best = cook_score(out->asset());
-    for (const auto& [min_run_lanes, max_run_gap] : kRunChoices) {
-        CookOptions cook = options;
-        cook.min_run_lanes = min_run_lanes;
-        cook.max_run_gap = max_run_gap;
+    if (!choose_runs) return cook_cloth(mesh, options, out);
+    // The run shapes are scored without the coarse level and tethers (as cook_packings scores
+    // packings): their lanes do not change with the run shape, and a sewn garment's tethers,
+    // measured along its flat panels by fast marching, were a fifth of its whole bake when every
+    // trial cooked them. The winner is then cooked once with everything.
+    CookOptions scoring = options;
+    scoring.coarse_spacing_m = 0.0f;
+    scoring.tethers_per_particle = 0;
+    const bool scoring_is_all = scoring.coarse_spacing_m == options.coarse_spacing_m &&
+                                scoring.tethers_per_particle == options.tethers_per_particle;
+    CookOptions best_options = options;
+    CookScore best{true, HUGE_VAL};
+    CookedCloth best_trial;
+    for (size_t k = 0; k <= std::size(kRunChoices); ++k) {  // the given options first, then each choice
+        CookOptions cook = scoring;
+        if (k > 0) cook.min_run_lanes = kRunChoices[k - 1][0], cook.max_run_gap = kRunChoices[k - 1][1];
         CookedCloth trial;
         if (Result r = cook_cloth(mesh, cook, &trial); !r.ok()) return r;
-        if (const CookScore score = cook_score(trial.asset()); score < best) {
-            best = score, *out = std::move(trial);
-            if (chosen != nullptr) *chosen = cook;
+        if (const CookScore score = cook_score(trial.asset()); k == 0 || score < best) {
+            best = score, best_trial = std::move(trial);
+            best_options.min_run_lanes = cook.min_run_lanes, best_options.max_run_gap = cook.max_run_gap;
         }
     }
-    return {};
+    if (chosen != nullptr) *chosen = best_options;
+    if (scoring_is_all) {
+        *out = std::move(best_trial);
+        return {};
+    }
+    return cook_cloth(mesh, best_options, out);
 }
 
 Result cook_packings(const ClothMeshDesc& mesh, const MeshedGarment& g, const CookOptions& options, bool choose_runs,
