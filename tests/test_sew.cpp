@@ -316,6 +316,34 @@ TEST_CASE("sewing: the binned inside test answers as the ray parity against ever
     CHECK_FALSE(inside.contains({0.0f, 50.0f, 0.0f}));
 }
 
+TEST_CASE("sewing: the hull's triangles buried inside another part of the body are found, and only those") {
+    // Two boxes that interpenetrate, as an arm and a torso do in mean_all's armpits: the small
+    // box's face at x = 0.9 lies inside the large box, the large box's face at x = 1 inside the
+    // small one (its middle part: both its triangles' middles are there). Every other triangle's
+    // middle is outside the other box.
+    bake::SewBody body;
+    const auto box = [&](Vec3 lo, Vec3 hi) {
+        const uint32_t base = uint32_t(body.positions.size());
+        for (int k = 0; k < 8; ++k) body.positions.push_back({k & 1 ? hi.x : lo.x, k & 2 ? hi.y : lo.y, k & 4 ? hi.z : lo.z});
+        // Two triangles a face, counter-clockwise from outside: -x, +x, -y, +y, -z, +z.
+        const uint32_t faces[6][4] = {{0, 4, 6, 2}, {1, 3, 7, 5}, {0, 1, 5, 4}, {2, 6, 7, 3}, {0, 2, 3, 1}, {4, 5, 7, 6}};
+        for (const auto& f : faces)
+            body.triangles.insert(body.triangles.end(), {base + f[0], base + f[1], base + f[2], base + f[0], base + f[2], base + f[3]});
+    };
+    box({0.0f, 0.0f, 0.0f}, {1.0f, 1.0f, 1.0f});
+    box({0.9f, 0.2f, 0.2f}, {2.9f, 0.8f, 0.8f});
+    const std::vector<bool> buried = bake::buried_hull_triangles(body, 0.004f);
+    REQUIRE(buried.size() == 24);
+    for (uint32_t t = 0; t < 24; ++t) {
+        CAPTURE(t);
+        const bool large_box_plus_x = t == 2 || t == 3, small_box_minus_x = t == 12 || t == 13;
+        CHECK(buried[t] == (large_box_plus_x || small_box_minus_x));
+    }
+    // One closed surface buries nothing.
+    body.positions.resize(8), body.triangles.resize(36);
+    for (bool b : bake::buried_hull_triangles(body, 0.004f)) CHECK_FALSE(b);
+}
+
 TEST_CASE("sewing: bad input is refused with a message") {
     bake::BakeOptions options;
     bake::SewBody empty;

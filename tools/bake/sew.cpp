@@ -20,6 +20,11 @@ float dot(Vec3 a, Vec3 b) { return a.x * b.x + a.y * b.y + a.z * b.z; }
 Vec3 cross(Vec3 a, Vec3 b) { return {a.y * b.z - a.z * b.y, a.z * b.x - a.x * b.z, a.x * b.y - a.y * b.x}; }
 float length(Vec3 a) { return std::sqrt(dot(a, a)); }
 Vec3 normalize(Vec3 a) { const float l = length(a); return {a.x / l, a.y / l, a.z / l}; }
+Vec3 add(Vec3 a, Vec3 b) { return {a.x + b.x, a.y + b.y, a.z + b.z}; }
+Vec3 scale(Vec3 a, float s) { return {a.x * s, a.y * s, a.z * s}; }
+
+// How far in front of a hull triangle its outside is probed (buried_hull_triangles), metres.
+constexpr float kBuriedProbe_m = 0.001f;
 
 // Seam points as sets of particles joined transitively (a particle in two seam points, where
 // seams meet, joins them): root of every particle.
@@ -260,6 +265,56 @@ std::vector<std::vector<uint32_t>> boundary_loops(const std::vector<uint32_t>& t
     return loops;
 }
 
+std::vector<bool> buried_hull_triangles(const SewBody& body, float thickness_m) {
+    std::vector<Vec3> normal(body.positions.size(), Vec3{0.0f, 0.0f, 0.0f});
+    for (size_t t = 0; t + 2 < body.triangles.size(); t += 3) {
+        const Vec3 a = body.positions[body.triangles[t]], b = body.positions[body.triangles[t + 1]],
+                   c = body.positions[body.triangles[t + 2]];
+        const Vec3 area = cross(sub(b, a), sub(c, a));  // twice the area, along the face normal
+        for (int k = 0; k < 3; ++k) {
+            Vec3& n = normal[body.triangles[t + k]];
+            n = {n.x + area.x, n.y + area.y, n.z + area.z};
+        }
+    }
+    SewBody hull = body;
+    for (size_t v = 0; v < hull.positions.size(); ++v) {
+        const float l = length(normal[v]);
+        if (l > 0.0f) hull.positions[v] = add(hull.positions[v], scale(normal[v], thickness_m / l));
+    }
+    const BodyInsideTest inside(hull);
+    std::vector<bool> buried(body.triangles.size() / 3, false);
+    for (size_t t = 0; t < buried.size(); ++t) {
+        const Vec3 a = hull.positions[hull.triangles[3 * t]], b = hull.positions[hull.triangles[3 * t + 1]],
+                   c = hull.positions[hull.triangles[3 * t + 2]];
+        const Vec3 n = cross(sub(b, a), sub(c, a));
+        const float l = length(n);
+        if (!(l > 0.0f)) continue;
+        const Vec3 middle{(a.x + b.x + c.x) / 3.0f, (a.y + b.y + c.y) / 3.0f, (a.z + b.z + c.z) / 3.0f};
+        buried[t] = inside.contains(add(middle, scale(n, kBuriedProbe_m / l)));
+    }
+    return buried;
+}
+
+namespace {
+
+// The body without its buried hull triangles: what the garment collides with while it is sewn and
+// draped. `whole_triangle` (the whole body's triangle of each of body's) is kept in step.
+SewBody exterior_of(const SewBody& body, float thickness_m, std::vector<uint32_t>* whole_triangle) {
+    const std::vector<bool> buried = buried_hull_triangles(body, thickness_m);
+    SewBody out;
+    out.positions = body.positions;
+    std::vector<uint32_t> kept;
+    for (size_t t = 0; t < buried.size(); ++t) {
+        if (buried[t]) continue;
+        out.triangles.insert(out.triangles.end(), body.triangles.begin() + 3 * t, body.triangles.begin() + 3 * t + 3);
+        if (whole_triangle != nullptr) kept.push_back((*whole_triangle)[t]);
+    }
+    if (whole_triangle != nullptr) *whole_triangle = std::move(kept);
+    return out;
+}
+
+}  // namespace
+
 std::vector<bool> arm_tip_triangles(const SewBody& body) {
     const uint32_t n = uint32_t(body.positions.size());
     std::vector<bool> tip(body.triangles.size() / 3, false);
@@ -422,6 +477,11 @@ Status sew_garment(const ClothMeshDesc& unsewn, const std::vector<uint32_t>& att
         whole_triangle.resize(body.triangles.size() / 3);
         std::iota(whole_triangle.begin(), whole_triangle.end(), 0u);
     }
+    // Collisions skip the hull's buried triangles (buried_hull_triangles); the inside tests take
+    // the closed body.
+    const SewBody closed_body = body;
+    body = exterior_of(closed_body, o.body_thickness_m, &whole_triangle);
+    const SewBody whole_exterior = o.ignore_arm_tips ? exterior_of(whole_body, o.body_thickness_m, nullptr) : SewBody{};
     SewOptions sewing = o;  // frictionless while the seams close (SewOptions::sewing_friction)
     sewing.body_friction = o.sewing_friction;
     const auto start = std::chrono::steady_clock::now();
@@ -657,8 +717,8 @@ Status sew_garment(const ClothMeshDesc& unsewn, const std::vector<uint32_t>& att
 
     // 3. Draping under full gravity until at rest; a garment sewn without the arm tips then drapes
     // again on the whole body, so the dressed pose is outside the body the game steps it with.
-    for (const SewBody* drape_body : {static_cast<const SewBody*>(&body), &whole_body}) {
-        if (drape_body == &whole_body && !o.ignore_arm_tips) break;
+    for (const SewBody* drape_body : {static_cast<const SewBody*>(&body), &whole_exterior}) {
+        if (drape_body == &whole_exterior && !o.ignore_arm_tips) break;
         CookedCloth sewn;  // starting where the garment is (d.positions)
         if (Result r = o.cook_sewn ? o.cook_sewn(d, &sewn) : cook_cloth(d, sewn_cook_options(cook), &sewn); !r.ok())
             return {std::string("sewn garment: ") + r.message};
@@ -676,7 +736,7 @@ Status sew_garment(const ClothMeshDesc& unsewn, const std::vector<uint32_t>& att
         // the closest hull point, found with a 0.5 m reach, and the drape goes on.
         BodyWorld reach;
         if (Status s = open_body_world(sewn.asset(), *drape_body, o, 0.0f, 1.0f, &reach, 0.5f); !s.ok()) return s;
-        const BodyInsideTest inside(*drape_body);
+        const BodyInsideTest inside(drape_body == &body ? closed_body : whole_body);
         uint32_t calm = 0, frames = 0;
         for (uint32_t round = 0;; ++round) {
             while (frames++ < o.max_drape_frames && calm < o.rest_frames) {
@@ -706,7 +766,7 @@ Status sew_garment(const ClothMeshDesc& unsewn, const std::vector<uint32_t>& att
         }
         g.positions = before;
         d.positions = g.positions.data();
-        const bool final_drape = !o.ignore_arm_tips || drape_body == &whole_body;
+        const bool final_drape = !o.ignore_arm_tips || drape_body == &whole_exterior;
         watch(g.positions, final_drape);
         if (!final_drape) continue;  // the report is of the last drape
         rep.top_at_rest_m = top_of_openings(g.triangles, g.positions, g.attached_particle);

@@ -166,6 +166,14 @@ inline CookOptions sewn_cook_options(CookOptions options) {
 inline constexpr float kArmTipReach = 0.26f;  // of the height: the hand and the forearm (mean_all: 45 cm)
 std::vector<bool> arm_tip_triangles(const SewBody& body);
 
+// The triangles of the body's offset hull (every vertex out by thickness_m along its area-weighted
+// normal, as add_body makes it) that lie inside the hull itself: a triangle whose outside, 1 mm in
+// front of its middle, is inside the hull by ray parity is buried under another part of the body
+// (the arm's underside in the armpit, the torso's side under the arm, fingers against fingers).
+// The sewing and the drape collide without them: a particle in the crease found a buried triangle
+// closest, in front of it, and stayed inside the skin.
+std::vector<bool> buried_hull_triangles(const SewBody& body, float thickness_m);
+
 // Whether `point` lies inside the body's skin (ray parity against every triangle: a reference for
 // reports and tests, not for stepping).
 bool inside_body(const SewBody& body, Vec3 point);
