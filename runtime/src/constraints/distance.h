@@ -96,28 +96,40 @@ void project_run(const PointSet& p, const ConstraintLanes& constraints, const Co
     }
 }
 
-// The general path: per-lane indices, one lane at a time on every SIMD path (gathers measured
-// no faster than scalar on this layout; see docs/architecture.md).
-template <bool kExact, bool kWeakCompression = false>
+// The general path: per-lane indices. Lanes of one colour touch disjoint particles (validate_asset
+// checks it), so on a SIMD path they are projected F::width at a time, their ends gathered and
+// written back lane by lane (AVX2 has no scatter); each lane's arithmetic is the same as one at a
+// time, so every path gives the same bits. The overflow colour shares particles, and the tail of a
+// batch goes one lane at a time. (On the sewn garments an indexed lane costs about 12 run lanes:
+// its ends are scattered over the slots; docs/decisions/2026-11-26-exact-pass-speed.md.)
+template <class F, bool kExact, bool kWeakCompression = false>
+inline void project_indexed_lanes(const PointSet& p, const ConstraintLanes& constraints, uint32_t lane,
+                                  const DistanceArgs& args) {
+    using namespace simd;
+    const uint32_t* a = constraints.index_a + lane;
+    const uint32_t* b = constraints.index_b + lane;
+    F xa = gather(p.x, a, F{}), ya = gather(p.y, a, F{}), za = gather(p.z, a, F{});
+    F xb = gather(p.x, b, F{}), yb = gather(p.y, b, F{}), zb = gather(p.z, b, F{});
+    project_distance<F, kExact, kWeakCompression>(
+        xa, ya, za, gather(p.inverse_mass, a, F{}), xb, yb, zb, gather(p.inverse_mass, b, F{}),
+        load(constraints.rest_length + lane, F{}), load(constraints.lane_weight + lane, F{}) * splat(args.relaxation, F{}),
+        splat(args.compliance_over_h2, F{}), splat(args.compression_weight, F{}));
+    scatter_by_stores(p.x, a, xa);
+    scatter_by_stores(p.y, a, ya);
+    scatter_by_stores(p.z, a, za);
+    scatter_by_stores(p.x, b, xb);
+    scatter_by_stores(p.y, b, yb);
+    scatter_by_stores(p.z, b, zb);
+}
+
+template <class F, bool kExact, bool kWeakCompression = false>
 void project_indexed(const PointSet& p, const ConstraintLanes& constraints, const ConstraintBatch& batch,
                      const DistanceArgs& args) {
-    using simd::Float1;
-    const Float1 alpha{args.compliance_over_h2};
+    uint32_t lane = batch.first_lane;
     const uint32_t end = batch.first_lane + batch.lane_count;
-    for (uint32_t lane = batch.first_lane; lane < end; ++lane) {
-        const uint32_t a = constraints.index_a[lane], b = constraints.index_b[lane];
-        Float1 xa{p.x[a]}, ya{p.y[a]}, za{p.z[a]}, xb{p.x[b]}, yb{p.y[b]}, zb{p.z[b]};
-        project_distance<Float1, kExact, kWeakCompression>(
-            xa, ya, za, Float1{p.inverse_mass[a]}, xb, yb, zb, Float1{p.inverse_mass[b]},
-            Float1{constraints.rest_length[lane]}, Float1{constraints.lane_weight[lane] * args.relaxation}, alpha,
-            Float1{args.compression_weight});
-        p.x[a] = xa.v;
-        p.y[a] = ya.v;
-        p.z[a] = za.v;
-        p.x[b] = xb.v;
-        p.y[b] = yb.v;
-        p.z[b] = zb.v;
-    }
+    if (F::width > 1 && batch.colour != kOverflowColour)
+        for (; lane + F::width <= end; lane += F::width) project_indexed_lanes<F, kExact, kWeakCompression>(p, constraints, lane, args);
+    for (; lane < end; ++lane) project_indexed_lanes<simd::Float1, kExact, kWeakCompression>(p, constraints, lane, args);
 }
 
 }  // namespace weft
