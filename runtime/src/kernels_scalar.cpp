@@ -14,7 +14,7 @@ const Kernels& scalar_kernels() {
     using F = simd::Float1;
     static constexpr Kernels kernels{SimdPath::scalar, integrate_verlet<F>, solve_coarse_level<F>,
                                      {project_run<F, true>, project_run<F, false>},
-                                     {project_indexed<true>, project_indexed<false>},
+                                     {project_indexed<F, true>, project_indexed<F, false>},
                                      project_tethers<F>, collide<F>, apply_wind<F>};
     return kernels;
 }

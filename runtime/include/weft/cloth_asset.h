@@ -46,8 +46,11 @@ struct ConstraintBatch {
     uint32_t a0 = 0, b0 = 0;  // runs only: first particle slot of each side
     ConstraintKind kind = ConstraintKind::stretch;
     BatchLayout layout = BatchLayout::run;
-    uint16_t colour = 0;  // batches of one colour touch disjoint particles
+    uint16_t colour = 0;  // batches of one colour touch disjoint particles (kOverflowColour: they may not)
 };
+// The colour of the constraints that fit no other: they share particles, so they are solved last,
+// one lane at a time.
+inline constexpr uint16_t kOverflowColour = 0xFFFF;
 
 // Long-range attachments (Kim, Chentanez, Mueller 2012): particle particle0 + k may not move
 // further than tether_rest[0][first_lane + k] from the pinned particle anchor[0] nor further than

@@ -104,7 +104,7 @@ void solve_coarse_level(const Particles& particles, const IntegrateArgs& integra
             if (batch.layout == BatchLayout::run) {
                 project_run<F, false, true>(points, constraints, batch, distance);
             } else {
-                project_indexed<false, true>(points, constraints, batch, distance);
+                project_indexed<F, false, true>(points, constraints, batch, distance);
             }
         }
     if (st.anchor != nullptr)  // contact tethers, when the cloth uses them (constraints/contact_tethers.h)

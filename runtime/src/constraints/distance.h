@@ -96,27 +96,71 @@ void project_run(const PointSet& p, const ConstraintLanes& constraints, const Co
     }
 }
 
-// The general path: per-lane indices, one lane at a time on every SIMD path (gathers measured
-// no faster than scalar on this layout; see docs/architecture.md).
-template <bool kExact, bool kWeakCompression = false>
+// The two ends of F::width indexed lanes (per-lane slots index_a, index_b), gathered from the
+// particle arrays, projected, and scattered back.
+template <class F>
+struct IndexedEnds {
+    F xa, ya, za, wa, xb, yb, zb, wb;
+};
+template <class F>
+inline IndexedEnds<F> gather_ends(const PointSet& p, const uint32_t* a, const uint32_t* b) {
+    using namespace simd;
+    return {gather(p.x, a, F{}), gather(p.y, a, F{}), gather(p.z, a, F{}), gather(p.inverse_mass, a, F{}),
+            gather(p.x, b, F{}), gather(p.y, b, F{}), gather(p.z, b, F{}), gather(p.inverse_mass, b, F{})};
+}
+template <class F, bool kExact, bool kWeakCompression>
+inline void project_ends(IndexedEnds<F>& e, const ConstraintLanes& constraints, uint32_t lane, const DistanceArgs& args) {
+    using namespace simd;
+    project_distance<F, kExact, kWeakCompression>(
+        e.xa, e.ya, e.za, e.wa, e.xb, e.yb, e.zb, e.wb, load(constraints.rest_length + lane, F{}),
+        load(constraints.lane_weight + lane, F{}) * splat(args.relaxation, F{}), splat(args.compliance_over_h2, F{}),
+        splat(args.compression_weight, F{}));
+}
+template <class F>
+inline void scatter_ends(const PointSet& p, const uint32_t* a, const uint32_t* b, const IndexedEnds<F>& e) {
+    using namespace simd;
+    scatter_by_stores(p.x, a, e.xa);
+    scatter_by_stores(p.y, a, e.ya);
+    scatter_by_stores(p.z, a, e.za);
+    scatter_by_stores(p.x, b, e.xb);
+    scatter_by_stores(p.y, b, e.yb);
+    scatter_by_stores(p.z, b, e.zb);
+}
+
+// The general path: per-lane indices. Lanes of one colour touch disjoint particles (validate_asset
+// checks it), so on a SIMD path they are projected F::width at a time; each lane's arithmetic is
+// the same as one at a time, so every path gives the same bits. The overflow colour shares
+// particles, and the tail of a batch goes one lane at a time. Measured on the sewn garments:
+// docs/decisions/2026-11-26-exact-pass-speed.md.
+template <class F, bool kExact, bool kWeakCompression = false>
 void project_indexed(const PointSet& p, const ConstraintLanes& constraints, const ConstraintBatch& batch,
                      const DistanceArgs& args) {
-    using simd::Float1;
-    const Float1 alpha{args.compliance_over_h2};
+    const uint32_t* a = constraints.index_a;
+    const uint32_t* b = constraints.index_b;
+    uint32_t lane = batch.first_lane;
     const uint32_t end = batch.first_lane + batch.lane_count;
-    for (uint32_t lane = batch.first_lane; lane < end; ++lane) {
-        const uint32_t a = constraints.index_a[lane], b = constraints.index_b[lane];
-        Float1 xa{p.x[a]}, ya{p.y[a]}, za{p.z[a]}, xb{p.x[b]}, yb{p.y[b]}, zb{p.z[b]};
-        project_distance<Float1, kExact, kWeakCompression>(
-            xa, ya, za, Float1{p.inverse_mass[a]}, xb, yb, zb, Float1{p.inverse_mass[b]},
-            Float1{constraints.rest_length[lane]}, Float1{constraints.lane_weight[lane] * args.relaxation}, alpha,
-            Float1{args.compression_weight});
-        p.x[a] = xa.v;
-        p.y[a] = ya.v;
-        p.z[a] = za.v;
-        p.x[b] = xb.v;
-        p.y[b] = yb.v;
-        p.z[b] = zb.v;
+    if (F::width > 1 && batch.colour != kOverflowColour) {
+        // Two groups at once: each group is one long chain (gathers, square root, division,
+        // stores), and two side by side let the processor overlap them (an array of four groups
+        // measured no better than two).
+        for (; lane + 2 * F::width <= end; lane += 2 * F::width) {
+            const uint32_t next = lane + F::width;
+            IndexedEnds<F> e0 = gather_ends<F>(p, a + lane, b + lane), e1 = gather_ends<F>(p, a + next, b + next);
+            project_ends<F, kExact, kWeakCompression>(e0, constraints, lane, args);
+            project_ends<F, kExact, kWeakCompression>(e1, constraints, next, args);
+            scatter_ends(p, a + lane, b + lane, e0);
+            scatter_ends(p, a + next, b + next, e1);
+        }
+        for (; lane + F::width <= end; lane += F::width) {
+            IndexedEnds<F> e = gather_ends<F>(p, a + lane, b + lane);
+            project_ends<F, kExact, kWeakCompression>(e, constraints, lane, args);
+            scatter_ends(p, a + lane, b + lane, e);
+        }
+    }
+    for (; lane < end; ++lane) {
+        IndexedEnds<simd::Float1> e = gather_ends<simd::Float1>(p, a + lane, b + lane);
+        project_ends<simd::Float1, kExact, kWeakCompression>(e, constraints, lane, args);
+        scatter_ends(p, a + lane, b + lane, e);
     }
 }
 

@@ -114,7 +114,6 @@ void CookedCloth::refresh_asset(uint32_t particle_count, uint32_t colour_count, 
 
 namespace {
 
-constexpr uint16_t kOverflowColour = 0xFFFF;  // shares particles; solved last, one lane at a time
 constexpr uint32_t kMaxColours = 64;          // one bit each in a per-slot mask
 
 // A unit of colouring: a run (first..first+count of the sorted springs, lanes a0 + k) or one spring.

@@ -134,7 +134,7 @@ Result check_colours(const LaneSet& a, uint32_t* scratch) {
         if (b.colour < previous)
             return make_error(ErrorCode::corrupt_asset, "%s batches are not in colour order", a.name);
         previous = b.colour;
-        if (b.colour == 0xFFFF) continue;  // the overflow colour is solved serially
+        if (b.colour == kOverflowColour) continue;  // the overflow colour is solved serially
         if (b.colour >= a.colour_count)
             return make_error(ErrorCode::corrupt_asset, "%s batch %u has colour %u of %u", a.name, i, b.colour,
                               a.colour_count);

@@ -6,6 +6,7 @@
 #pragma once
 
 #include <cmath>
+#include <cstring>
 #include <cstdint>
 
 #if defined(__AVX2__) && defined(__FMA__) && !defined(WEFT_SIMD_SCALAR_ONLY)
@@ -41,6 +42,8 @@ inline void store(float* p, Float1 a) { *p = a.v; }
 inline Float1 gather(const float* base, const uint32_t* index, Float1) { return {base[*index]}; }
 // The same, as one scalar load per lane (see the Float8 form).
 inline Float1 gather_by_loads(const float* base, const uint32_t* index, Float1) { return {base[*index]}; }
+// base[index[k]] = a[k] for every lane: the inverse of gather_by_loads (the indices must differ).
+inline void scatter_by_stores(float* base, const uint32_t* index, Float1 a) { base[*index] = a.v; }
 // table[index[k]] for every lane k, where the lanes' indices lie within 8 of the first lane's
 // (index[k] - index[0] in [0, 7]; the table is readable up to entry index[0] + 7).
 inline Float1 gather_near(const float* table, const uint32_t* index, Float1) { return {table[*index]}; }
@@ -111,6 +114,19 @@ inline Float8 gather(const float* base, const uint32_t* index, Float8) {
 inline Float8 gather_by_loads(const float* base, const uint32_t* index, Float8) {
     return {_mm256_setr_ps(base[index[0]], base[index[1]], base[index[2]], base[index[3]], base[index[4]], base[index[5]],
                            base[index[6]], base[index[7]])};
+}
+// Eight scalar stores straight from the register (vmovss, vextractps): AVX2 has no scatter.
+inline void scatter_by_stores(float* base, const uint32_t* index, Float8 a) {
+    const __m128 low = _mm256_castps256_ps128(a.v), high = _mm256_extractf128_ps(a.v, 1);
+    auto put = [&](uint32_t slot, int bits) { std::memcpy(base + slot, &bits, sizeof(float)); };
+    _mm_store_ss(base + index[0], low);
+    put(index[1], _mm_extract_ps(low, 1));
+    put(index[2], _mm_extract_ps(low, 2));
+    put(index[3], _mm_extract_ps(low, 3));
+    _mm_store_ss(base + index[4], high);
+    put(index[5], _mm_extract_ps(high, 1));
+    put(index[6], _mm_extract_ps(high, 2));
+    put(index[7], _mm_extract_ps(high, 3));
 }
 // table[index[k]] with index[k] - index[0] in [0, 7]: one load of the eight entries from
 // table[index[0]] and one vpermps (a gather, or a lookup from registers over a whole coarse row,
