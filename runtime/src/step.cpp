@@ -5,9 +5,11 @@
 //   3. spring correction: a) `coarse_iterations` sweeps of the coarse level (if any; with contact
 //      tethers, which the end of each step re-anchors), b) `iterations` sweeps over
 //      every constraint batch, c) the tethers once (measured: tethers after every sweep cost 2x the
-//      pass for a smaller max strain, docs/solver.md)
+//      pass for a smaller max strain, docs/solver.md), d) a cloth's skin constraints (max distance,
+//      backstop; weft/attachments.h)
 //   4. collision test and response against the inflated colliders, then the bodies' offset hulls
-//      (section 4.2; a body the game moved is refitted once at the start of the step)
+//      (section 4.2; a body the game moved is refitted once at the start of the step; a
+//      skin_constraints body skips both for the cloths its skin constraints bind)
 // 3a runs before 2 on the coarse nodes' own Verlet prediction, so that its correction rides along
 // in the integration pass (one trip through the particle arrays instead of two).
 //

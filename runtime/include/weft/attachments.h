@@ -31,7 +31,7 @@ Result attach_cloth_to_body(World* world, ClothId cloth, BodyId body);
 //   backstop:     (x - P) . N >= -backstop_m                     (projected onto the half-space)
 // The backstop is a half-space (a plane behind the hull point along N) rather than NvCloth's or
 // Jolt's backstop sphere: on the thin limbs of a body a sphere large enough to be flat near the
-// surface reaches through the limb (docs/garments.md, "Collision models").
+// surface reaches through the limb (docs/decisions/2026-11-26-body-collision-models.md).
 struct SkinConstraints {
     uint32_t count = 0;
     const uint32_t* particle = nullptr;     // [count] caller particles, free (inverse mass > 0), each once
