@@ -400,7 +400,7 @@ TEST_CASE("stepping with a body allocates nothing; Embree's reference pass at mo
     CookedCloth cooked;
     REQUIRE(cook_cloth(grid.desc(), {}, &cooked).ok());
     for (SimdPath path : available_paths())
-    for (int pass = 0; pass < 3; ++pass) {  // the exact pass, cached planes, Embree's reference pass
+    for (int pass = 0; pass < 4; ++pass) {  // the exact pass, cached planes, Embree's reference pass, skin constraints
         const bool reference = pass == 2;
         CAPTURE(simd_path_name(path));
         CAPTURE(pass);
@@ -434,9 +434,13 @@ TEST_CASE("stepping with a body allocates nothing; Embree's reference pass at mo
         bd.triangles = sphere.triangles.data();
         bd.triangle_count = uint32_t(sphere.triangles.size() / 3);
         bd.reference_queries = reference;
-        bd.collision = pass == 1 ? BodyCollision::cached_planes : BodyCollision::exact;
+        bd.collision = pass == 1   ? BodyCollision::cached_planes
+                       : pass == 3 ? BodyCollision::skin_constraints
+                                   : BodyCollision::exact;
         BodyId body;
         REQUIRE(add_body(world, bd, &body).ok());
+        scenes::SkinBinding skin;  // pass 3: every particle bound to the sphere (the arrays outlive the steps)
+        if (pass == 3) REQUIRE(scenes::bind_skin(world, cloth, body, scenes::SkinOptions{}, &skin).empty());
         REQUIRE(set_embree_commit_hook(world, commit_hook, nullptr).ok());
         const WorldStats created = world_stats(world);
         CHECK(created.embree_bytes > 0);  // the BVH, built at add_body
@@ -477,7 +481,7 @@ TEST_CASE("stepping with a body allocates nothing; Embree's reference pass at mo
             }
         }
         const WorldStats after = world_stats(world);
-        MESSAGE(std::string(simd_path_name(path)), std::string(reference ? " reference pass" : pass == 1 ? " cached planes" : " own hierarchy"), ": ", commits, " commits while moving; heap allocations inside them ",
+        MESSAGE(std::string(simd_path_name(path)), std::string(reference ? " reference pass" : pass == 1 ? " cached planes" : pass == 3 ? " skin constraints" : " own hierarchy"), ": ", commits, " commits while moving; heap allocations inside them ",
                 embree_allocations, " (at most ", worst_commit, " per commit), outside them ", weft_allocations,
                 "; Embree's memory monitor: ", after.embree_allocations - created.embree_allocations,
                 " growths, ", after.embree_bytes - created.embree_bytes, " bytes held since creation");

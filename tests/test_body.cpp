@@ -917,3 +917,133 @@ TEST_CASE("body: bad input is refused with a message and the world unchanged") {
     OwnedWorld unused;
     CHECK(world_memory_requirements(nonsense).bytes == 0);
 }
+
+// Skin constraints (weft/attachments.h: bind_skin_constraints) and BodyCollision::skin_constraints.
+namespace {
+
+// Points near the A-pose skin, bound by scenes::bind_skin (every one with a max distance), stepped
+// 12 frames from A to T under gravity pulling them into the body, 3 substeps; after every step each
+// constraint is checked against this step's hull. Returns the final positions.
+std::vector<Vec3> run_skin_points(SimdPath path, double* worst_ball_m, double* worst_backstop_m, uint64_t* queried) {
+    const BodyMesh& a = *shared_pose(false);
+    const BodyMesh& t = *shared_pose(true);
+    const std::vector<Vec3> start = points_near_a_pose(7, 0.0f, 0.02f, 3);
+    Points pts(start);
+    BodyDesc settings;
+    settings.collision = BodyCollision::skin_constraints;
+    BodyWorld w(pts.cooked.asset(), a, settings, path, 3);
+    w.place(start);
+    REQUIRE(set_gravity(w.owned.world, {0.0f, -9.81f, -6.0f}).ok());
+    scenes::SkinOptions options;
+    options.max_distance_m = 0.01f;
+    options.loose_offset_m = 1.0f;  // every particle has its ball
+    options.backstop_m = 0.0f;
+    scenes::SkinBinding skin;
+    const std::string e = scenes::bind_skin(w.owned.world, w.cloth, w.body, options, &skin);
+    INFO(e);
+    REQUIRE(e.empty());
+    REQUIRE(skin.particle.size() == start.size());
+    std::vector<Vec3> pose;
+    *worst_ball_m = *worst_backstop_m = 0.0;
+    *queried = 0;
+    for (int frame = 1; frame <= 12; ++frame) {
+        body::blend(a, t, float(frame) / 12.0f, &pose);
+        REQUIRE(set_body_vertices(w.owned.world, w.body, pose.data(), uint32_t(pose.size())).ok());
+        w.step_once();
+        *queried += world_stats(w.owned.world).body_queried;
+        const BodyView v = w.view();
+        const std::vector<Vec3> x = w.positions();
+        for (size_t k = 0; k < skin.particle.size(); ++k) {
+            const uint32_t* tri = v.triangles + 3 * skin.triangle[k];
+            D3 p{0, 0, 0}, n{0, 0, 0};
+            for (int c = 0; c < 3; ++c) {
+                const double wc = skin.weight[3 * k + c];
+                p = p + wc * D3{v.hull[4 * tri[c]], v.hull[4 * tri[c] + 1], v.hull[4 * tri[c] + 2]};
+                n = n + wc * D3{v.normals[3 * tri[c]], v.normals[3 * tri[c] + 1], v.normals[3 * tri[c] + 2]};
+            }
+            n = (1.0 / std::sqrt(dot(n, n))) * n;
+            const Vec3 q = x[skin.particle[k]];
+            const D3 d = D3{q.x, q.y, q.z} - p;
+            const D3 from_centre = d - double(skin.rest_offset_m[k]) * n;
+            // A point placed off one surface but inside another part of the hull (the armpit) has its
+            // ball wholly behind the backstop: no point meets both, and the backstop wins.
+            if (skin.rest_offset_m[k] + skin.backstop_m[k] >= -skin.max_distance_m[k])
+                *worst_ball_m = std::max(*worst_ball_m, std::sqrt(dot(from_centre, from_centre)) - skin.max_distance_m[k]);
+            *worst_backstop_m = std::max(*worst_backstop_m, -dot(d, n) - skin.backstop_m[k]);
+        }
+    }
+    return w.positions();
+}
+
+}  // namespace
+
+TEST_CASE("body: skin constraints keep particles within their max distance and in front of the backstop on the moving mean_all") {
+    if (skip_without_shared_body()) return;
+    for (SimdPath path : available_paths()) {
+        CAPTURE(simd_path_name(path));
+        double ball = 0, backstop = 0;
+        uint64_t queried = 0;
+        run_skin_points(path, &ball, &backstop, &queried);
+        MESSAGE(std::string(simd_path_name(path)), ": worst excess over the max distance ", ball * 1e6, " um, behind the backstop ",
+                backstop * 1e6, " um");
+        CHECK(ball <= 1e-5);      // float rounding of a 1 cm ball on a body a metre from the origin
+        CHECK(backstop <= 1e-5);
+        CHECK(queried == 0);      // the skin_constraints model searches no hierarchy for a bound cloth
+    }
+}
+
+TEST_CASE("body: the scalar and AVX2 skin constraints give the same bits on the animated mean_all") {
+    if (skip_without_shared_body()) return;
+    if (!simd_path_available(SimdPath::avx2)) {
+        MESSAGE("skipped: no AVX2 on this machine or build");
+        return;
+    }
+    double ball = 0, backstop = 0;
+    uint64_t queried = 0;
+    const std::vector<Vec3> scalar = run_skin_points(SimdPath::scalar, &ball, &backstop, &queried);
+    const std::vector<Vec3> avx2 = run_skin_points(SimdPath::avx2, &ball, &backstop, &queried);
+    CHECK(same_bits(scalar, avx2));
+}
+
+TEST_CASE("body: bind_skin_constraints refuses bad bindings with a message") {
+    const BodyMesh sphere = body::make_icosphere({0, 0, 0}, 0.3f, 2);
+    Points pts({{0.0f, 0.31f, 0.0f}, {0.0f, -0.31f, 0.0f}, {0.31f, 0.0f, 0.0f}});
+    BodyDesc settings;
+    settings.collision = BodyCollision::skin_constraints;
+    BodyWorld w(pts.cooked.asset(), sphere, settings);
+    w.place({{0.0f, 0.31f, 0.0f}, {0.0f, -0.31f, 0.0f}, {0.31f, 0.0f, 0.0f}});
+    REQUIRE(set_particle(w.owned.world, w.cloth, 2, {0.31f, 0.0f, 0.0f}, 0.0f).ok());  // pinned
+    uint32_t particle[2] = {0, 1}, triangle[2] = {0, 1};
+    float weight[6] = {1, 0, 0, 0, 1, 0}, offset[2] = {0.01f, 0.01f}, max_distance[2] = {0.02f, 0.02f},
+          backstop[2] = {0, 0};
+    SkinConstraints s{2, particle, triangle, weight, offset, max_distance, backstop};
+    CHECK(bind_skin_constraints(w.owned.world, w.cloth, w.body, s).ok());
+    auto refused = [&](ErrorCode code, const char* words) {
+        const Result r = bind_skin_constraints(w.owned.world, w.cloth, w.body, s);
+        INFO(r.message);
+        CHECK(r.code == code);
+        CHECK(std::string(r.message).find(words) != std::string::npos);
+    };
+    particle[1] = 0;
+    refused(ErrorCode::invalid_argument, "two skin constraints");
+    particle[1] = 2;
+    refused(ErrorCode::invalid_argument, "pinned");
+    particle[1] = 7;
+    refused(ErrorCode::out_of_range, "particle 7");
+    particle[1] = 1;
+    triangle[1] = 100000;
+    refused(ErrorCode::out_of_range, "body triangle");
+    triangle[1] = 1;
+    weight[4] = std::nanf("");
+    refused(ErrorCode::invalid_argument, "weights");
+    weight[4] = 1;
+    max_distance[0] = -1;
+    refused(ErrorCode::out_of_range, "max distance");
+    max_distance[0] = 0.02f;
+    offset[1] = INFINITY;
+    refused(ErrorCode::non_finite, "not finite");
+    offset[1] = 0.01f;
+    CHECK(bind_skin_constraints(w.owned.world, w.cloth, BodyId{4}, s).code == ErrorCode::out_of_range);
+    CHECK(bind_skin_constraints(nullptr, w.cloth, w.body, s).code == ErrorCode::invalid_argument);
+    CHECK(bind_skin_constraints(w.owned.world, w.cloth, w.body, SkinConstraints{}).ok());  // count 0: unbound
+}

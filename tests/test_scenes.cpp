@@ -69,7 +69,8 @@ TEST_CASE("a scene's body collides by cached planes unless it names the exact pa
     const std::string head = R"({"format": "weft-scene", "version": 1, "cloths": [{"grid": {"n": 4}}], "body": {"mannequin": {})";
     for (const auto& [text, model] : {std::pair{head + "}}", BodyCollision::cached_planes},
                                       std::pair{head + R"(, "collision": "exact"}})", BodyCollision::exact},
-                                      std::pair{head + R"(, "collision": "cached_planes"}})", BodyCollision::cached_planes}}) {
+                                      std::pair{head + R"(, "collision": "cached_planes"}})", BodyCollision::cached_planes},
+                                      std::pair{head + R"(, "collision": "skin_constraints"}})", BodyCollision::skin_constraints}}) {
         scenes::Scene scene;
         const std::string error = scenes::parse_scene(text, ".", &scene);
         INFO(text, "\n", error);
@@ -95,6 +96,27 @@ TEST_CASE("a scene's world holds the cached planes only when its body collides b
         slots = w.cloths[0].asset->slot_count;
     }
     CHECK(bytes[0] + 76 * size_t(slots) <= bytes[1]);
+}
+
+// body.collision skin_constraints: build_scene binds every free particle and the step searches nothing.
+TEST_CASE("a scene whose body collides by skin constraints binds its cloth's free particles") {
+    const std::string text = R"({"format": "weft-scene", "version": 1, "cloths": [{"grid": {"n": 4}}], )"
+                             R"("body": {"mannequin": {}, "collision": "skin_constraints"}})";
+    scenes::Scene scene;
+    REQUIRE(scenes::parse_scene(text, ".", &scene).empty());
+    scenes::SceneWorld w;
+    const std::string error = scenes::build_scene(scene, &w);
+    INFO(error);
+    REQUIRE(error.empty());
+    REQUIRE(w.cloths[0].skin);
+    ClothView view;
+    REQUIRE(view_cloth(w.world, w.cloths[0].id, &view).ok());
+    uint32_t free_particles = 0;
+    for (uint32_t p = 0; p < view.asset->particle_count; ++p)
+        free_particles += view.inverse_mass[view.asset->slot_of_particle[p]] > 0.0f;
+    CHECK(w.cloths[0].skin->particle.size() == free_particles);
+    REQUIRE(step(w.world, w.dt_s).ok());
+    CHECK(world_stats(w.world).body_queried == 0);
 }
 
 TEST_CASE("malformed scenes are refused with the key's path") {

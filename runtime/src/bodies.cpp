@@ -42,7 +42,8 @@ Result check_body_desc(const World& world, const BodyDesc& desc) {
     if (!(desc.thickness_m + desc.margin_m > 0.0f) || desc.thickness_m + desc.margin_m > 1.0f)
         return make_error(ErrorCode::out_of_range, "body thickness + margin %g m outside (0, 1]",
                           double(desc.thickness_m + desc.margin_m));
-    if (desc.collision != BodyCollision::exact && desc.collision != BodyCollision::cached_planes)
+    if (desc.collision != BodyCollision::exact && desc.collision != BodyCollision::cached_planes &&
+        desc.collision != BodyCollision::skin_constraints)
         return make_error(ErrorCode::invalid_argument, "unknown body collision model %u", unsigned(desc.collision));
     if (world.body_count >= world.desc.max_bodies)
         return make_error(ErrorCode::capacity_exceeded, "world holds at most %u bodies", world.desc.max_bodies);
@@ -169,6 +170,10 @@ Result query_body(const World* world, BodyId id, Vec3 point, BodyContact* out) {
     const BodyState& body = world->bodies[id.index];
     if (body.refit_pending)
         return make_error(ErrorCode::invalid_argument, "body moved since the last step: step first");
+    // A skin_constraints body's hierarchy is refitted on demand: the hierarchy is a cache of the
+    // hull (no result of the world changes), so a query may bring it up to date. Queries on such
+    // a body must therefore not run concurrently with each other.
+    refresh_body_hierarchy(const_cast<BodyState&>(body), world->kernels->path);
     const float p[3] = {point.x, point.y, point.z};
     *out = body.desc.reference_queries ? closest_hull_point(body, p)
                                        : closest_hull_point_hierarchy(body, p, world->kernels->path);

@@ -105,6 +105,7 @@ struct ColliderKernelArgs {
 };
 
 struct WindArgs;
+struct SkinArgs;
 
 struct Kernels {
     SimdPath path;
@@ -120,6 +121,8 @@ struct Kernels {
     void (*project_tethers)(const Particles&, const ClothAsset&, const TetherBatch&, float slack);
     void (*collide)(const Particles&, const ColliderKernelArgs&);
     void (*apply_wind)(const Particles&, const ClothAsset&, const WindArgs&);
+    // Skin constraints: max distance, then backstop (constraints/skin.h).
+    void (*project_skin)(const Particles&, const ClothAsset&, const SkinArgs&);
 };
 
 const Kernels& scalar_kernels();

@@ -5,9 +5,11 @@
 //   3. spring correction: a) `coarse_iterations` sweeps of the coarse level (if any; with contact
 //      tethers, which the end of each step re-anchors), b) `iterations` sweeps over
 //      every constraint batch, c) the tethers once (measured: tethers after every sweep cost 2x the
-//      pass for a smaller max strain, docs/solver.md)
+//      pass for a smaller max strain, docs/solver.md), d) a cloth's skin constraints (max distance,
+//      backstop; weft/attachments.h)
 //   4. collision test and response against the inflated colliders, then the bodies' offset hulls
-//      (section 4.2; a body the game moved is refitted once at the start of the step)
+//      (section 4.2; a body the game moved is refitted once at the start of the step; a
+//      skin_constraints body skips both for the cloths its skin constraints bind)
 // 3a runs before 2 on the coarse nodes' own Verlet prediction, so that its correction rides along
 // in the integration pass (one trip through the particle arrays instead of two).
 //
@@ -22,6 +24,7 @@
 #include "aerodynamics/wind.h"
 #include "constraints/attachments.h"
 #include "constraints/contact_tethers.h"
+#include "constraints/skin.h"
 #include "world_internal.h"
 
 namespace weft {
@@ -170,9 +173,14 @@ void move_bodies(World& world) {
     world.stats.body_embree_refits = 0;
     for (uint32_t i = 0; i < world.body_count; ++i) {
         BodyState& body = world.bodies[i];
+        // A skin_constraints body refits its hierarchy only when a search needs it (an unbound
+        // cloth in collide_bodies, query_body): its bound cloths never search.
+        const bool lazy = body.desc.collision == BodyCollision::skin_constraints && !body.desc.reference_queries;
         if (body.refit_pending) {
             if (body.desc.reference_queries) {
                 refit_embree(world, body);
+            } else if (lazy) {
+                body.hierarchy_stale = true;
             } else {
                 refit_body_hierarchy(body, world.kernels->path);
             }
@@ -182,7 +190,9 @@ void move_bodies(World& world) {
         } else if (body.moving) {
             for (uint32_t v = 0; v < body.vertex_count; ++v) body.hull[4 * v + 3] = 0.0f;  // no motion
             std::memcpy(body.previous_hull, body.hull, sizeof(float) * 4 * size_t(body.vertex_count));
-            if (!body.desc.reference_queries)
+            if (lazy)
+                body.hierarchy_stale = true;
+            else if (!body.desc.reference_queries)
                 refit_body_hierarchy(body, world.kernels->path);  // boxes no longer widened by the motion
             body.moving = false;
         }
@@ -192,13 +202,27 @@ void move_bodies(World& world) {
             std::chrono::duration_cast<std::chrono::nanoseconds>(std::chrono::steady_clock::now() - start).count());
 }
 
+// Skin constraints of a cloth bound to a body (bind_skin_constraints); timed as body collision,
+// which they replace under BodyCollision::skin_constraints.
+void project_skin_constraints(World& world, ClothInstance& cloth, uint32_t substep, uint32_t substeps) {
+    if (cloth.skin_body == ~0u) return;
+    PassTimer timer(world, Pass::body);
+    const BodyState& body = world.bodies[cloth.skin_body];
+    const SkinArgs args{body.hull, body.previous_hull, body.normals, body.triangles, cloth.skin,
+                        float(substep + 1) / float(substeps)};
+    world.kernels->project_skin(cloth.particles, *cloth.asset, args);
+}
+
 void collide_bodies(World& world, ClothInstance& cloth, uint32_t substep, uint32_t substeps) {
     if (world.body_count == 0) return;
     PassTimer timer(world, Pass::body);
     BodyPassCounts counts;
     const uint32_t slots = cloth.particles.slot_count;
     for (uint32_t i = 0; i < world.body_count; ++i) {
-        const BodyState& body = world.bodies[i];
+        BodyState& body = world.bodies[i];
+        if (body.desc.collision == BodyCollision::skin_constraints && cloth.skin_body == i)
+            continue;  // the skin constraints' backstop is this cloth's collision with the body
+        refresh_body_hierarchy(body, world.kernels->path);
         ContactPlanes planes{};
         if (body.plane_index != ~0u)  // a cached_planes body (add_body gave it its place)
             planes = contact_planes_in(cloth.contact_planes + size_t(body.plane_index) * kContactPlaneArrays * slots,
@@ -225,6 +249,8 @@ void step_cloth(World& world, ClothInstance& cloth, float dt) {
         for (uint32_t it = 0; it < cloth.split.iterations; ++it)
             correct_springs(world, cloth, h);                  // 3b. the springs, batch by batch
         apply_tethers(world, cloth);                           // 3c. the long-range attachments
+        project_skin_constraints(world, cloth, substep,
+                                 cloth.split.substeps);        // 3d. max distance and backstop
         collide(world, cloth, cloth.split.substeps);           // 4. collision response: colliders,
         collide_bodies(world, cloth, substep, cloth.split.substeps);  // then bodies
         cloth.previous_substep_s = h;

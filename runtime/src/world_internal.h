@@ -4,6 +4,7 @@
 #include "collide/body.h"
 #include "kernels.h"
 #include "memory/arena.h"
+#include "weft/attachments.h"
 #include "weft/world.h"
 
 namespace weft {
@@ -16,6 +17,9 @@ struct ClothInstance {
     CoarseState coarse;
     float previous_substep_s = 0.0f;  // h_prev of time-corrected Verlet; 0 before the first step
     uint32_t attached_body = ~0u;     // the body the asset's attachments follow (weft/attachments.h)
+    // Skin constraints (bind_skin_constraints): the caller's arrays and the body they follow.
+    SkinConstraints skin{};
+    uint32_t skin_body = ~0u;
     uint32_t* body_order = nullptr;   // [slot_count] with bodies: the body pass's slot order (collide/body.h)
     // [max_cached_plane_bodies * kContactPlaneArrays * slot_count]: the contact planes of each
     // cached_planes body, at its BodyState::plane_index (collide/body.h: contact_planes_in).

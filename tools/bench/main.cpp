@@ -585,7 +585,7 @@ int main(int argc, char** argv) {
         ->check(CLI::Range(1u, 100000u));
     garment->add_flag("--json", garment_json, "one JSON object per scene and model");
     std::vector<std::string> garment_models = {"exact", "cached_planes"};
-    garment->add_option("--collision", garment_models, "body collision models, each a row (exact, cached_planes)")
+    garment->add_option("--collision", garment_models, "body collision models, each a row (exact, cached_planes, skin_constraints)")
         ->delimiter(',')->capture_default_str();
     bench::CorpusOptions corpus_o;
     CLI::App* corpus = app.add_subcommand("corpus", "a folder of sewing patterns baked flat and sewn, one JSON line per garment and a summary");

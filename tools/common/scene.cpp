@@ -14,11 +14,15 @@
 namespace weft::scenes {
 
 const char* body_collision_name(BodyCollision c) {
-    return c == BodyCollision::cached_planes ? "cached_planes" : "exact";
+    switch (c) {
+        case BodyCollision::cached_planes: return "cached_planes";
+        case BodyCollision::skin_constraints: return "skin_constraints";
+        default: return "exact";
+    }
 }
 
 bool body_collision_from_name(const std::string& name, BodyCollision* out) {
-    for (BodyCollision c : {BodyCollision::exact, BodyCollision::cached_planes})
+    for (BodyCollision c : {BodyCollision::exact, BodyCollision::cached_planes, BodyCollision::skin_constraints})
         if (name == body_collision_name(c)) return *out = c, true;
     return false;
 }
@@ -256,6 +260,13 @@ std::string build_scene(const Scene& scene, SceneWorld* out, const std::vector<s
         if (out->body && cd.asset->attachment_count > 0)  // a garment dressed on this body (weft-bake --body)
             if (Result r = attach_cloth_to_body(out->world, out->cloths[i].id, out->body->id); !r.ok())
                 return "cloth '" + scene.cloths[i].name + "': attachments: " + r.message;
+        if (out->body && scene.body->collision == BodyCollision::skin_constraints) {
+            // Bound on the dressed pose the asset starts in, against the body's rest pose.
+            out->cloths[i].skin = std::make_unique<SkinBinding>();
+            if (std::string e = bind_skin(out->world, out->cloths[i].id, out->body->id, SkinOptions{}, out->cloths[i].skin.get());
+                !e.empty())
+                return "cloth '" + scene.cloths[i].name + "': skin constraints: " + e;
+        }
     }
     out->colliders.resize(scene.colliders.size());
     for (size_t i = 0; i < scene.colliders.size(); ++i)

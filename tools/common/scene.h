@@ -10,6 +10,7 @@
 #include <vector>
 
 #include "asset_writer.h"
+#include "skin_binding.h"
 #include "weft/weft.h"
 
 namespace weft::scenes {
@@ -106,6 +107,7 @@ struct SceneCloth {
     const ClothAsset* asset = nullptr;
     ClothId id{};
     ClothDesc desc;  // what add_cloth was given (the scene's settings, the baked fabric's stiffness)
+    std::unique_ptr<SkinBinding> skin;  // the skin_constraints body model: the arrays the world points into
 };
 
 // A built scene's body: its rest pose, what animates it, its id in the world.

@@ -231,7 +231,7 @@ BodySpec parse_body(const json& j, const std::string& where) {
     read(j, "margin_m", where, 0.0, 0.5, &b.margin_m);
     read(j, "friction", where, 0.0, 10.0, &b.friction);
     if (j.contains("collision") && !body_collision_from_name(text(j["collision"], where + ".collision"), &b.collision))
-        fail(where + ".collision", "must be exact or cached_planes");
+        fail(where + ".collision", "must be exact, cached_planes or skin_constraints");
     return b;
 }
 

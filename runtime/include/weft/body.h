@@ -49,6 +49,15 @@ enum class BodyCollision : uint8_t {
     // 76 bytes a particle slot, reserved by WorldDesc::max_cached_plane_bodies (add_body refuses a
     // cached_planes body beyond it).
     cached_planes,
+    // No hierarchy search for a cloth bound to this body by skin constraints
+    // (weft/attachments.h: bind_skin_constraints): the constraints' backstop and max distance are
+    // its only collision with the body, one triangle's interpolation per particle per substep
+    // instead of a search. A cloth without skin constraints on this body gets the exact pass.
+    // The particles stay in front of the triangle they were bound to, not of the whole hull: a
+    // skirt swinging into the other thigh is not seen (docs/garments.md, "Collision models").
+    // The body's hierarchy is refitted only when something searches it (an unbound cloth,
+    // query_body, which then must not be called from two threads at once).
+    skin_constraints,
 };
 
 struct BodyDesc {

@@ -77,6 +77,8 @@ struct BodyState {
     bool refit_pending = false;  // new vertices since the last step
     bool moving = false;         // hull and previous_hull differ (the body moved at the last step)
     uint32_t plane_index = ~0u;  // cached_planes: its planes' place in each cloth's contact_planes
+    // skin_constraints: the hull moved but the hierarchy was not refitted (refresh_body_hierarchy).
+    bool hierarchy_stale = false;
 };
 
 // Closest point on triangle (a, b, c) to p as barycentric weights (w0 + w1 + w2 = 1).
@@ -101,6 +103,12 @@ struct Arena;
 bool build_body_hierarchy(BodyState& body, Arena& arena, SimdPath path);
 // Refits the hierarchy to the current hull and its vertices' motion (every step after the body moved).
 void refit_body_hierarchy(BodyState& body, SimdPath path);
+// Refits a skin_constraints body's hierarchy if the hull moved since its last refit.
+inline void refresh_body_hierarchy(BodyState& body, SimdPath path) {
+    if (!body.hierarchy_stale) return;
+    refit_body_hierarchy(body, path);
+    body.hierarchy_stale = false;
+}
 
 // Counts of the pass's work for WorldStats.
 struct BodyPassCounts {
