@@ -670,22 +670,13 @@ void check_pattern(const Pattern& pattern) {
             const double length = edge_length(panel, edge);
             if (!(length >= kMinEdgeLength_m)) fail(ew, "has zero length");
         }
-        const std::vector<Point2> outline = fine_outline(panel);
-        const double area = signed_area(outline);
-        if (!(std::fabs(area) >= kMinPanelArea_m2)) fail(where, "has zero area");
-        double perimeter = 0.0;
-        for (size_t k = 0; k < outline.size(); ++k) {
-            const Point2 a = outline[k], b = outline[(k + 1) % outline.size()];
-            perimeter += std::hypot(b.x - a.x, b.y - a.y);
-        }
-        uint32_t segment[2] = {0, 0};
-        if (SegmentIndex(outline, 2.0 * perimeter / double(outline.size())).self_intersects(&segment[0], &segment[1])) {
-            const PatternEdge& a = panel.edges[edge_of_segment(panel, segment[0])];
-            const PatternEdge& b = panel.edges[edge_of_segment(panel, segment[1])];
-            const Point2 at = outline[segment[0]];
+        if (!(std::fabs(signed_area(fine_outline(panel))) >= kMinPanelArea_m2)) fail(where, "has zero area");
+        uint32_t a = 0, b = 0;
+        if (Point2 at; outline_crosses(panel, &a, &b, &at)) {
             char place[96];
             std::snprintf(place, sizeof place, " near (%.4g, %.4g) m in the panel's frame", at.x, at.y);
-            fail(where, "outline crosses or touches itself: edge \"" + a.name + "\" meets edge \"" + b.name + "\"" + place);
+            fail(where, "outline crosses or touches itself: edge \"" + panel.edges[a].name + "\" meets edge \"" +
+                            panel.edges[b].name + "\"" + place);
         }
     }
     std::set<std::pair<uint32_t, uint32_t>> sewn;

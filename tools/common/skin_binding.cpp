@@ -106,8 +106,8 @@ std::string bind_skin(World* world, ClothId cloth, BodyId body, const SkinOption
         out->particle.push_back(particle);
         out->triangle.push_back(best_t);
         for (double w : best_w) out->weight.push_back(float(w));
-        out->rest_offset_m.push_back(float(dot(x - q, n)));
         const float offset = float(dot(x - q, n));
+        out->rest_offset_m.push_back(offset);
         out->max_distance_m.push_back(std::fabs(offset) > options.loose_offset_m ? kNoMaxDistance_m : options.max_distance_m);
         out->backstop_m.push_back(options.backstop_m);
     }
