@@ -80,6 +80,35 @@ void refit_embree(World& world, BodyState& body) {
     world.stats.body_embree_refits += 1;
 }
 
+namespace {
+
+// The Embree scene over the body's offset hull (shared buffers: Embree reads the hull and
+// triangles in the world's block, no copy). Refit, not rebuild, when the body moves: only this
+// combination refits in Embree 3.13.5 (any other rebuilds from scratch on every commit).
+Result build_embree_scene(World& world, BodyState& body) {
+    RTCDevice device = world.embree_device;
+    body.scene = rtcNewScene(device);
+    rtcSetSceneFlags(body.scene, RTC_SCENE_FLAG_DYNAMIC);
+    rtcSetSceneBuildQuality(body.scene, RTC_BUILD_QUALITY_LOW);
+    body.geometry = rtcNewGeometry(device, RTC_GEOMETRY_TYPE_TRIANGLE);
+    rtcSetGeometryBuildQuality(body.geometry, RTC_BUILD_QUALITY_REFIT);
+    rtcSetSharedGeometryBuffer(body.geometry, RTC_BUFFER_TYPE_VERTEX, 0, RTC_FORMAT_FLOAT3, body.hull, 0,
+                               4 * sizeof(float), body.vertex_count);
+    rtcSetSharedGeometryBuffer(body.geometry, RTC_BUFFER_TYPE_INDEX, 0, RTC_FORMAT_UINT3, body.triangles, 0,
+                               3 * sizeof(uint32_t), body.triangle_count);
+    rtcCommitGeometry(body.geometry);
+    rtcAttachGeometry(body.scene, body.geometry);
+    commit_body(world, body);
+    if (const RTCError error = rtcGetDeviceError(device); error != RTC_ERROR_NONE) {
+        rtcReleaseGeometry(body.geometry);
+        rtcReleaseScene(body.scene);
+        return make_error(ErrorCode::unsupported, "Embree failed to build the body's BVH (error %d)", int(error));
+    }
+    return {};
+}
+
+}  // namespace
+
 Result add_body(World* world, const BodyDesc& desc, BodyId* out_body) {
     if (world == nullptr || out_body == nullptr)
         return make_error(ErrorCode::invalid_argument, "world or out_body is null");
@@ -119,28 +148,14 @@ Result add_body(World* world, const BodyDesc& desc, BodyId* out_body) {
         return make_error(ErrorCode::capacity_exceeded, "world memory exhausted");
     }
 
-    // Refit, not rebuild, when the body moves: only this combination refits in Embree 3.13.5 (any
-    // other rebuilds from scratch on every commit: 11 ms and 5.4 MB for 47 500 triangles).
-    RTCDevice device = world->embree_device;
-    body.scene = rtcNewScene(device);
-    rtcSetSceneFlags(body.scene, RTC_SCENE_FLAG_DYNAMIC);
-    rtcSetSceneBuildQuality(body.scene, RTC_BUILD_QUALITY_LOW);
-    body.geometry = rtcNewGeometry(device, RTC_GEOMETRY_TYPE_TRIANGLE);
-    rtcSetGeometryBuildQuality(body.geometry, RTC_BUILD_QUALITY_REFIT);
-    // Shared buffers: Embree reads the hull and triangles in the world's block, no copy.
-    rtcSetSharedGeometryBuffer(body.geometry, RTC_BUFFER_TYPE_VERTEX, 0, RTC_FORMAT_FLOAT3, hull, 0,
-                               4 * sizeof(float), v);
-    rtcSetSharedGeometryBuffer(body.geometry, RTC_BUFFER_TYPE_INDEX, 0, RTC_FORMAT_UINT3, triangles, 0,
-                               3 * sizeof(uint32_t), t);
-    rtcCommitGeometry(body.geometry);
-    rtcAttachGeometry(body.scene, body.geometry);
-    commit_body(*world, body);
-    if (const RTCError error = rtcGetDeviceError(device); error != RTC_ERROR_NONE) {
-        rtcReleaseGeometry(body.geometry);
-        rtcReleaseScene(body.scene);
-        body = BodyState();
-        world->arena = saved;
-        return make_error(ErrorCode::unsupported, "Embree failed to build the body's BVH (error %d)", int(error));
+    // Embree's BVH serves only the plain reference pass (BodyDesc::reference_queries); every other
+    // body is searched through Weft's own hierarchy, so it neither builds nor holds one.
+    if (desc.reference_queries) {
+        if (Result r = build_embree_scene(*world, body); !r.ok()) {
+            body = BodyState();
+            world->arena = saved;
+            return r;
+        }
     }
     world->body_vertices_used += v;
     world->body_triangles_used += t;
@@ -204,8 +219,10 @@ Result set_embree_commit_hook(World* world, EmbreeCommitHook hook, void* user) {
 void destroy_world(World* world) {
     if (world == nullptr) return;
     for (uint32_t i = 0; i < world->body_count; ++i) {
-        rtcReleaseGeometry(world->bodies[i].geometry);
-        rtcReleaseScene(world->bodies[i].scene);
+        if (world->bodies[i].scene != nullptr) {  // reference_queries bodies only
+            rtcReleaseGeometry(world->bodies[i].geometry);
+            rtcReleaseScene(world->bodies[i].scene);
+        }
         world->bodies[i] = BodyState();
     }
     world->body_count = 0;

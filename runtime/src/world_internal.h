@@ -43,8 +43,8 @@ struct World {
     uint32_t cloth_count = 0;
     ColliderState* colliders = nullptr;  // [desc.max_colliders]
     uint32_t collider_count = 0;
-    // Body colliders: one Embree scene per body (a still body then needs no commit) on one device,
-    // created with the world only when desc.max_bodies > 0.
+    // Body colliders. One Embree device, created with the world only when desc.max_bodies > 0; a
+    // body with reference_queries has its own Embree scene on it (a still body needs no commit).
     RTCDevice embree_device = nullptr;
     BodyState* bodies = nullptr;  // [desc.max_bodies]
     uint32_t body_count = 0;

@@ -4,6 +4,7 @@
 #include <cmath>
 #include <cstring>
 #include <filesystem>
+#include <optional>
 
 #include "asset_writer.h"
 
@@ -163,16 +164,22 @@ Status bake_pattern(std::string_view text, const BakeOptions& options, Baked* ou
         }
         SewOptions sew = options.sew;
         sew.ignore_arm_tips = sew.ignore_arm_tips || !out->pattern.sleeves;
+        // The drape (once or twice) and the asset cook the same sewn mesh, only in other poses: the
+        // run shape is chosen once (cook_score reads the lanes, which the pose does not change).
         const CookOptions sewn_cook = sewn_cook_options(options.cook);
-        sew.cook_sewn = [&](const ClothMeshDesc& desc, CookedCloth* cooked) {
-            return cook_garment(desc, sewn_cook, options.choose_runs, cooked);
+        std::optional<CookOptions> sewn_runs;
+        const auto cook_sewn = [&](const ClothMeshDesc& desc, CookedCloth* cooked) -> Result {
+            if (sewn_runs) return cook_cloth(desc, *sewn_runs, cooked);
+            CookOptions chosen;
+            const Result r = cook_garment(desc, sewn_cook, options.choose_runs, cooked, &chosen);
+            if (r.ok()) sewn_runs = chosen;
+            return r;
         };
+        sew.cook_sewn = cook_sewn;
         if (Status s = sew_garment(flat, attached, held, *options.body, sew, &out->sewn, &out->sew_report); !s.ok())
             return {"sewing: " + s.error};
-        if (Result r = cook_garment(out->sewn.desc, sewn_cook, options.choose_runs, &out->cooked,
-                                    &out->cook_options);
-            !r.ok())
-            return {r.message};
+        if (Result r = cook_sewn(out->sewn.desc, &out->cooked); !r.ok()) return {r.message};
+        out->cook_options = *sewn_runs;
     }
     stage("writing", 3);
     if (Result r = assets::write_asset(out->cooked.asset(), &out->bytes); !r.ok()) return {r.message};

@@ -85,7 +85,8 @@ struct BodyId {
     uint32_t index = 0;
 };
 
-// Adds a body (validated: finite positions, indices in range, capacities). Builds its BVH.
+// Adds a body (validated: finite positions, indices in range, capacities). Builds its hierarchy
+// (and, with reference_queries, Embree's BVH).
 Result add_body(World* world, const BodyDesc& desc, BodyId* out_body);
 
 // The body's new vertex positions (the game's skinned pose), `count` = its vertex count. The next

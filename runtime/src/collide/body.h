@@ -71,7 +71,7 @@ struct BodyState {
     float* previous_hull = nullptr;  // [4 * vertex_count]: the hull the previous step used
     float* normals = nullptr;        // [3 * vertex_count]: unit area-weighted vertex normals
     uint32_t* triangles = nullptr;   // [3 * triangle_count + 4]: Embree's shared index buffer
-    RTCScene scene = nullptr;
+    RTCScene scene = nullptr;        // reference_queries bodies only (the plain pass's BVH)
     RTCGeometry geometry = nullptr;
     BodyHierarchy hierarchy;
     bool refit_pending = false;  // new vertices since the last step
