@@ -439,8 +439,8 @@ TEST_CASE("stepping with a body allocates nothing; Embree's reference pass at mo
                                    : BodyCollision::exact;
         BodyId body;
         REQUIRE(add_body(world, bd, &body).ok());
-        scenes::SkinBinding skin;  // pass 3: every particle bound to the sphere (the arrays outlive the steps)
-        if (pass == 3) REQUIRE(scenes::bind_skin(world, cloth, body, scenes::SkinOptions{}, &skin).empty());
+        SkinBinding skin;  // pass 3: every particle bound to the sphere (the arrays outlive the steps)
+        if (pass == 3) REQUIRE(scenes::bind_skin(world, cloth, body, SkinBindingOptions{}, &skin).empty());
         REQUIRE(set_embree_commit_hook(world, commit_hook, nullptr).ok());
         const WorldStats created = world_stats(world);
         CHECK(created.embree_bytes > 0);  // the BVH, built at add_body

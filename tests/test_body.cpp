@@ -934,11 +934,11 @@ std::vector<Vec3> run_skin_points(SimdPath path, double* worst_ball_m, double* w
     BodyWorld w(pts.cooked.asset(), a, settings, path, 3);
     w.place(start);
     REQUIRE(set_gravity(w.owned.world, {0.0f, -9.81f, -6.0f}).ok());
-    scenes::SkinOptions options;
+    SkinBindingOptions options;
     options.max_distance_m = 0.01f;
     options.loose_offset_m = 1.0f;  // every particle has its ball
     options.backstop_m = 0.0f;
-    scenes::SkinBinding skin;
+    SkinBinding skin;
     const std::string e = scenes::bind_skin(w.owned.world, w.cloth, w.body, options, &skin);
     INFO(e);
     REQUIRE(e.empty());

@@ -163,6 +163,8 @@ Status bake_pattern(std::string_view text, const BakeOptions& options, Baked* ou
         }
         SewOptions sew = options.sew;
         sew.ignore_arm_tips = sew.ignore_arm_tips || !out->pattern.sleeves;
+        sew.skin_max_distance_scale.clear();  // each panel's factor on the skin constraints' max distance
+        for (const Panel& panel : out->pattern.panels) sew.skin_max_distance_scale.push_back(float(panel.skin_max_distance_scale));
         const CookOptions sewn_cook = sewn_cook_options(options.cook);
         sew.cook_sewn = [&](const ClothMeshDesc& desc, CookedCloth* cooked) {
             return cook_garment(desc, sewn_cook, options.choose_runs, cooked);
