@@ -90,6 +90,8 @@ json describe(const ClothAsset& a, uint64_t bytes) {
             {"start_max_strain_at_m", {start.max_at.x, start.max_at.y, start.max_at.z}},
             {"tethered_particles", a.tethered_particles},
             {"coarse_nodes", a.coarse_node_count},
+            {"attachments", a.attachment_count},
+            {"skin_constraints", a.skin.count},
             {"bytes", bytes}};
 }
 
