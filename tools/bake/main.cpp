@@ -215,6 +215,7 @@ std::string bake_asset(const bake::BatchEntry& e, const bake::SewBody* body, con
         (*j)["sewn_seam_points"] = r.seam_points;
         (*j)["attached_to_body"] = r.attached;
         (*j)["skin_constraints"] = r.skin_constraints;
+        (*j)["skin_binding_s"] = r.skin_binding_s;
         (*j)["particles_before_sewing"] = r.particles_before;
         (*j)["max_seam_gap_m"] = r.max_seam_gap_m;
         (*j)["max_penetration_m"] = r.max_penetration_m;

@@ -106,6 +106,7 @@ struct SewReport {
     uint32_t seam_points = 0;        // merged
     uint32_t attached = 0;           // particles bound to the body
     uint32_t skin_constraints = 0;   // free particles with a skin constraint (all of them)
+    double skin_binding_s = 0.0;     // wall time of step 4 (cook_skin_binding), seconds
     uint32_t particles_before = 0, particles_after = 0;
     double max_seam_gap_m = 0.0;     // largest source-to-target distance when the sources merge
     double max_penetration_m = 0.0;  // deepest particle below the body's offset hull, dressed pose

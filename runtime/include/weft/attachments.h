@@ -69,8 +69,9 @@ struct SkinBindingDesc {
 
 // Binds every free particle to the closest triangle of `body`'s offset hull as it is now (its rest
 // pose: view_body), at the closest point's barycentric weights, and measures its signed distance
-// along the interpolated normal there (the rest offset) as the step will. Brute force with a
-// bounding-sphere cut: offline work. Deterministic: the same input gives the same arrays.
+// along the interpolated normal there (the rest offset) as the step will. An exact closest-triangle
+// search over a uniform grid of the triangles, in double precision: offline work. Deterministic:
+// the same input gives the same arrays (of equally close triangles, the lowest index).
 Result cook_skin_binding(const BodyView& body, const SkinBindingDesc& desc, SkinBinding* out);
 
 }  // namespace weft
