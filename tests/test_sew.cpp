@@ -601,7 +601,7 @@ TEST_CASE("skin constraints: the baked skirt, bound in a skin_constraints scene,
     CHECK(moved_m > 0.005);                          // while the walk moved them
 }
 
-TEST_CASE("skin constraints: a panel's skin max_distance_scale scales its particles' max distance; 0 leaves them none") {
+TEST_CASE("skin constraints: a panel's skin max_distance_scale scales its particles' max distance, and 0 leaves them none") {
     // The sample skirt with its first panel free of max distances and its second at twice the
     // baker's: the same sewing and drape (the same start pose), only the max distances differ.
     std::string text = read_text(std::string(WEFT_SAMPLES_DIR) + "/skirt.json");

@@ -59,7 +59,7 @@ struct SkinBindingOptions {
 // The garment in its dressed pose on the body's rest pose, caller particle order.
 struct SkinBindingDesc {
     uint32_t particle_count = 0;
-    const Vec3* positions = nullptr;      // [particle_count] the dressed pose, metres
+    const Vec3* positions = nullptr;        // [particle_count] the dressed pose, metres
     const float* inverse_masses = nullptr;  // [particle_count] 0: pinned, not bound
     // Optional [particle_count] factor on max_distance_m (the pattern's per-panel "skin"
     // max_distance_scale); 0 gives that particle no max distance, only its backstop. Null: 1.
