@@ -439,8 +439,19 @@ TEST_CASE("stepping with a body allocates nothing; Embree's reference pass at mo
                                    : BodyCollision::exact;
         BodyId body;
         REQUIRE(add_body(world, bd, &body).ok());
-        scenes::SkinBinding skin;  // pass 3: every particle bound to the sphere (the arrays outlive the steps)
-        if (pass == 3) REQUIRE(scenes::bind_skin(world, cloth, body, scenes::SkinOptions{}, &skin).empty());
+        SkinBinding skin;  // pass 3: every particle bound to the sphere (the arrays outlive the steps)
+        if (pass == 3) REQUIRE(scenes::bind_skin(world, cloth, body, SkinBindingOptions{}, &skin).empty());
+        if (pass == 3) {  // binding arrays already made (an asset's: bind_asset_skin_constraints) allocates nothing
+            uint64_t allocations = 0;
+            bool bound = false;
+            {
+                CountingScope counting;
+                bound = bind_skin_constraints(world, cloth, body, skin.constraints()).ok();
+                allocations = counting.allocations();
+            }
+            CHECK(bound);
+            CHECK(allocations == 0);
+        }
         REQUIRE(set_embree_commit_hook(world, commit_hook, nullptr).ok());
         const WorldStats created = world_stats(world);
         CHECK((created.embree_bytes > 0) == reference);  // Embree's BVH, built at add_body for the reference pass only

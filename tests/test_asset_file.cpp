@@ -8,6 +8,7 @@
 
 #include <cstddef>
 #include <functional>
+#include <limits>
 #include <random>
 
 #include "asset/xxh64.h"
@@ -400,8 +401,8 @@ TEST_CASE("versions: another major is refused by name, a newer minor loads and s
         CHECK(expect_refused(other, ErrorCode::unsupported) ==
               "asset format version 0.9 is not supported by this runtime (1.x)");
     }
-    SUBCASE("minor 1 with a longer header and an unknown section") {
-        // Version 1.1 as a future writer might make it: 16 more header bytes, a section of kind 1000.
+    SUBCASE("a newer minor with a longer header and an unknown section") {
+        // The next minor as a future writer might make it: 16 more header bytes, a section of kind 1000.
         // Every section moves 128 bytes on (room for the longer header and one more table entry).
         const uint32_t extra_header = 16, shift = 128, sections = section_count(file);
         const uint64_t first = entry(file, 0).offset;
@@ -424,7 +425,7 @@ TEST_CASE("versions: another major is refused by name, a newer minor loads and s
         unknown.offset = (newer.size() + 63) / 64 * 64;
         newer.resize(unknown.offset + unknown.size, std::byte{0x5A});
         write_at(newer, header_size + sections * sizeof(AssetSectionEntry), unknown);
-        write_at(newer, offsetof(AssetFileHeader, version_minor), uint16_t(1));
+        write_at(newer, offsetof(AssetFileHeader, version_minor), uint16_t(kAssetVersionMinor + 1));
         write_at(newer, offsetof(AssetFileHeader, header_size), header_size);
         write_at(newer, offsetof(AssetFileHeader, section_count), sections + 1);
         write_at(newer, offsetof(AssetFileHeader, file_size), uint64_t(newer.size()));
@@ -433,30 +434,113 @@ TEST_CASE("versions: another major is refused by name, a newer minor loads and s
         check_same_asset(s.asset(), loaded.asset);
         AssetFileInfo info;
         REQUIRE(read_asset_header(loaded.bytes.data(), loaded.bytes.size(), &info).ok());
-        CHECK(info.version_minor == 1);
+        CHECK(info.version_minor == kAssetVersionMinor + 1);
         CHECK(info.sections[sections].kind == 1000);
         CHECK(std::string(asset_section_name(1000)) == "unknown");
     }
-    SUBCASE("a 1.0 file (192-byte header, no sewn seams or attachments) still loads") {
-        // 1.0 ended its header before sewn_point_count: the table moves up, the sections stay.
-        Bytes older = file;
-        const uint32_t sections = section_count(file);
-        std::memmove(older.data() + kAssetHeaderSize_1_0, file.data() + sizeof(AssetFileHeader),
-                     sections * sizeof(AssetSectionEntry));
-        std::memset(older.data() + kAssetHeaderSize_1_0 + sections * sizeof(AssetSectionEntry), 0,
-                    sizeof(AssetFileHeader) - kAssetHeaderSize_1_0);
-        write_at(older, offsetof(AssetFileHeader, version_minor), uint16_t(0));
-        write_at(older, offsetof(AssetFileHeader, header_size), kAssetHeaderSize_1_0);
-        fix_checksum(older);
-        const LoadedAsset loaded = load_copy(older);
-        check_same_asset(s.asset(), loaded.asset);
-        CHECK(loaded.asset.sewn_point_count == 0);
-        CHECK(loaded.asset.attachment_count == 0);
-        // A 1.1 file must have the whole 1.1 header.
-        write_at(older, offsetof(AssetFileHeader, version_minor), uint16_t(1));
-        fix_checksum(older);
-        CHECK(expect_refused(older, ErrorCode::corrupt_asset) == "bad header size 192");
+    SUBCASE("a 1.0 file (192-byte header) and a 1.1 file (208 bytes, no skin constraints) still load") {
+        // An older minor ended its header earlier: the table moves up, the sections stay. Its later
+        // counts read as 0; a file claiming the next minor with that short a header is refused.
+        struct Older {
+            uint16_t minor;
+            uint32_t header_size;
+        };
+        for (const Older o : {Older{0, kAssetHeaderSize_1_0}, Older{1, kAssetHeaderSize_1_1}}) {
+            CAPTURE(o.minor);
+            Bytes older = file;
+            const uint32_t sections = section_count(file);
+            std::memmove(older.data() + o.header_size, file.data() + sizeof(AssetFileHeader),
+                         sections * sizeof(AssetSectionEntry));
+            std::memset(older.data() + o.header_size + sections * sizeof(AssetSectionEntry), 0,
+                        sizeof(AssetFileHeader) - o.header_size);
+            write_at(older, offsetof(AssetFileHeader, version_minor), o.minor);
+            write_at(older, offsetof(AssetFileHeader, header_size), o.header_size);
+            fix_checksum(older);
+            const LoadedAsset loaded = load_copy(older);
+            check_same_asset(s.asset(), loaded.asset);
+            CHECK(loaded.asset.skin.count == 0);  // 1.0 and 1.1: no skin constraints
+            if (o.minor == 0) CHECK(loaded.asset.sewn_point_count == 0);
+            if (o.minor == 0) CHECK(loaded.asset.attachment_count == 0);
+            write_at(older, offsetof(AssetFileHeader, version_minor), uint16_t(o.minor + 1));
+            fix_checksum(older);
+            CHECK(expect_refused(older, ErrorCode::corrupt_asset) == "bad header size " + std::to_string(o.header_size));
+        }
     }
+}
+
+// Format 1.2's skin constraints on a grid's first row of free particles (as the fuzz corpus has them).
+CookedCloth skinned_grid(uint32_t n) {
+    scenes::GridMesh grid = scenes::make_grid(n, 1.0f, 1.0f, false, 1.0f);
+    grid.masses[grid.index(0, 0)] = 0.0f;
+    grid.masses[grid.index(0, n - 1)] = 0.0f;
+    ClothMeshDesc desc = grid.desc();
+    const uint32_t particle[2] = {grid.index(0, 1), grid.index(0, 2)}, triangle[2] = {2, 3};
+    const float weight[6] = {0.5f, 0.5f, 0, 0.2f, 0.3f, 0.5f}, rest_offset[2] = {0.01f, -0.002f};
+    const float max_distance[2] = {0.03f, kSkinNoMaxDistance_m}, backstop[2] = {-0.0015f, 0.0f};
+    desc.skin = {2, particle, triangle, weight, rest_offset, max_distance, backstop};
+    return cook(desc);
+}
+
+TEST_CASE("skin constraints: their sections round-trip, and a corrupt one is refused by name, nothing lost") {
+    const CookedCloth cooked = skinned_grid(6);
+    const Bytes file = write(cooked.asset());
+    const LoadedAsset loaded = load_copy(file);
+    check_same_asset(cooked.asset(), loaded.asset);
+    REQUIRE(loaded.asset.skin.count == 2);
+    CHECK(loaded.asset.skin.max_distance_m[1] == kSkinNoMaxDistance_m);
+    // A cooked asset without them writes no skin section.
+    const Source plain(6);
+    CHECK(header_of(plain.asset()).skin_constraint_count == 0);
+
+    using K = AssetSectionKind;
+    const float nan = std::numeric_limits<float>::quiet_NaN();
+    struct Corruption {
+        const char* name;
+        K kind;
+        uint32_t element;
+        std::function<void(Bytes&, size_t)> write;  // at the element's offset
+        const char* words;
+    };
+    const ClothAsset& a = cooked.asset();
+    uint32_t pinned = 0;  // a pinned corner
+    while (a.inverse_mass[a.slot_of_particle[pinned]] != 0.0f) ++pinned;
+    const Corruption cases[] = {
+        {"particle past the cloth's", K::skin_particle, 0, [](Bytes& f, size_t at) { write_at(f, at, uint32_t(36)); },
+         "names particle 36 of 36"},
+        {"particle bound twice", K::skin_particle, 1,
+         [&](Bytes& f, size_t at) { write_at(f, at, cooked.asset().skin.particle[0]); }, "two skin constraints"},
+        {"pinned particle", K::skin_particle, 0, [&](Bytes& f, size_t at) { write_at(f, at, pinned); }, "is pinned"},
+        {"weight not finite", K::skin_weight, 1, [&](Bytes& f, size_t at) { write_at(f, at, nan); }, "weights"},
+        {"rest offset not finite", K::skin_rest_offset, 0, [&](Bytes& f, size_t at) { write_at(f, at, nan); }, "not finite"},
+        {"negative max distance", K::skin_max_distance, 1, [](Bytes& f, size_t at) { write_at(f, at, -0.01f); },
+         "max distance -0.01 m < 0"},
+        {"backstop not finite", K::skin_backstop, 0,
+         [](Bytes& f, size_t at) { write_at(f, at, std::numeric_limits<float>::infinity()); }, "not finite"},
+    };
+    for (const Corruption& c : cases) {
+        CAPTURE(c.name);
+        Bytes broken = file;
+        bool found = false;
+        for (uint32_t i = 0; i < section_count(broken); ++i) {
+            const AssetSectionEntry e = entry(broken, i);
+            if (e.kind != uint32_t(c.kind)) continue;
+            c.write(broken, e.offset + size_t(c.element) * e.element_size);
+            found = true;
+        }
+        REQUIRE(found);
+        fix_checksum(broken);
+        const std::string message = expect_refused(broken, ErrorCode::corrupt_asset);
+        CHECK(message.find(c.words) != std::string::npos);
+    }
+    // The header's count without the sections, and a section count that disagrees with it.
+    Bytes counted = write(plain.asset());
+    write_at(counted, offsetof(AssetFileHeader, skin_constraint_count), uint32_t(2));
+    fix_checksum(counted);
+    CHECK(expect_refused(counted, ErrorCode::corrupt_asset) == "section skin_particle is missing");
+    Bytes more = file;
+    write_at(more, offsetof(AssetFileHeader, skin_constraint_count), uint32_t(3));
+    fix_checksum(more);
+    CHECK(expect_refused(more, ErrorCode::corrupt_asset).find("the header implies") != std::string::npos);
 }
 
 TEST_CASE("big-endian files are refused with a message") {

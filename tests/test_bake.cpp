@@ -287,7 +287,9 @@ TEST_CASE("bake: the sample skirt bakes to the same bytes whichever compiler bui
     uint64_t hash = 0xcbf29ce484222325ull;  // FNV-1a, 64 bits
     for (std::byte b : baked.bytes) hash = (hash ^ uint64_t(b)) * 0x100000001b3ull;
     MESSAGE("skirt asset: " << baked.bytes.size() << " bytes, FNV-1a " << hash);
-    CHECK(hash == 0x61818b943ccffc8cull);
+    // Format 1.2 (skin constraints) moved the sections 8 bytes on: the mesh is unchanged, only
+    // the header and the section offsets differ from the 1.1 value (GCC build; Clang not re-run).
+    CHECK(hash == 0xa39ba3bc6ffa441aull);
 }
 
 // weft-bake's manifests (batch.h): paths relative to the manifest, "defaults" under each entry's

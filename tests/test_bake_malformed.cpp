@@ -2,6 +2,7 @@
 // hangs or trips the sanitizers (the ASan/UBSan build runs these too).
 #include <doctest/doctest.h>
 
+#include <cmath>
 #include <string>
 #include <vector>
 
@@ -126,4 +127,31 @@ TEST_CASE("bake: a valid pattern next to the malformed ones bakes") {
     const Status status = mesh_garment(pattern, MeshOptions{}, &garment);
     REQUIRE_MESSAGE(status.ok(), status.error);
     CHECK(garment.positions.size() > 100);
+}
+
+TEST_CASE("bake: a panel's skin max_distance_scale is read, and a bad one is refused naming the panel") {
+    const auto with_skin = [](const std::string& skin) {
+        std::string panels = kTwoSquares;
+        panels.replace(panels.find(R"("name": "b")"), 11, R"("name": "b", "skin": )" + skin);
+        return weft_pattern(panels);
+    };
+    Pattern pattern;
+    REQUIRE(parse_pattern(with_skin(R"({"max_distance_scale": 0})"), ParseOptions{}, &pattern).ok());
+    CHECK(pattern.panels[0].skin_max_distance_scale == 1.0);  // the default
+    CHECK(pattern.panels[1].skin_max_distance_scale == 0.0);
+    for (const char* bad : {R"({"max_distance_scale": -0.5})", R"({"max_distance_scale": 1e9})",
+                            R"({"max_distance_scale": "far"})", R"({"max_distance": 0.03})"}) {
+        CAPTURE(bad);
+        const Status s = parse_pattern(with_skin(bad), ParseOptions{}, &pattern);
+        REQUIRE_FALSE(s.ok());
+        CHECK(s.error.find("panels[1].skin") != std::string::npos);
+        MESSAGE(s.error);
+    }
+    // A pattern built in code is checked too (validate_pattern), naming the panel.
+    REQUIRE(parse_pattern(with_skin(R"({"max_distance_scale": 2})"), ParseOptions{}, &pattern).ok());
+    pattern.panels[1].skin_max_distance_scale = std::nan("");
+    const Status s = validate_pattern(pattern);
+    REQUIRE_FALSE(s.ok());
+    CHECK(s.error.find("panel \"b\"") != std::string::npos);
+    CHECK(s.error.find("skin max_distance_scale") != std::string::npos);
 }

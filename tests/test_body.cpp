@@ -7,6 +7,7 @@
 #include <algorithm>
 #include <cstring>
 #include <fstream>
+#include <random>
 
 #include "body_mesh.h"
 
@@ -934,11 +935,11 @@ std::vector<Vec3> run_skin_points(SimdPath path, double* worst_ball_m, double* w
     BodyWorld w(pts.cooked.asset(), a, settings, path, 3);
     w.place(start);
     REQUIRE(set_gravity(w.owned.world, {0.0f, -9.81f, -6.0f}).ok());
-    scenes::SkinOptions options;
+    SkinBindingOptions options;
     options.max_distance_m = 0.01f;
     options.loose_offset_m = 1.0f;  // every particle has its ball
     options.backstop_m = 0.0f;
-    scenes::SkinBinding skin;
+    SkinBinding skin;
     const std::string e = scenes::bind_skin(w.owned.world, w.cloth, w.body, options, &skin);
     INFO(e);
     REQUIRE(e.empty());
@@ -1046,4 +1047,87 @@ TEST_CASE("body: bind_skin_constraints refuses bad bindings with a message") {
     CHECK(bind_skin_constraints(w.owned.world, w.cloth, BodyId{4}, s).code == ErrorCode::out_of_range);
     CHECK(bind_skin_constraints(nullptr, w.cloth, w.body, s).code == ErrorCode::invalid_argument);
     CHECK(bind_skin_constraints(w.owned.world, w.cloth, w.body, SkinConstraints{}).ok());  // count 0: unbound
+}
+
+namespace {
+
+// Distance from p to triangle (a, b, c), found independently of cook_skin_binding's region test:
+// the plane when p projects inside, else the nearest of the three edges.
+double distance_to_triangle(const double p[3], const double a[3], const double b[3], const double c[3]) {
+    const auto sub = [](const double* u, const double* v, double* out) { for (int i = 0; i < 3; ++i) out[i] = u[i] - v[i]; };
+    const auto dot3 = [](const double* u, const double* v) { return u[0] * v[0] + u[1] * v[1] + u[2] * v[2]; };
+    const auto to_segment = [&](const double* s, const double* e) {
+        double d[3], q[3];
+        sub(e, s, d);
+        sub(p, s, q);
+        const double t = std::clamp(dot3(q, d) / dot3(d, d), 0.0, 1.0);
+        for (int i = 0; i < 3; ++i) q[i] -= t * d[i];
+        return std::sqrt(dot3(q, q));
+    };
+    double ab[3], ac[3], ap[3];
+    sub(b, a, ab), sub(c, a, ac), sub(p, a, ap);
+    const double n[3] = {ab[1] * ac[2] - ab[2] * ac[1], ab[2] * ac[0] - ab[0] * ac[2], ab[0] * ac[1] - ab[1] * ac[0]};
+    const double* corner[3] = {a, b, c};
+    bool inside = true;  // p's projection on the same side of every edge as the triangle
+    for (int k = 0; k < 3; ++k) {
+        double e[3], q[3], x[3];
+        sub(corner[(k + 1) % 3], corner[k], e);
+        sub(p, corner[k], q);
+        x[0] = e[1] * q[2] - e[2] * q[1], x[1] = e[2] * q[0] - e[0] * q[2], x[2] = e[0] * q[1] - e[1] * q[0];
+        inside &= dot3(x, n) >= 0.0;
+    }
+    if (inside) return std::fabs(dot3(ap, n)) / std::sqrt(dot3(n, n));
+    return std::min({to_segment(a, b), to_segment(b, c), to_segment(c, a)});
+}
+
+}  // namespace
+
+// cook_skin_binding searches a grid of the triangles: it must find the closest one wherever the
+// particle is, near the surface, far off it, and outside the grid's box altogether.
+TEST_CASE("body: cook_skin_binding binds each particle to its closest hull triangle, as a brute-force search finds it") {
+    const BodyMesh sphere = body::make_icosphere({0.1f, 1.0f, 0.0f}, 0.3f, 3);
+    std::mt19937 random(7);
+    std::uniform_real_distribution<float> box(-1.5f, 1.5f), unit(-1.0f, 1.0f);
+    std::vector<Vec3> points;
+    for (int k = 0; k < 200; ++k) points.push_back({box(random), 1.0f + box(random), box(random)});  // most outside the grid
+    for (int k = 0; k < 200; ++k) {  // near the surface, inside and out
+        Vec3 d{unit(random), unit(random), unit(random)};
+        const float r = (0.28f + 0.04f * (unit(random) + 1.0f)) / std::sqrt(d.x * d.x + d.y * d.y + d.z * d.z);
+        points.push_back({0.1f + r * d.x, 1.0f + r * d.y, r * d.z});
+    }
+    Points pts(points);
+    BodyWorld w(pts.cooked.asset(), sphere, BodyDesc{});
+    BodyView view;
+    REQUIRE(view_body(w.owned.world, w.body, &view).ok());
+    const std::vector<float> inverse_masses(points.size(), 1.0f);
+    SkinBindingDesc desc;
+    desc.particle_count = uint32_t(points.size());
+    desc.positions = points.data();
+    desc.inverse_masses = inverse_masses.data();
+    SkinBinding skin;
+    REQUIRE(cook_skin_binding(view, desc, &skin).ok());
+    REQUIRE(skin.particle.size() == points.size());
+    double worst = 0.0;
+    for (size_t k = 0; k < points.size(); ++k) {
+        const double p[3] = {points[k].x, points[k].y, points[k].z};
+        const auto corner = [&](uint32_t t, int c, double out[3]) {
+            for (int i = 0; i < 3; ++i) out[i] = view.hull[4 * view.triangles[3 * t + c] + i];
+        };
+        double nearest = HUGE_VAL;
+        for (uint32_t t = 0; t < view.triangle_count; ++t) {
+            double a[3], b[3], c[3];
+            corner(t, 0, a), corner(t, 1, b), corner(t, 2, c);
+            nearest = std::min(nearest, distance_to_triangle(p, a, b, c));
+        }
+        double q[3] = {0, 0, 0};
+        for (int c = 0; c < 3; ++c) {
+            double v[3];
+            corner(skin.triangle[k], c, v);
+            CHECK(skin.weight[3 * k + c] >= -1e-6f);
+            for (int i = 0; i < 3; ++i) q[i] += skin.weight[3 * k + c] * v[i];
+        }
+        const double bound = std::sqrt((p[0] - q[0]) * (p[0] - q[0]) + (p[1] - q[1]) * (p[1] - q[1]) + (p[2] - q[2]) * (p[2] - q[2]));
+        worst = std::max(worst, bound - nearest);
+    }
+    CHECK(worst <= 1e-6);  // the float weights round the bound point by less than a micrometre
 }

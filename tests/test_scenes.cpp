@@ -99,6 +99,8 @@ TEST_CASE("a scene's world holds the cached planes only when its body collides b
 }
 
 // body.collision skin_constraints: build_scene binds every free particle and the step searches nothing.
+// A grid's asset has no baked skin constraints, so the scene builder cooks a binding itself (a
+// dressed garment's baked ones: tests/test_sew.cpp).
 TEST_CASE("a scene whose body collides by skin constraints binds its cloth's free particles") {
     const std::string text = R"({"format": "weft-scene", "version": 1, "cloths": [{"grid": {"n": 4}}], )"
                              R"("body": {"mannequin": {}, "collision": "skin_constraints"}})";
@@ -108,6 +110,7 @@ TEST_CASE("a scene whose body collides by skin constraints binds its cloth's fre
     const std::string error = scenes::build_scene(scene, &w);
     INFO(error);
     REQUIRE(error.empty());
+    CHECK(w.cloths[0].asset->skin.count == 0);
     REQUIRE(w.cloths[0].skin);
     ClothView view;
     REQUIRE(view_cloth(w.world, w.cloths[0].id, &view).ok());

@@ -399,21 +399,27 @@ TEST_CASE("attachments: the skirt's waistband follows the walking mannequin exac
 
 namespace {
 
+// Builds `scene` with `bytes` as its cloth's asset (written to a scratch folder, removed again).
+void build_with_asset(const scenes::Scene& scene, const std::vector<std::byte>& bytes, scenes::SceneWorld* sw) {
+    const std::string dir = std::filesystem::temp_directory_path() / ("weft_test_scene_" + scene.name);
+    std::filesystem::create_directories(dir);
+    std::ofstream(dir + "/" + scene.cloths[0].asset_path, std::ios::binary)
+        .write(reinterpret_cast<const char*>(bytes.data()), std::streamsize(bytes.size()));
+    const std::string e = scenes::build_scene(scene, sw, {dir});
+    std::filesystem::remove_all(dir);
+    INFO(e);
+    REQUIRE(e.empty());
+    REQUIRE(sw->body);
+}
+
 // Runs `scene_file` with `bytes` as its cloth's asset for `frames` frames (the body animated as the
 // file says): the deepest free particle below the body's hull over the run; `body_triangles` out.
 double deepest_in_scene(const std::string& scene_file, const std::vector<std::byte>& bytes, uint32_t frames,
                         size_t* body_triangles) {
     scenes::Scene scene;
     REQUIRE(scenes::load_scene_file(scene_file, &scene).empty());
-    const std::string dir = std::filesystem::temp_directory_path() / ("weft_test_scene_" + scene.name);
-    std::filesystem::create_directories(dir);
-    std::ofstream(dir + "/" + scene.cloths[0].asset_path, std::ios::binary)
-        .write(reinterpret_cast<const char*>(bytes.data()), std::streamsize(bytes.size()));
     scenes::SceneWorld sw;
-    const std::string e = scenes::build_scene(scene, &sw, {dir});
-    INFO(e);
-    REQUIRE(e.empty());
-    REQUIRE(sw.body);
+    build_with_asset(scene, bytes, &sw);
     *body_triangles = sw.body->triangles.size() / 3;
     double deepest = 0.0;
     for (uint32_t f = 1; f <= frames; ++f) {
@@ -424,7 +430,6 @@ double deepest_in_scene(const std::string& scene_file, const std::vector<std::by
         REQUIRE(metrics::bounds(view).finite);
         deepest = std::max(deepest, metrics::max_body_penetration_m(sw.world, sw.body->id, view));
     }
-    std::filesystem::remove_all(dir);
     return deepest;
 }
 
@@ -492,4 +497,150 @@ TEST_CASE("sewing: the GarmentCode pencil dress on the shared mean_all body (tes
     const double deepest = deepest_in_scene(scene_file, d->baked.bytes, 120, &triangles);
     CHECK(triangles == 47500);
     CHECK(deepest <= 0.001);  // the arms rise up to 15 mm a frame through the bodice
+}
+
+// ---------------------------------------------------------------------------------------------
+// Skin constraints baked by weft-bake --body (ClothAsset::skin, issue 22).
+
+namespace {
+
+// The same six arrays, element for element.
+void check_same_skin(const SkinConstraints& a, const SkinConstraints& b) {
+    REQUIRE(a.count == b.count);
+    const auto same = [&](const auto* x, const auto* y, uint32_t n) { return std::equal(x, x + n, y); };
+    CHECK(same(a.particle, b.particle, a.count));
+    CHECK(same(a.triangle, b.triangle, a.count));
+    CHECK(same(a.weight, b.weight, 3 * a.count));
+    CHECK(same(a.rest_offset_m, b.rest_offset_m, a.count));
+    CHECK(same(a.max_distance_m, b.max_distance_m, a.count));
+    CHECK(same(a.backstop_m, b.backstop_m, a.count));
+}
+
+}  // namespace
+
+TEST_CASE("skin constraints: the baked binding survives the file and equals the runtime's on the loaded dressed pose") {
+    const Dressed* d = &dressed("skirt.json");
+    const ClothAsset& a = d->loaded.asset;
+    REQUIRE(a.skin.count > 0);
+    check_same_skin(d->baked.cooked.asset().skin, a.skin);  // through the file
+    // Every free particle bound once, none of the pinned waistband.
+    uint32_t free_particles = 0;
+    for (uint32_t p = 0; p < a.particle_count; ++p) free_particles += a.inverse_mass[a.slot_of_particle[p]] > 0.0f;
+    CHECK(a.skin.count == free_particles);
+    CHECK(d->baked.sew_report.skin_constraints == a.skin.count);
+    // The scene builder's path for an asset without a binding, on the loaded asset's start pose and
+    // the same body: the same arrays.
+    bake::BodyWorld w;
+    REQUIRE(bake::open_body_world(a, mannequin(), bake::SewOptions{}, 9.81f, 1.0f, &w).ok());
+    SkinBinding runtime;
+    const std::string e = scenes::bind_skin(w.world, w.cloth, w.body, SkinBindingOptions{}, &runtime);
+    INFO(e);
+    REQUIRE(e.empty());
+    check_same_skin(a.skin, runtime.constraints());
+    // Bound in one call; refused without them or on a body with fewer triangles.
+    CHECK(bind_asset_skin_constraints(w.world, w.cloth, w.body).ok());
+    const body::BodyMesh ball = body::make_icosphere({0.0f, 1.0f, 0.0f}, 0.2f, 1);  // 80 triangles
+    bake::BodyWorld small;
+    REQUIRE(bake::open_body_world(a, bake::SewBody{ball.positions, ball.triangles}, bake::SewOptions{}, 9.81f, 1.0f, &small).ok());
+    const Result r = bind_asset_skin_constraints(small.world, small.cloth, small.body);
+    CHECK(r.code == ErrorCode::out_of_range);
+    CHECK(std::string(r.message).find("names body triangle") != std::string::npos);
+    CookedCloth grid;
+    REQUIRE(cook_cloth(scenes::make_grid(4, 1.0f, 1.0f, false, 1.0f).desc(), {}, &grid).ok());
+    bake::BodyWorld plain;
+    REQUIRE(bake::open_body_world(grid.asset(), mannequin(), bake::SewOptions{}, 9.81f, 1.0f, &plain).ok());
+    CHECK(bind_asset_skin_constraints(plain.world, plain.cloth, plain.body).code == ErrorCode::invalid_argument);
+}
+
+TEST_CASE("skin constraints: the baked skirt, bound in a skin_constraints scene, walks within its max distance and in front of its backstop") {
+    scenes::Scene scene;
+    REQUIRE(scenes::load_scene_file(std::string(WEFT_SAMPLES_DIR) + "/../scenes/skirt-walk.json", &scene).empty());
+    scene.body->collision = BodyCollision::skin_constraints;
+    scenes::SceneWorld sw;
+    build_with_asset(scene, dressed("skirt.json").baked.bytes, &sw);
+    CHECK(!sw.cloths[0].skin);  // the asset's own binding, not one made by the scene builder
+    const ClothAsset& a = *sw.cloths[0].asset;
+    const SkinConstraints& k = a.skin;
+    REQUIRE(k.count > 0);
+    std::vector<Vec3> x(a.particle_count);
+    double worst_ball_m = 0.0, worst_backstop_m = 0.0, moved_m = 0.0;
+    for (uint32_t f = 1; f <= 90; ++f) {  // the 1 s ramp into the walk and half a second of it
+        REQUIRE(scenes::animate_body(sw, float(f) * scene.dt_s).empty());
+        REQUIRE(step(sw.world, scene.dt_s).ok());
+        REQUIRE(read_positions(sw.world, sw.cloths[0].id, x.data(), a.particle_count).ok());
+        BodyView b;
+        REQUIRE(view_body(sw.world, sw.body->id, &b).ok());
+        for (uint32_t c = 0; c < k.count; ++c) {  // P and N as the projection computes them, this step's hull
+            const uint32_t* t = b.triangles + 3 * k.triangle[c];
+            double P[3] = {0, 0, 0}, N[3] = {0, 0, 0};
+            for (int v = 0; v < 3; ++v)
+                for (int i = 0; i < 3; ++i) {
+                    P[i] += k.weight[3 * c + v] * b.hull[4 * t[v] + i];
+                    N[i] += k.weight[3 * c + v] * b.normals[3 * t[v] + i];
+                }
+            const double n = std::sqrt(N[0] * N[0] + N[1] * N[1] + N[2] * N[2]);
+            const Vec3 p = x[k.particle[c]];
+            const double q[3] = {p.x - P[0], p.y - P[1], p.z - P[2]};
+            double ball = 0.0, height = 0.0;
+            for (int i = 0; i < 3; ++i) {
+                const double e = q[i] - k.rest_offset_m[c] * N[i] / n;
+                ball += e * e;
+                height += q[i] * N[i] / n;
+            }
+            worst_ball_m = std::max(worst_ball_m, std::sqrt(ball) - k.max_distance_m[c]);
+            worst_backstop_m = std::max(worst_backstop_m, -k.backstop_m[c] - height);
+            const uint32_t s = a.slot_of_particle[k.particle[c]];
+            moved_m = std::max(moved_m, double(std::fabs(p.y - a.start_y[s])));
+        }
+    }
+    MESSAGE("skirt, 90 frames: worst past its ball ", worst_ball_m * 1e3, " mm, behind its backstop ",
+            worst_backstop_m * 1e3, " mm, largest vertical move ", moved_m * 1e3, " mm");
+    CHECK(world_stats(sw.world).body_queried == 0);  // no search: the constraints hold the skirt
+    CHECK(worst_ball_m <= 1e-5);                     // inside every ball, to float rounding
+    CHECK(worst_backstop_m <= 1e-5);                 // and in front of every backstop
+    CHECK(moved_m > 0.005);                          // while the walk moved them
+}
+
+TEST_CASE("skin constraints: a panel's skin max_distance_scale scales its particles' max distance, and 0 leaves them none") {
+    // The sample skirt with its first panel free of max distances and its second at twice the
+    // baker's: the same sewing and drape (the same start pose), only the max distances differ.
+    std::string text = read_text(std::string(WEFT_SAMPLES_DIR) + "/skirt.json");
+    bake::Pattern pattern;
+    REQUIRE(bake::parse_pattern(text, {}, &pattern).ok());
+    REQUIRE(pattern.panels.size() == 2);
+    const std::string first = "\"name\": \"" + pattern.panels[0].name + "\"";
+    const std::string second = "\"name\": \"" + pattern.panels[1].name + "\"";
+    REQUIRE(text.find(first) != std::string::npos);
+    REQUIRE(text.find(second) != std::string::npos);
+    text.replace(text.find(first), first.size(), first + ", \"skin\": {\"max_distance_scale\": 0}");
+    text.replace(text.find(second), second.size(), second + ", \"skin\": {\"max_distance_scale\": 2}");
+    bake::BakeOptions options;
+    options.body = &mannequin();
+    bake::Baked scaled;
+    const bake::Status s = bake::bake_pattern(text, options, &scaled);
+    INFO(s.error);
+    REQUIRE(s.ok());
+    const ClothAsset& a = scaled.cooked.asset();
+    const ClothAsset& plain = dressed("skirt.json").loaded.asset;
+    REQUIRE(a.skin.count == plain.skin.count);
+    CHECK(std::equal(a.start_y, a.start_y + a.slot_count, plain.start_y));
+    const float base = SkinBindingOptions{}.max_distance_m;
+    uint32_t unlimited = 0, doubled = 0;
+    for (uint32_t c = 0; c < a.skin.count; ++c) {
+        CAPTURE(c);
+        const float was = plain.skin.max_distance_m[c];
+        const float now = a.skin.max_distance_m[c];
+        if (a.panel[a.skin.particle[c]] == 0) {
+            CHECK(now == kSkinNoMaxDistance_m);
+            unlimited += was != kSkinNoMaxDistance_m;
+        } else if (was == kSkinNoMaxDistance_m) {
+            CHECK(now == kSkinNoMaxDistance_m);  // loose at rest: free whatever the scale
+        } else {
+            CHECK(now == 2.0f * base);
+            ++doubled;
+        }
+        CHECK(a.skin.backstop_m[c] == plain.skin.backstop_m[c]);  // the backstop stays
+    }
+    CHECK(unlimited > 0);  // the first panel had limited particles, and lost their limit
+    CHECK(doubled > 0);
 }

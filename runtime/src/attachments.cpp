@@ -5,6 +5,7 @@
 #include <cstring>
 
 #include "constraints/attachments.h"
+#include "cook/garment.h"
 #include "world_internal.h"
 
 namespace weft {
@@ -45,6 +46,13 @@ Result attach_cloth_to_body(World* world, ClothId cloth, BodyId body) {
     return {};
 }
 
+Result bind_asset_skin_constraints(World* world, ClothId cloth, BodyId body) {
+    if (Result r = find_cloth_and_body(world, cloth, body); !r.ok()) return r;
+    const SkinConstraints& skin = world->cloths[cloth.index].asset->skin;
+    if (skin.count == 0) return make_error(ErrorCode::invalid_argument, "the cloth's asset has no skin constraints");
+    return bind_skin_constraints(world, cloth, body, skin);
+}
+
 Result bind_skin_constraints(World* world, ClothId cloth, BodyId body, const SkinConstraints& skin) {
     if (Result r = find_cloth_and_body(world, cloth, body); !r.ok()) return r;
     ClothInstance& c = world->cloths[cloth.index];
@@ -55,38 +63,14 @@ Result bind_skin_constraints(World* world, ClothId cloth, BodyId body, const Ski
     }
     const BodyState& b = world->bodies[body.index];
     const ClothAsset& a = *c.asset;
-    if (skin.particle == nullptr || skin.triangle == nullptr || skin.weight == nullptr || skin.rest_offset_m == nullptr ||
-        skin.max_distance_m == nullptr || skin.backstop_m == nullptr)
-        return make_error(ErrorCode::invalid_argument, "a skin constraint array is null");
-    if (skin.count > a.particle_count)
-        return make_error(ErrorCode::out_of_range, "%u skin constraints for %u particles", skin.count, a.particle_count);
-    // Each particle at most once (two lanes of one SIMD group writing one particle would make the
-    // paths differ): marked in the world's validation scratch, [max_particles] >= particle_count.
-    uint32_t* seen = world->validation_scratch;
-    std::memset(seen, 0, sizeof(uint32_t) * a.particle_count);
-    for (uint32_t k = 0; k < skin.count; ++k) {
-        const uint32_t particle = skin.particle[k];
-        if (particle >= a.particle_count)
-            return make_error(ErrorCode::out_of_range, "skin constraint %u names particle %u of %u", k, particle,
-                              a.particle_count);
-        if (seen[particle]++ != 0)
-            return make_error(ErrorCode::invalid_argument, "particle %u has two skin constraints", particle);
-        if (c.particles.inverse_mass[a.slot_of_particle[particle]] == 0.0f)
-            return make_error(ErrorCode::invalid_argument, "skin constraint %u: particle %u is pinned", k, particle);
+    if (Result r = check_skin_constraints(skin, a.particle_count, a.slot_of_particle, c.particles.inverse_mass,
+                                          world->validation_scratch);  // [max_particles] >= particle_count
+        !r.ok())
+        return r;
+    for (uint32_t k = 0; k < skin.count; ++k)
         if (skin.triangle[k] >= b.triangle_count)
             return make_error(ErrorCode::out_of_range, "skin constraint %u names body triangle %u of %u", k,
                               skin.triangle[k], b.triangle_count);
-        const float* w = skin.weight + 3 * k;
-        if (!std::isfinite(w[0]) || !std::isfinite(w[1]) || !std::isfinite(w[2]) ||
-            std::fabs(w[0] + w[1] + w[2] - 1.0f) > 1e-3f)
-            return make_error(ErrorCode::invalid_argument, "skin constraint %u: weights not finite or not summing to 1", k);
-        if (!std::isfinite(skin.rest_offset_m[k]) || !std::isfinite(skin.max_distance_m[k]) ||
-            !std::isfinite(skin.backstop_m[k]))
-            return make_error(ErrorCode::non_finite, "skin constraint %u: a distance is not finite", k);
-        if (skin.max_distance_m[k] < 0.0f)
-            return make_error(ErrorCode::out_of_range, "skin constraint %u: max distance %g m < 0", k,
-                              double(skin.max_distance_m[k]));
-    }
     c.skin = skin;
     c.skin_body = body.index;
     return {};

@@ -26,9 +26,10 @@ bool save(const std::string& path, uint8_t mode, const Bytes& file) {
 
 // A grid of n x n with two pinned corners; garment data, lattice and options as asked; `sewn`:
 // format 1.1's sewn seams and body attachments (a made-up seam on the first row's two particles,
-// the pinned corners attached to body triangles 0 and 1).
+// the pinned corners attached to body triangles 0 and 1); `skinned`: format 1.2's skin constraints
+// (the first row's two free particles bound to body triangles 2 and 3, one without a max distance).
 Bytes grid_asset(uint32_t n, bool garment, bool lattice, const CookOptions& options, bool pinned = true,
-                 bool sewn = false) {
+                 bool sewn = false, bool skinned = false) {
     scenes::GridMesh grid = scenes::make_grid(n, 1.0f, 1.0f, false, 1.0f);
     if (pinned) {
         grid.masses[grid.index(0, 0)] = 0.0f;
@@ -51,6 +52,18 @@ Bytes grid_asset(uint32_t n, bool garment, bool lattice, const CookOptions& opti
         desc.attached_particle = attached;
         desc.attached_triangle = triangles;
         desc.attached_weight = weights;
+    }
+    const uint32_t skin_particle[2] = {grid.index(0, 1), grid.index(0, 2)}, skin_triangle[2] = {2, 3};
+    const float skin_weight[6] = {0.5f, 0.5f, 0, 0.2f, 0.3f, 0.5f}, rest_offset[2] = {0.01f, -0.002f};
+    const float max_distance[2] = {0.03f, kSkinNoMaxDistance_m}, backstop[2] = {-0.0015f, 0.0f};
+    if (skinned) {
+        desc.skin.count = 2;
+        desc.skin.particle = skin_particle;
+        desc.skin.triangle = skin_triangle;
+        desc.skin.weight = skin_weight;
+        desc.skin.rest_offset_m = rest_offset;
+        desc.skin.max_distance_m = max_distance;
+        desc.skin.backstop_m = backstop;
     }
     CookedCloth cooked;
     Bytes file;
@@ -81,6 +94,7 @@ int main(int argc, char** argv) {
         {"grid5_simd16", grid_asset(5, true, true, wide)},
         {"grid4_bare_unpinned", grid_asset(4, false, true, bare, false)},
         {"grid4_sewn_attached", grid_asset(4, true, true, {}, true, true)},
+        {"grid4_sewn_skinned", grid_asset(4, true, true, {}, true, true, true)},
     };
     bool ok = true;
     for (const Seed& s : valid) {

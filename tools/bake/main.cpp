@@ -90,6 +90,8 @@ json describe(const ClothAsset& a, uint64_t bytes) {
             {"start_max_strain_at_m", {start.max_at.x, start.max_at.y, start.max_at.z}},
             {"tethered_particles", a.tethered_particles},
             {"coarse_nodes", a.coarse_node_count},
+            {"attachments", a.attachment_count},
+            {"skin_constraints", a.skin.count},
             {"bytes", bytes}};
 }
 
@@ -212,6 +214,8 @@ std::string bake_asset(const bake::BatchEntry& e, const bake::SewBody* body, con
         (*j)["drape_frames"] = r.drape_frames;
         (*j)["sewn_seam_points"] = r.seam_points;
         (*j)["attached_to_body"] = r.attached;
+        (*j)["skin_constraints"] = r.skin_constraints;
+        (*j)["skin_binding_s"] = r.skin_binding_s;
         (*j)["particles_before_sewing"] = r.particles_before;
         (*j)["max_seam_gap_m"] = r.max_seam_gap_m;
         (*j)["max_penetration_m"] = r.max_penetration_m;

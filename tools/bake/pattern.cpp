@@ -24,6 +24,8 @@ using json = nlohmann::json;
 constexpr size_t kMaxTextBytes = size_t(64) << 20;
 constexpr int kMaxNesting = 64;  // the formats nest 6 deep; deeper is not a pattern
 constexpr size_t kMaxPanels = 1000;
+// Largest per-panel skin max_distance_scale: 100 x the baker's 3 cm is 3 m, looser than any garment needs.
+constexpr double kMaxSkinDistanceScale = 100.0;
 constexpr size_t kMaxEdgesPerPanel = 10000;
 constexpr double kMaxCoordinate_m = 1000.0;  // a panel coordinate past 1 km is not clothing
 constexpr double kMinEdgeLength_m = 1e-6;
@@ -439,7 +441,7 @@ Pattern read_weft(const json& root) {
     for (size_t k = 0; k < panels.size(); ++k) {
         const std::string where = item("panels", k);
         const json& p = panels[k];
-        only_keys(p, {"name", "vertices", "edges", "placement", "areal_density_kg_m2"}, where);
+        only_keys(p, {"name", "vertices", "edges", "placement", "areal_density_kg_m2", "skin"}, where);
         Panel panel;
         panel.name = text(member(p, "name", where), at(where, "name"));
         if (!names.panel.emplace(panel.name, uint32_t(k)).second) fail(at(where, "name"), "a second panel \"" + panel.name + "\"");
@@ -484,6 +486,13 @@ Pattern read_weft(const json& root) {
         }
         if (const json* d = optional_member(p, "areal_density_kg_m2", where))
             panel.areal_density_kg_m2 = number_in(*d, at(where, "areal_density_kg_m2"), 1e-4, 100.0);
+        if (const json* skin = optional_member(p, "skin", where)) {
+            const std::string sw = at(where, "skin");
+            only_keys(*skin, {"max_distance_scale"}, sw);
+            if (const json* v = optional_member(*skin, "max_distance_scale", sw))
+                panel.skin_max_distance_scale = number_in(
+                    *v, at(sw, "max_distance_scale") + " (panel \"" + panel.name + "\")", 0.0, kMaxSkinDistanceScale);
+        }
         map.loop_of.emplace_back();
         map.flipped.emplace_back();
         chain_outline(panel, map.loop_of.back(), map.flipped.back(), where);
@@ -653,6 +662,9 @@ void check_pattern(const Pattern& pattern) {
         const std::string where = "panel \"" + panel.name + "\"";
         if (!names.insert(panel.name).second) fail(where, "named twice");
         if (!(panel.areal_density_kg_m2 >= 0.0 && panel.areal_density_kg_m2 <= 100.0)) fail(where, "bad areal density");
+        if (!(panel.skin_max_distance_scale >= 0.0 && panel.skin_max_distance_scale <= kMaxSkinDistanceScale))
+            fail(where, "skin max_distance_scale " + std::to_string(panel.skin_max_distance_scale) + " must lie in [0, " +
+                            std::to_string(kMaxSkinDistanceScale) + "]");
         for (double v : panel.placement.rotation_deg) if (!(std::fabs(v) <= 1e6)) fail(where, "bad rotation");
         for (double v : panel.placement.translation_m) if (!(std::fabs(v) <= 1e6)) fail(where, "bad translation");
         if (panel.edges.size() < 2) fail(where, "an outline needs at least 2 edges");

@@ -56,6 +56,9 @@ struct Panel {
     std::vector<PatternEdge> edges;
     Placement placement;
     double areal_density_kg_m2 = 0.0;  // 0: the pattern's fabric
+    // Factor on the max distance of this panel's skin constraints (weft-bake --body; weft/attachments.h,
+    // SkinBindingOptions::max_distance_m): 1 the baker's 3 cm, 0 none (only the backstop holds them).
+    double skin_max_distance_scale = 1.0;
 };
 
 // One panel edge of a seam. Its points are taken from start to end, or from end to start when

@@ -175,17 +175,22 @@ void merge_seams(const ClothMeshDesc& unsewn, const std::vector<uint32_t>& root,
 
 BodyWorld::~BodyWorld() { destroy_world(world); }
 
-Status open_body_world(const ClothAsset& asset, const SewBody& body, const SewOptions& o, float gravity,
-                       float damping_per_s, BodyWorld* w, float margin_m) {
+namespace {
+
+// open_body_world, or without `asset` (null) the body (and floor) alone.
+Status open_world(const ClothAsset* asset, const SewBody& body, const SewOptions& o, float gravity,
+                  float damping_per_s, BodyWorld* w, float margin_m) {
     WorldDesc desc;
     desc.max_cloths = 0;
-    reserve_cloth(desc, asset);
+    if (asset != nullptr) reserve_cloth(desc, *asset);
+    desc.max_cloths = std::max(desc.max_cloths, 1u);  // a world holds at least one cloth, even unused
     desc.max_bodies = 1;
     desc.max_colliders = o.floor ? 1 : 0;
     desc.max_body_vertices = uint32_t(body.positions.size());
     desc.max_body_triangles = uint32_t(body.triangles.size() / 3);
     desc.gravity_m_s2 = {0.0f, -gravity, 0.0f};
     const MemoryRequirements need = world_memory_requirements(desc);
+    if (need.alignment == 0) return {"the sewing world's capacities are refused"};
     w->block.reset(std::aligned_alloc(need.alignment, (need.bytes + need.alignment - 1) / need.alignment * need.alignment));
     if (!w->block) return {"cannot allocate the sewing world"};
     if (Result r = create_world(desc, w->block.get(), need.bytes, &w->world); !r.ok()) return {r.message};
@@ -209,12 +214,20 @@ Status open_body_world(const ClothAsset& asset, const SewBody& body, const SewOp
         ColliderId id;
         if (Result r = add_collider(w->world, ground, &id); !r.ok()) return {std::string("floor: ") + r.message};
     }
+    if (asset == nullptr) return {};
     ClothDesc c;
-    c.asset = &asset;
+    c.asset = asset;
     c.sweeps = o.sweeps;
     c.damping_per_s = damping_per_s;
     if (Result r = add_cloth(w->world, c, &w->cloth); !r.ok()) return {std::string("garment: ") + r.message};
     return {};
+}
+
+}  // namespace
+
+Status open_body_world(const ClothAsset& asset, const SewBody& body, const SewOptions& o, float gravity,
+                       float damping_per_s, BodyWorld* w, float margin_m) {
+    return open_world(&asset, body, o, gravity, damping_per_s, w, margin_m);
 }
 
 // Where a sewn garment hangs from, m: the height of its highest attachment, or without any, of its
@@ -784,6 +797,32 @@ Status sew_garment(const ClothMeshDesc& unsewn, const std::vector<uint32_t>& att
             }
         }
     }
+
+    // 4. Skin constraints: the dressed pose bound to the whole body (the one the game steps, its
+    // triangles as the attachments name them) at rest, with the hull the sewing used.
+    const auto binding_start = std::chrono::steady_clock::now();
+    {
+        BodyWorld w;
+        if (Status s = open_world(nullptr, whole_body, o, 0.0f, 1.0f, &w, 0.002f); !s.ok()) return s;
+        BodyView view;
+        if (Result r = view_body(w.world, w.body, &view); !r.ok()) return {r.message};
+        std::vector<float> inverse_mass(m), scale;
+        for (uint32_t q = 0; q < m; ++q) inverse_mass[q] = g.masses[q] > 0.0f ? 1.0f / g.masses[q] : 0.0f;
+        if (!o.skin_max_distance_scale.empty()) {
+            scale.resize(m);
+            for (uint32_t q = 0; q < m; ++q) scale[q] = g.panel.empty() ? 1.0f : o.skin_max_distance_scale.at(g.panel[q]);
+        }
+        SkinBindingDesc skin;
+        skin.particle_count = m;
+        skin.positions = g.positions.data();
+        skin.inverse_masses = inverse_mass.data();
+        skin.max_distance_scale = scale.empty() ? nullptr : scale.data();
+        skin.options = o.skin;
+        if (Result r = cook_skin_binding(view, skin, &g.skin); !r.ok()) return {std::string("skin constraints: ") + r.message};
+        d.skin = g.skin.constraints();
+    }
+    rep.skin_constraints = uint32_t(g.skin.particle.size());
+    rep.skin_binding_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - binding_start).count();
     rep.sewing_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
     *out = std::move(g);
     // The vectors moved with their buffers: desc's pointers stay valid.

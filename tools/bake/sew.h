@@ -16,7 +16,9 @@
 //      keep their flat corners (ClothMeshDesc::rest_corners) so rest lengths still come from the
 //      flat panels;
 //   3. draping: the sewn garment steps under full gravity until its mean speed stays below
-//      rest_speed (or max_drape_frames), and that pose is the start state.
+//      rest_speed (or max_drape_frames), and that pose is the start state;
+//   4. skin constraints: every free particle of that pose bound to the closest triangle of the whole
+//      body's offset hull at rest (cook_skin_binding), stored in the asset (ClothAsset::skin).
 // The runtime does the stepping (weft/body.h: Embree offset-hull collisions), so what the baker
 // dresses is exactly what a game's world will step.
 #pragma once
@@ -28,6 +30,7 @@
 #include <vector>
 
 #include "pattern.h"
+#include "weft/attachments.h"
 #include "weft/body.h"
 #include "weft/world.h"
 
@@ -91,6 +94,10 @@ struct SewOptions {
     // asset's own solver, not another order's. Empty: cook_cloth with sewn_cook_options.
     std::function<Result(const ClothMeshDesc&, CookedCloth*)> cook_sewn;
     uint32_t frame_every = 10;
+    // 4. skin constraints of the dressed garment (weft/attachments.h: cook_skin_binding), and each
+    // panel's factor on their max distance (the pattern's "skin" max_distance_scale; empty: 1).
+    SkinBindingOptions skin;
+    std::vector<float> skin_max_distance_scale;
 };
 
 struct SewReport {
@@ -98,6 +105,8 @@ struct SewReport {
     uint32_t sewing_frames = 0, drape_frames = 0;
     uint32_t seam_points = 0;        // merged
     uint32_t attached = 0;           // particles bound to the body
+    uint32_t skin_constraints = 0;   // free particles with a skin constraint (all of them)
+    double skin_binding_s = 0.0;     // wall time of step 4 (cook_skin_binding), seconds
     uint32_t particles_before = 0, particles_after = 0;
     double max_seam_gap_m = 0.0;     // largest source-to-target distance when the sources merge
     double max_penetration_m = 0.0;  // deepest particle below the body's offset hull, dressed pose
@@ -123,6 +132,7 @@ struct SewnGarment {
     std::vector<uint32_t> triangles, sewn_particle, sewn_uv_first;
     std::vector<uint32_t> attached_particle, attached_triangle;
     std::vector<float> attached_weight;
+    SkinBinding skin;                  // every free particle bound to the whole body at rest
     std::vector<uint32_t> new_of_old;  // the sewn particle of every unsewn one
     ClothMeshDesc desc;                // cook_cloth's input (fabric as the unsewn input's)
 };

@@ -261,11 +261,17 @@ std::string build_scene(const Scene& scene, SceneWorld* out, const std::vector<s
             if (Result r = attach_cloth_to_body(out->world, out->cloths[i].id, out->body->id); !r.ok())
                 return "cloth '" + scene.cloths[i].name + "': attachments: " + r.message;
         if (out->body && scene.body->collision == BodyCollision::skin_constraints) {
-            // Bound on the dressed pose the asset starts in, against the body's rest pose.
-            out->cloths[i].skin = std::make_unique<SkinBinding>();
-            if (std::string e = bind_skin(out->world, out->cloths[i].id, out->body->id, SkinOptions{}, out->cloths[i].skin.get());
-                !e.empty())
-                return "cloth '" + scene.cloths[i].name + "': skin constraints: " + e;
+            // The binding weft-bake --body baked; an asset without one is bound here, on the
+            // dressed pose it starts in against the body's rest pose (the same cook_skin_binding).
+            std::string e;
+            if (cd.asset->skin.count > 0) {
+                if (Result r = bind_asset_skin_constraints(out->world, out->cloths[i].id, out->body->id); !r.ok())
+                    e = r.message;
+            } else {
+                out->cloths[i].skin = std::make_unique<SkinBinding>();
+                e = bind_skin(out->world, out->cloths[i].id, out->body->id, SkinBindingOptions{}, out->cloths[i].skin.get());
+            }
+            if (!e.empty()) return "cloth '" + scene.cloths[i].name + "': skin constraints: " + e;
         }
     }
     out->colliders.resize(scene.colliders.size());

@@ -107,7 +107,9 @@ struct SceneCloth {
     const ClothAsset* asset = nullptr;
     ClothId id{};
     ClothDesc desc;  // what add_cloth was given (the scene's settings, the baked fabric's stiffness)
-    std::unique_ptr<SkinBinding> skin;  // the skin_constraints body model: the arrays the world points into
+    // The skin_constraints body model for an asset without baked ones: the arrays the world points
+    // into (null when the asset's own are bound).
+    std::unique_ptr<SkinBinding> skin;
 };
 
 // A built scene's body: its rest pose, what animates it, its id in the world.

@@ -26,9 +26,11 @@ namespace weft {
 
 inline constexpr char kAssetMagic[8] = {'W', 'E', 'F', 'T', 'A', 'S', 'E', 'T'};
 inline constexpr uint16_t kAssetVersionMajor = 1;  // a different major is refused
-inline constexpr uint16_t kAssetVersionMinor = 1;  // a newer minor loads (unknown sections skipped)
+inline constexpr uint16_t kAssetVersionMinor = 2;  // a newer minor loads (unknown sections skipped)
 // 1.1 appended sewn_point_count and sewn_uv_count to the header: a 1.0 file's is this long (read as 0).
 inline constexpr uint32_t kAssetHeaderSize_1_0 = 192;
+// 1.2 appended skin_constraint_count: a 1.1 file's header is this long (read as 0).
+inline constexpr uint32_t kAssetHeaderSize_1_1 = 208;
 // Written as a little-endian uint32: the bytes 04 03 02 01. A big-endian writer gives 01 02 03 04.
 inline constexpr uint32_t kAssetEndianMarker = 0x01020304u;
 // Every section starts at a multiple of this (a cache line; also enough for any SIMD load).
@@ -86,6 +88,9 @@ struct AssetFileHeader {
     uint32_t sewn_uv_count;
     uint32_t attachment_count;  // body attachments (ClothAsset::attached_*)
     uint32_t tether_anchor_lane_count;  // per-lane tether anchors (0 in files written before them)
+    // 1.2: skin constraints (ClothAsset::skin).
+    uint32_t skin_constraint_count;
+    uint32_t reserved_1_2;  // 0: keeps the header a multiple of 8 bytes
 };
 
 // One entry of the section table (header_size + i * 32).
@@ -158,8 +163,14 @@ enum class AssetSectionKind : uint32_t {
     attached_weight,
     tether_anchor_0,  // 57 (1.1, in place of the header's reserved word)
     tether_anchor_1,
+    skin_particle,  // 59 (1.2)
+    skin_triangle,
+    skin_weight,
+    skin_rest_offset,
+    skin_max_distance,
+    skin_backstop,  // 64
 };
-inline constexpr uint32_t kAssetSectionKindCount = 58;  // known kinds: 1..kAssetSectionKindCount
+inline constexpr uint32_t kAssetSectionKindCount = 64;  // known kinds: 1..kAssetSectionKindCount
 
 // Name of a section kind ("unknown" for kinds this runtime does not know).
 const char* asset_section_name(uint32_t kind);
@@ -222,6 +233,13 @@ void visit_asset_sections(const AssetFileHeader& h, Asset& a, Visit&& visit) {
     visit(K::attached_weight, a.attached_weight, 3 * uint64_t(h.attachment_count));
     visit(K::tether_anchor_0, a.tether_anchor[0], uint64_t(h.tether_anchor_lane_count));
     visit(K::tether_anchor_1, a.tether_anchor[1], uint64_t(h.tether_anchor_lane_count));
+    const uint64_t skin = h.skin_constraint_count;
+    visit(K::skin_particle, a.skin.particle, skin);
+    visit(K::skin_triangle, a.skin.triangle, skin);
+    visit(K::skin_weight, a.skin.weight, 3 * skin);
+    visit(K::skin_rest_offset, a.skin.rest_offset_m, skin);
+    visit(K::skin_max_distance, a.skin.max_distance_m, skin);
+    visit(K::skin_backstop, a.skin.backstop_m, skin);
 }
 
 // Copies ClothAsset's scalar fields between the header and an asset, in either direction:
@@ -261,6 +279,7 @@ void pair_asset_scalars(Header& h, Asset& a, Copy&& copy) {
     copy(h.sewn_uv_count, a.sewn_uv_count);
     copy(h.attachment_count, a.attachment_count);
     copy(h.tether_anchor_lane_count, a.tether_anchor_lane_count);
+    copy(h.skin_constraint_count, a.skin.count);
 }
 
 // ---------------------------------------------------------------------------------------------

@@ -21,26 +21,16 @@ namespace weft {
 // Moves the attached particles onto the body at once.
 Result attach_cloth_to_body(World* world, ClothId cloth, BodyId body);
 
-// Skin constraints (NvCloth's motion constraints and backstop, Jolt's skinned constraints): each
-// bound free particle k stays within a ball around its skinned position and in front of the body's
-// surface there. The skinned surface point P is body triangle triangle[k] of the offset hull at
-// barycentric weights weight[3k..3k+2] (the hull interpolated from the previous step's pose to
-// this one's, as attachments are), N the unit normal interpolated there from the hull's vertex
-// normals (this step's pose). After the springs and tethers of every substep:
-//   max distance: |x - (P + rest_offset_m N)| <= max_distance_m  (projected onto the ball)
-//   backstop:     (x - P) . N >= -backstop_m                     (projected onto the half-space)
-// The backstop is a half-space (a plane behind the hull point along N) rather than NvCloth's or
-// Jolt's backstop sphere: on the thin limbs of a body a sphere large enough to be flat near the
-// surface reaches through the limb (docs/decisions/2026-11-26-body-collision-models.md).
-struct SkinConstraints {
-    uint32_t count = 0;
-    const uint32_t* particle = nullptr;     // [count] caller particles, free (inverse mass > 0), each once
-    const uint32_t* triangle = nullptr;     // [count] body triangles
-    const float* weight = nullptr;          // [3 * count] barycentric on the triangle, sum 1
-    const float* rest_offset_m = nullptr;   // [count] signed distance of the particle along N at rest
-    const float* max_distance_m = nullptr;  // [count] >= 0: radius of the ball around P + rest_offset_m N
-    const float* backstop_m = nullptr;      // [count] how far behind the hull (along -N) the particle may go
-};
+// Skin constraints (weft/cloth_asset.h: SkinConstraints documents the projection) keep free
+// particles near their skinned position on the body and in front of its surface, with no search.
+//
+//   attach_cloth_to_body(world, cloth_id, body_id);          // if the asset has attachments
+//   bind_asset_skin_constraints(world, cloth_id, body_id);   // the skin constraints weft-bake baked
+//
+// Binds the cloth's asset skin constraints (ClothAsset::skin) to `body`, the body (its triangles)
+// the garment was dressed on. Refuses an asset without them, a triangle past the body's, a
+// particle pinned since; nothing changes on failure. Nothing is moved at once.
+Result bind_asset_skin_constraints(World* world, ClothId cloth, BodyId body);
 
 // Binds skin constraints to a cloth and a body. The arrays are not copied (like an asset's): they
 // must stay valid while the cloth exists. Refuses a triangle past the body's, a particle past the
@@ -48,5 +38,40 @@ struct SkinConstraints {
 // distance; nothing changes on failure. A cloth has at most one binding (a new call replaces it);
 // `count` 0 removes it. Nothing is moved at once: the next substep projects.
 Result bind_skin_constraints(World* world, ClothId cloth, BodyId body, const SkinConstraints& skin);
+
+// ---------------------------------------------------------------------------------------------
+// Cooking skin constraints (offline or at load: allocates). weft-bake --body runs it on the dressed
+// garment and stores the result in the asset; a tool may run it for an asset baked without them.
+
+struct SkinBindingOptions {
+    // Radius of the ball around the particle's skinned rest position, metres (NvCloth's max
+    // distance), before the particle's scale. docs/decisions/2026-11-26-body-collision-models.md.
+    float max_distance_m = 0.03f;
+    // Particles further than this off the hull at rest (a skirt's hem, a loose sleeve) hang free:
+    // no max distance (a ball around a point skinned to the thigh drags the hem with the leg).
+    float loose_offset_m = 0.02f;
+    // How far behind the offset hull a particle may go, metres; negative: that far in front. The
+    // backstop plane is tangent at the bound point only, and a particle sliding along it sinks into
+    // a concave hull, so it stands 1.5 mm in front.
+    float backstop_m = -0.0015f;
+};
+
+// The garment in its dressed pose on the body's rest pose, caller particle order.
+struct SkinBindingDesc {
+    uint32_t particle_count = 0;
+    const Vec3* positions = nullptr;        // [particle_count] the dressed pose, metres
+    const float* inverse_masses = nullptr;  // [particle_count] 0: pinned, not bound
+    // Optional [particle_count] factor on max_distance_m (the pattern's per-panel "skin"
+    // max_distance_scale); 0 gives that particle no max distance, only its backstop. Null: 1.
+    const float* max_distance_scale = nullptr;
+    SkinBindingOptions options;
+};
+
+// Binds every free particle to the closest triangle of `body`'s offset hull as it is now (its rest
+// pose: view_body), at the closest point's barycentric weights, and measures its signed distance
+// along the interpolated normal there (the rest offset) as the step will. An exact closest-triangle
+// search over a uniform grid of the triangles, in double precision: offline work. Deterministic:
+// the same input gives the same arrays (of equally close triangles, the lowest index).
+Result cook_skin_binding(const BodyView& body, const SkinBindingDesc& desc, SkinBinding* out);
 
 }  // namespace weft

@@ -94,6 +94,43 @@ inline constexpr uint32_t kMaxSeamSources = 8;
 
 // The asset proper. Every array is indexed by internal particle slot unless said otherwise; slots
 // are the order chosen at cook time so that constraint batches become contiguous runs.
+// Skin constraints (NvCloth's motion constraints and backstop, Jolt's skinned constraints): each
+// bound free particle k stays within a ball around its skinned position and in front of the body's
+// surface there. The skinned surface point P is body triangle triangle[k] of the offset hull at
+// barycentric weights weight[3k..3k+2] (the hull interpolated from the previous step's pose to
+// this one's, as attachments are), N the unit normal interpolated there from the hull's vertex
+// normals (this step's pose). After the springs and tethers of every substep:
+//   max distance: |x - (P + rest_offset_m N)| <= max_distance_m  (projected onto the ball)
+//   backstop:     (x - P) . N >= -backstop_m                     (projected onto the half-space)
+// The backstop is a half-space (a plane behind the hull point along N) rather than NvCloth's or
+// Jolt's backstop sphere: on the thin limbs of a body a sphere large enough to be flat near the
+// surface reaches through the limb (docs/decisions/2026-11-26-body-collision-models.md).
+// weft-bake --body stores them in the asset (ClothAsset::skin); weft/attachments.h binds them.
+struct SkinConstraints {
+    uint32_t count = 0;
+    const uint32_t* particle = nullptr;     // [count] caller particles, free (inverse mass > 0), each once
+    const uint32_t* triangle = nullptr;     // [count] body triangles
+    const float* weight = nullptr;          // [3 * count] barycentric on the triangle, sum 1
+    const float* rest_offset_m = nullptr;   // [count] signed distance of the particle along N at rest
+    const float* max_distance_m = nullptr;  // [count] >= 0: radius of the ball around P + rest_offset_m N
+    const float* backstop_m = nullptr;      // [count] how far behind the hull (along -N) the particle may go
+};
+
+// A max distance this large limits nothing: the particle is held by its backstop alone (a hem
+// hanging off the body, a panel the pattern lets swing: docs/pattern-format.md, "skin").
+inline constexpr float kSkinNoMaxDistance_m = 1e3f;
+
+// Owns the arrays a SkinConstraints points into (cooked: weft/attachments.h, cook_skin_binding).
+struct SkinBinding {
+    std::vector<uint32_t> particle, triangle;
+    std::vector<float> weight, rest_offset_m, max_distance_m, backstop_m;
+    SkinConstraints constraints() const {
+        if (particle.empty()) return {};
+        return {uint32_t(particle.size()), particle.data(),      triangle.data(), weight.data(),
+                rest_offset_m.data(),      max_distance_m.data(), backstop_m.data()};
+    }
+};
+
 struct ClothAsset {
     uint32_t particle_count = 0;  // caller particles
     uint32_t slot_count = 0;      // length of every per-slot array (>= particle_count, padded)
@@ -214,6 +251,9 @@ struct ClothAsset {
     const uint32_t* attached_particle = nullptr;  // [attachment_count] caller particles, pinned
     const uint32_t* attached_triangle = nullptr;  // [attachment_count] body triangles
     const float* attached_weight = nullptr;       // [3 * attachment_count] barycentric, sum 1
+    // Skin constraints baked on the dressed pose against the body's rest pose (weft-bake --body),
+    // bound by weft/attachments.h: bind_asset_skin_constraints. skin.count 0: none.
+    SkinConstraints skin;
 
     uint32_t total_constraints() const {
         return constraint_count[0] + constraint_count[1] + constraint_count[2];
@@ -269,6 +309,7 @@ struct ClothMeshDesc {
     const uint32_t* attached_particle = nullptr;
     const uint32_t* attached_triangle = nullptr;
     const float* attached_weight = nullptr;
+    SkinConstraints skin;             // skin constraints, copied as given (ClothAsset documents them)
 
     // Optional rest shape per triangle: its three corners on the flat panels, [3 * triangle_count]
     // (a sewn garment's particle on a seam has one flat position per panel). When given, a
@@ -341,6 +382,7 @@ public:
     std::vector<float> sewn_uv;
     std::vector<uint32_t> attached_particle, attached_triangle;
     std::vector<float> attached_weight;
+    SkinBinding skin;
 
     // Points asset() at the vectors; call after changing them.
     void refresh_asset(uint32_t particle_count, uint32_t colour_count, const uint32_t counts[3],

@@ -42,7 +42,8 @@ static_assert(offsetof(AssetFileHeader, checksum) == 8 && offsetof(AssetFileHead
               offsetof(AssetFileHeader, constraint_count) == 64 && offsetof(AssetFileHeader, seam_point_count) == 128 &&
               offsetof(AssetFileHeader, has_uv) == 140 && offsetof(AssetFileHeader, fabric) == 148 &&
               offsetof(AssetFileHeader, coarse_slot_count) == 176 &&
-              offsetof(AssetFileHeader, sewn_point_count) == kAssetHeaderSize_1_0 && sizeof(AssetFileHeader) == 208);
+              offsetof(AssetFileHeader, sewn_point_count) == kAssetHeaderSize_1_0 &&
+              offsetof(AssetFileHeader, skin_constraint_count) == kAssetHeaderSize_1_1 && sizeof(AssetFileHeader) == 216);
 static_assert(sizeof(AssetSectionEntry) == 32 && offsetof(AssetSectionEntry, offset) == 8 &&
               offsetof(AssetSectionEntry, size) == 16 && offsetof(AssetSectionEntry, element_count) == 24);
 static_assert(kAssetChecksumStart == offsetof(AssetFileHeader, checksum) + sizeof(uint64_t));
@@ -59,7 +60,8 @@ const char* asset_section_name(uint32_t kind) {
         "coarse_col_frac_0", "coarse_col_frac_1", "uv", "seam_first", "seam_source", "panel",
         "coarse_slot_of_node", "coarse_node_of_slot", "coarse_rest_length", "coarse_lane_weight", "coarse_index_a",
         "coarse_index_b", "coarse_batches", "wind_rest_area", "sewn_particle", "sewn_uv_first", "sewn_uv", "attached_particle", "attached_triangle", "attached_weight",
-        "tether_anchor_0", "tether_anchor_1"};
+        "tether_anchor_0", "tether_anchor_1", "skin_particle", "skin_triangle", "skin_weight", "skin_rest_offset",
+        "skin_max_distance", "skin_backstop"};
     return kind <= kAssetSectionKindCount ? names[kind] : names[0];
 }
 
@@ -125,8 +127,11 @@ Result check_file(const void* bytes, size_t size, AssetFileInfo& info, AssetFile
         return make_error(ErrorCode::unsupported, "asset format version %u.%u is not supported by this runtime (%u.x)",
                           version[0], version[1], kAssetVersionMajor);
 
-    // A 1.0 header ends before the 1.1 fields (sewn seams): they read as 0.
-    const uint32_t least_header = version[1] == 0 ? kAssetHeaderSize_1_0 : uint32_t(sizeof(AssetFileHeader));
+    // An older minor's header ends before the later fields (1.0: sewn seams, 1.1: skin constraints):
+    // they read as 0.
+    const uint32_t least_header = version[1] == 0   ? kAssetHeaderSize_1_0
+                                  : version[1] == 1 ? kAssetHeaderSize_1_1
+                                                    : uint32_t(sizeof(AssetFileHeader));
     if (size < least_header)
         return make_error(ErrorCode::corrupt_asset, "asset file of %zu bytes is shorter than its header", size);
     header = AssetFileHeader{};
@@ -150,8 +155,7 @@ Result check_file(const void* bytes, size_t size, AssetFileInfo& info, AssetFile
         return make_error(ErrorCode::corrupt_asset, "has_uv or has_fabric is neither 0 nor 1");
 
     const ExpectedSections expected = expected_sections(header);
-    uint64_t seen = 0;  // bit k: known kind k was present
-    static_assert(kAssetSectionKindCount < 64);
+    bool seen[kAssetSectionKindCount + 1] = {};  // known kind k was present
     for (uint32_t i = 0; i < header.section_count; ++i) {
         AssetSectionEntry s;
         std::memcpy(&s, file + header.header_size + uint64_t(i) * sizeof(AssetSectionEntry), sizeof(s));
@@ -163,9 +167,8 @@ Result check_file(const void* bytes, size_t size, AssetFileInfo& info, AssetFile
         info.sections[i] = {s.kind, s.element_size, s.offset, s.size, s.element_count, s.alignment};
         if (!is_known(s.kind)) continue;  // a newer minor's section: skipped
         const char* name = asset_section_name(s.kind);
-        if (seen & (uint64_t(1) << s.kind))
-            return make_error(ErrorCode::corrupt_asset, "section %s appears twice", name);
-        seen |= uint64_t(1) << s.kind;
+        if (seen[s.kind]) return make_error(ErrorCode::corrupt_asset, "section %s appears twice", name);
+        seen[s.kind] = true;
         if (s.element_size != expected.element_size[s.kind])
             return make_error(ErrorCode::corrupt_asset, "section %s has %u-byte elements, expected %u", name,
                               s.element_size, expected.element_size[s.kind]);
@@ -176,7 +179,7 @@ Result check_file(const void* bytes, size_t size, AssetFileInfo& info, AssetFile
                               s.element_count, (unsigned long long)expected.count[s.kind]);
     }
     for (uint32_t kind = 1; kind <= kAssetSectionKindCount; ++kind)
-        if (expected.count[kind] > 0 && !(seen & (uint64_t(1) << kind)))
+        if (expected.count[kind] > 0 && !seen[kind])
             return make_error(ErrorCode::corrupt_asset, "section %s is missing", asset_section_name(kind));
 
     info.version_major = header.version_major;

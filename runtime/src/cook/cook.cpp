@@ -110,6 +110,7 @@ void CookedCloth::refresh_asset(uint32_t particle_count, uint32_t colour_count, 
     a.attached_particle = attached_particle.empty() ? nullptr : attached_particle.data();
     a.attached_triangle = attached_triangle.empty() ? nullptr : attached_triangle.data();
     a.attached_weight = attached_weight.empty() ? nullptr : attached_weight.data();
+    a.skin = skin.constraints();
 }
 
 namespace {
@@ -184,6 +185,13 @@ Result check_mesh(const ClothMeshDesc& mesh) {
                                      mesh.attached_weight, mesh.particle_count);
         !r.ok())
         return r;
+    if (mesh.skin.count > 0) {  // pinned: a mass of 0 or an inverse mass of 0
+        std::vector<uint32_t> seen(mesh.particle_count);
+        if (Result r = check_skin_constraints(mesh.skin, mesh.particle_count, nullptr,
+                                              mesh.masses ? mesh.masses : mesh.inverse_masses, seen.data());
+            !r.ok())
+            return r;
+    }
     if (mesh.rest_corners != nullptr)
         for (uint32_t i = 0; i < 3 * mesh.triangle_count; ++i)
             if (!finite(mesh.rest_corners[i]))
@@ -221,6 +229,16 @@ void copy_garment(const ClothMeshDesc& mesh, CookedCloth& out) {
         out.attached_particle.assign(mesh.attached_particle, mesh.attached_particle + mesh.attachment_count);
         out.attached_triangle.assign(mesh.attached_triangle, mesh.attached_triangle + mesh.attachment_count);
         out.attached_weight.assign(mesh.attached_weight, mesh.attached_weight + 3 * size_t(mesh.attachment_count));
+    }
+    if (mesh.skin.count > 0) {
+        const SkinConstraints& k = mesh.skin;
+        SkinBinding& b = out.skin;
+        b.particle.assign(k.particle, k.particle + k.count);
+        b.triangle.assign(k.triangle, k.triangle + k.count);
+        b.weight.assign(k.weight, k.weight + 3 * size_t(k.count));
+        b.rest_offset_m.assign(k.rest_offset_m, k.rest_offset_m + k.count);
+        b.max_distance_m.assign(k.max_distance_m, k.max_distance_m + k.count);
+        b.backstop_m.assign(k.backstop_m, k.backstop_m + k.count);
     }
 }
 

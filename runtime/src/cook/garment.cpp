@@ -2,6 +2,7 @@
 #include "cook/garment.h"
 
 #include <cmath>
+#include <cstring>
 
 #include "world_internal.h"
 
@@ -79,6 +80,40 @@ Result check_attachments(uint32_t count, const uint32_t* particle, const uint32_
                 return make_error(ErrorCode::out_of_range, "attachment %u has weight %g outside [0, 1]", k, double(w[i]));
         if (!(std::fabs(sum - 1.0f) <= 1e-3f))
             return make_error(ErrorCode::invalid_argument, "attachment %u's weights sum to %g, not 1", k, double(sum));
+    }
+    return {};
+}
+
+Result check_skin_constraints(const SkinConstraints& skin, uint32_t particle_count, const uint32_t* slot_of_particle,
+                              const float* pin_weight, uint32_t* seen) {
+    if (skin.count == 0) return {};
+    if (skin.particle == nullptr || skin.triangle == nullptr || skin.weight == nullptr || skin.rest_offset_m == nullptr ||
+        skin.max_distance_m == nullptr || skin.backstop_m == nullptr)
+        return make_error(ErrorCode::invalid_argument, "a skin constraint array is null");
+    if (skin.count > particle_count)
+        return make_error(ErrorCode::out_of_range, "%u skin constraints for %u particles", skin.count, particle_count);
+    // Each particle at most once: two lanes of one SIMD group writing one particle would make the
+    // scalar and AVX2 paths differ.
+    std::memset(seen, 0, sizeof(uint32_t) * particle_count);
+    for (uint32_t k = 0; k < skin.count; ++k) {
+        const uint32_t particle = skin.particle[k];
+        if (particle >= particle_count)
+            return make_error(ErrorCode::out_of_range, "skin constraint %u names particle %u of %u", k, particle,
+                              particle_count);
+        if (seen[particle]++ != 0)
+            return make_error(ErrorCode::invalid_argument, "particle %u has two skin constraints", particle);
+        if (pin_weight[slot_of_particle != nullptr ? slot_of_particle[particle] : particle] == 0.0f)
+            return make_error(ErrorCode::invalid_argument, "skin constraint %u: particle %u is pinned", k, particle);
+        const float* w = skin.weight + 3 * size_t(k);
+        if (!std::isfinite(w[0]) || !std::isfinite(w[1]) || !std::isfinite(w[2]) ||
+            !(std::fabs(w[0] + w[1] + w[2] - 1.0f) <= 1e-3f))
+            return make_error(ErrorCode::invalid_argument, "skin constraint %u: weights not finite or not summing to 1", k);
+        if (!std::isfinite(skin.rest_offset_m[k]) || !std::isfinite(skin.max_distance_m[k]) ||
+            !std::isfinite(skin.backstop_m[k]))
+            return make_error(ErrorCode::non_finite, "skin constraint %u: a distance is not finite", k);
+        if (skin.max_distance_m[k] < 0.0f)
+            return make_error(ErrorCode::out_of_range, "skin constraint %u: max distance %g m < 0", k,
+                              double(skin.max_distance_m[k]));
     }
     return {};
 }

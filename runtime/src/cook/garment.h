@@ -30,6 +30,14 @@ Result check_sewn(uint32_t point_count, const uint32_t* particle, const uint32_t
 Result check_attachments(uint32_t count, const uint32_t* particle, const uint32_t* triangle, const float* weight,
                          uint32_t particle_count);
 
+// Skin constraints (one check for the cook, the loader and bind_skin_constraints): every particle
+// in range, bound once (`seen`: particle_count uint32 of scratch), not pinned (pin_weight of its
+// slot is 0: an inverse mass by slot, or a mass with slot_of_particle null, caller order), weights
+// finite summing to 1, distances finite, max distance >= 0. The triangles are checked against the
+// body when the constraints are bound.
+Result check_skin_constraints(const SkinConstraints& skin, uint32_t particle_count, const uint32_t* slot_of_particle,
+                              const float* pin_weight, uint32_t* seen);
+
 // Every value finite and >= 0.
 Result check_fabric(const Fabric& fabric);
 

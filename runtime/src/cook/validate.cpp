@@ -318,7 +318,7 @@ Result check_coarse(const ClothAsset& a, uint32_t* scratch) {
 }
 
 // The garment data (cook/garment.h), every failure reported as a corrupt asset.
-Result check_garment(const ClothAsset& a) {
+Result check_garment(const ClothAsset& a, uint32_t* scratch) {
     Result r = check_uv(a.uv, a.particle_count);
     if (r.ok()) r = check_seam_offsets(a.seam_point_count, a.seam_first);
     if (r.ok() && a.seam_point_count > 0 && a.seam_first[a.seam_point_count] != a.seam_source_count)
@@ -335,6 +335,7 @@ Result check_garment(const ClothAsset& a) {
     if (r.ok())
         r = check_attachments(a.attachment_count, a.attached_particle, a.attached_triangle, a.attached_weight,
                               a.particle_count);
+    if (r.ok()) r = check_skin_constraints(a.skin, a.particle_count, a.slot_of_particle, a.inverse_mass, scratch);
     if (r.ok() && a.sewn_point_count == 0 && a.sewn_uv_count != 0)
         r = make_error(ErrorCode::corrupt_asset, "sewn uvs without sewn points");
     if (r.ok()) r = check_fabric(a.fabric);
@@ -355,7 +356,7 @@ Result validate_asset_with_scratch(const ClothAsset& a, uint32_t* scratch, uint3
     if (Result r = check_springs(a, scratch); !r.ok()) return r;
     if (Result r = check_tethers(a); !r.ok()) return r;
     if (Result r = check_coarse(a, scratch); !r.ok()) return r;
-    if (Result r = check_garment(a); !r.ok()) return r;
+    if (Result r = check_garment(a, scratch); !r.ok()) return r;  // scratch: slot_count >= particle_count
     return check_triangles(a);
 }
 
