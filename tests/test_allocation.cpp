@@ -394,7 +394,7 @@ TEST_CASE("a world without bodies creates no Embree device: create_world allocat
 // Weft's own hierarchy (the default): no commit and no allocation at all, still or moving. The
 // plain reference pass (BodyDesc::reference_queries) refits Embree's BVH: one commit per moving
 // step, at most one transient allocation inside it.
-TEST_CASE("stepping with a body allocates nothing; Embree's reference pass at most once per moving body's commit") {
+TEST_CASE("stepping with a body allocates nothing, Embree's reference pass at most once per moving body's commit") {
     const body::BodyMesh sphere = body::make_icosphere({0, 0, 0}, 0.3f, 4);
     const scenes::GridMesh grid = scenes::make_grid(30, 0.8f, 0.8f, false, 0.35f);
     CookedCloth cooked;

@@ -279,7 +279,7 @@ TEST_CASE("broken files: every truncation is refused") {
     }
 }
 
-TEST_CASE("broken files: every byte flipped is refused; with the checksum fixed it loads or is refused") {
+TEST_CASE("broken files: every byte flipped is refused, with the checksum fixed it loads or is refused") {
     const Source s(4);
     const Bytes file = write(s.asset());
     uint32_t loaded = 0, refused = 0;

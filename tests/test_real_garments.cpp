@@ -42,7 +42,7 @@ const bake::SewBody& mean_all() {
 
 }  // namespace
 
-TEST_CASE("GarmentCode labels: waistline and necklines become body attachments; stitched armholes mean sleeves") {
+TEST_CASE("GarmentCode labels: waistline and necklines become body attachments, stitched armholes mean sleeves") {
     if (!have_shared()) return;
     bake::Pattern dress;  // a sleeveless dress: bodice, waistband, skirt
     REQUIRE(bake::parse_pattern(corpus_pattern("gc_1001_0000"), {}, &dress).ok());

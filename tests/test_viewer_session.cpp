@@ -18,7 +18,7 @@ std::vector<Vec3> positions(viewer::Session& s) { return s.snapshot().cloths[0].
 
 }  // namespace
 
-TEST_CASE("viewer controls: no gravity keeps the cloth still; turning the wind on resets and runs the wind pass") {
+TEST_CASE("viewer controls: no gravity keeps the cloth still, turning the wind on resets and runs the wind pass") {
     viewer::Session s;
     REQUIRE(s.open(kScenes + "sphere.json", {}).empty());
     CHECK_FALSE(s.controls().wind_on);

@@ -92,8 +92,6 @@ struct Fabric {
 // Sewing moves the sources to the target and merges them.
 inline constexpr uint32_t kMaxSeamSources = 8;
 
-// The asset proper. Every array is indexed by internal particle slot unless said otherwise; slots
-// are the order chosen at cook time so that constraint batches become contiguous runs.
 // Skin constraints (NvCloth's motion constraints and backstop, Jolt's skinned constraints): each
 // bound free particle k stays within a ball around its skinned position and in front of the body's
 // surface there. The skinned surface point P is body triangle triangle[k] of the offset hull at
@@ -131,6 +129,8 @@ struct SkinBinding {
     }
 };
 
+// The asset proper. Every array is indexed by internal particle slot unless said otherwise; slots
+// are the order chosen at cook time so that constraint batches become contiguous runs.
 struct ClothAsset {
     uint32_t particle_count = 0;  // caller particles
     uint32_t slot_count = 0;      // length of every per-slot array (>= particle_count, padded)
