@@ -2,7 +2,6 @@
 #include "weft/attachments.h"
 
 #include <cmath>
-#include <cstring>
 
 #include "constraints/attachments.h"
 #include "cook/garment.h"
