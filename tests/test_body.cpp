@@ -103,12 +103,14 @@ struct BodyWorld {
 
     // `substeps` > 0: that many substeps a step, one sweep each (explicit split), else the policy's.
     BodyWorld(const ClothAsset& asset, const BodyMesh& mesh, const BodyDesc& settings,
-              SimdPath path = SimdPath::automatic, uint32_t substeps = 0) {
+              SimdPath path = SimdPath::automatic, uint32_t substeps = 0, uint32_t max_skin_constraints = ~0u) {
         WorldDesc d = world_for({&asset}, 0, path);
         d.max_bodies = 1;
         d.max_cached_plane_bodies = settings.collision == BodyCollision::cached_planes ? 1 : 0;
         d.max_body_vertices = mesh.vertex_count();
         d.max_body_triangles = mesh.triangle_count();
+        // scenes::bind_skin binds at most every particle
+        d.max_skin_constraints = max_skin_constraints == ~0u ? asset.particle_count : max_skin_constraints;
         REQUIRE(make_world(d, &owned).ok());
         ClothDesc cd;
         cd.asset = &asset;
@@ -1047,6 +1049,15 @@ TEST_CASE("body: bind_skin_constraints refuses bad bindings with a message") {
     CHECK(bind_skin_constraints(w.owned.world, w.cloth, BodyId{4}, s).code == ErrorCode::out_of_range);
     CHECK(bind_skin_constraints(nullptr, w.cloth, w.body, s).code == ErrorCode::invalid_argument);
     CHECK(bind_skin_constraints(w.owned.world, w.cloth, w.body, SkinConstraints{}).ok());  // count 0: unbound
+    // A world that reserved no skin constraints (WorldDesc::max_skin_constraints) refuses them by
+    // name and steps on unbound.
+    BodyWorld none(pts.cooked.asset(), sphere, settings, SimdPath::automatic, 0, 0);
+    none.place({{0.0f, 0.31f, 0.0f}, {0.0f, -0.31f, 0.0f}, {0.31f, 0.0f, 0.0f}});
+    REQUIRE(set_particle(none.owned.world, none.cloth, 2, {0.31f, 0.0f, 0.0f}, 0.0f).ok());
+    const Result r = bind_skin_constraints(none.owned.world, none.cloth, none.body, s);
+    CHECK(r.code == ErrorCode::capacity_exceeded);
+    CHECK(std::string(r.message).find("max_skin_constraints") != std::string::npos);
+    CHECK(step(none.owned.world, 1.0f / 60.0f).ok());
 }
 
 namespace {

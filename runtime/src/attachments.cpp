@@ -1,6 +1,7 @@
 // Body attachments (weft/attachments.h): binding a cloth's asset attachments to a body.
 #include "weft/attachments.h"
 
+#include <algorithm>
 #include <cmath>
 
 #include "constraints/attachments.h"
@@ -70,6 +71,44 @@ Result bind_skin_constraints(World* world, ClothId cloth, BodyId body, const Ski
         if (skin.triangle[k] >= b.triangle_count)
             return make_error(ErrorCode::out_of_range, "skin constraint %u names body triangle %u of %u", k,
                               skin.triangle[k], b.triangle_count);
+    // The cloth's SkinState: reused when the binding fits, else carved anew from the world's pool.
+    const uint32_t padded = (skin.count + kSimdWidth - 1) / kSimdWidth * kSimdWidth;
+    if (padded > c.skin_capacity) {
+        auto* block = static_cast<uint32_t*>(world->skin_pool.allocate(kSkinArrays * sizeof(float) * size_t(padded)));
+        if (block == nullptr)
+            return make_error(ErrorCode::capacity_exceeded,
+                              "%u skin constraints do not fit in what WorldDesc::max_skin_constraints left",
+                              skin.count);
+        SkinState& s = c.skin_state;
+        auto next = [&, i = 0u]() mutable { return block + size_t(padded) * i++; };
+        s.source = next();
+        s.slot = next();
+        s.rest_offset_m = reinterpret_cast<float*>(next());
+        s.max_distance_m = reinterpret_cast<float*>(next());
+        s.backstop_m = reinterpret_cast<float*>(next());
+        for (int i = 0; i < 3; ++i) {
+            s.previous_point[i] = reinterpret_cast<float*>(next());
+            s.point[i] = reinterpret_cast<float*>(next());
+            s.normal[i] = reinterpret_cast<float*>(next());
+        }
+        c.skin_capacity = padded;
+    }
+    // Slot order (each particle is bound once, so the order changes no result): the substep
+    // pass's loads and stores then walk the particle arrays forwards.
+    SkinState& s = c.skin_state;
+    s.count = skin.count;
+    for (uint32_t k = 0; k < skin.count; ++k) s.source[k] = k;
+    std::sort(s.source, s.source + skin.count, [&](uint32_t u, uint32_t v) {
+        return a.slot_of_particle[skin.particle[u]] < a.slot_of_particle[skin.particle[v]];
+    });
+    for (uint32_t k = skin.count; k < padded; ++k) s.source[k] = s.source[skin.count - 1];
+    for (uint32_t k = 0; k < padded; ++k) {
+        const uint32_t j = s.source[k];
+        s.slot[k] = a.slot_of_particle[skin.particle[j]];
+        s.rest_offset_m[k] = skin.rest_offset_m[j];
+        s.max_distance_m[k] = skin.max_distance_m[j];
+        s.backstop_m[k] = skin.backstop_m[j];
+    }
     c.skin = skin;
     c.skin_body = body.index;
     return {};

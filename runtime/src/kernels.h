@@ -77,6 +77,21 @@ inline constexpr uint32_t coarse_column_stride(uint32_t lattice_plane_cols) {
     return (lattice_plane_cols + 2 * kSimdWidth - 1) / kSimdWidth * kSimdWidth;
 }
 
+// One cloth's bound skin constraints, in slot order, each array padded to a whole number of
+// kSimdWidth lanes with copies of the last constraint (a copy computes and writes the same bits).
+inline constexpr uint32_t kSkinArrays = 14;  // source, slot, 3 copies, 3 x 3 frame coordinates
+struct SkinState {
+    uint32_t count = 0;                 // constraints (the padding not counted)
+    uint32_t* source = nullptr;         // index into the caller's SkinConstraints
+    uint32_t* slot = nullptr;           // the constrained particle's slot
+    float* rest_offset_m = nullptr;     // copies of the caller's arrays, in this order
+    float* max_distance_m = nullptr;
+    float* backstop_m = nullptr;
+    float* previous_point[3] = {};      // P at the previous step's hull, metres
+    float* point[3] = {};               // P at this step's hull, metres
+    float* normal[3] = {};              // N: unit, from this step's vertex normals
+};
+
 // Verlet (seed section 1.1): x' = x + (x - x_prev) * (h / h_prev) * damping + (g + a_wind) * h2.
 struct IntegrateArgs {
     float h2_s2;           // h^2; h^2 / 2 on a cloth's first step (see integrate_args in step.cpp)
@@ -105,7 +120,7 @@ struct ColliderKernelArgs {
 };
 
 struct WindArgs;
-struct SkinArgs;
+struct SkinFrameArgs;
 
 struct Kernels {
     SimdPath path;
@@ -121,8 +136,10 @@ struct Kernels {
     void (*project_tethers)(const Particles&, const ClothAsset&, const TetherBatch&, float slack);
     void (*collide)(const Particles&, const ColliderKernelArgs&);
     void (*apply_wind)(const Particles&, const ClothAsset&, const WindArgs&);
-    // Skin constraints: max distance, then backstop (constraints/skin.h).
-    void (*project_skin)(const Particles&, const ClothAsset&, const SkinArgs&);
+    // Skin constraints (constraints/skin.h): their skinned frames once a step, then max distance
+    // and backstop every substep at `t` (0..1) into the step.
+    void (*skin_frames)(const SkinState&, const SkinFrameArgs&);
+    void (*project_skin)(const Particles&, const SkinState&, float t);
 };
 
 const Kernels& scalar_kernels();

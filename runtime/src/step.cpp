@@ -203,14 +203,20 @@ void move_bodies(World& world) {
 }
 
 // Skin constraints of a cloth bound to a body (bind_skin_constraints); timed as body collision,
-// which they replace under BodyCollision::skin_constraints.
-void project_skin_constraints(World& world, ClothInstance& cloth, uint32_t substep, uint32_t substeps) {
+// which they replace under BodyCollision::skin_constraints. Once a step, each constraint's point
+// on the body's previous and current hull and its normal; every substep, the projection.
+void find_skin_frames(World& world, ClothInstance& cloth) {
     if (cloth.skin_body == ~0u) return;
     PassTimer timer(world, Pass::body);
     const BodyState& body = world.bodies[cloth.skin_body];
-    const SkinArgs args{body.hull, body.previous_hull, body.normals, body.triangles, cloth.skin,
-                        float(substep + 1) / float(substeps)};
-    world.kernels->project_skin(cloth.particles, *cloth.asset, args);
+    const SkinFrameArgs args{body.hull, body.previous_hull, body.normals, body.triangles, cloth.skin};
+    world.kernels->skin_frames(cloth.skin_state, args);
+}
+
+void project_skin_constraints(World& world, ClothInstance& cloth, uint32_t substep, uint32_t substeps) {
+    if (cloth.skin_body == ~0u) return;
+    PassTimer timer(world, Pass::body);
+    world.kernels->project_skin(cloth.particles, cloth.skin_state, float(substep + 1) / float(substeps));
 }
 
 void collide_bodies(World& world, ClothInstance& cloth, uint32_t substep, uint32_t substeps) {
@@ -237,6 +243,7 @@ void collide_bodies(World& world, ClothInstance& cloth, uint32_t substep, uint32
 
 void step_cloth(World& world, ClothInstance& cloth, float dt) {
     const float h = dt / float(cloth.split.substeps);
+    find_skin_frames(world, cloth);                            // the skinned frames of 3d
     for (uint32_t substep = 0; substep < cloth.split.substeps; ++substep) {
         if (cloth.attached_body != ~0u)                        // 0. attached particles ride the body
             follow_attachments(world.bodies[cloth.attached_body], *cloth.asset, cloth.particles,

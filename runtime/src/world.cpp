@@ -64,6 +64,14 @@ uint32_t validation_scratch_count(const WorldDesc& desc) {
     return desc.max_particles > desc.max_coarse_nodes ? desc.max_particles : desc.max_coarse_nodes;
 }
 
+// The skin constraint pool: kSkinArrays arrays of 4 bytes a lane; each cloth's block pads to a
+// whole number of SIMD groups and starts on a cache line.
+size_t skin_pool_bytes(const WorldDesc& desc) {
+    if (desc.max_skin_constraints == 0) return 0;
+    return kSkinArrays * sizeof(float) * (size_t(desc.max_skin_constraints) + (kSimdWidth - 1) * size_t(desc.max_cloths)) +
+           kCacheLine * size_t(desc.max_cloths);
+}
+
 ArenaSizer size_world(const WorldDesc& desc) {
     ArenaSizer sizer;
     sizer.add(sizeof(World));
@@ -92,6 +100,7 @@ ArenaSizer size_world(const WorldDesc& desc) {
         sizer.add(sizeof(float) * kContactPlaneArrays * size_t(desc.max_cached_plane_bodies) *
                       size_t(desc.max_particles) +
                   kCacheLine * desc.max_cloths);
+    sizer.add(skin_pool_bytes(desc));
     sizer.bytes += kCacheLine;  // the caller's block may start anywhere on a cache line
     return sizer;
 }
@@ -101,7 +110,8 @@ Result check_world_desc(const WorldDesc& desc) {
     if (desc.max_cloths > (1u << 16) || desc.max_colliders > (1u << 16) ||
         desc.max_particles > (1u << 28) || desc.max_constraints > (1u << 30) ||
         desc.max_coarse_nodes > (1u << 28) || desc.max_bodies > (1u << 10) ||
-        desc.max_body_vertices > (1u << 26) || desc.max_body_triangles > (1u << 26))
+        desc.max_body_vertices > (1u << 26) || desc.max_body_triangles > (1u << 26) ||
+        desc.max_skin_constraints > (1u << 28))
         return make_error(ErrorCode::out_of_range, "a capacity is absurdly large");
     if (!is_finite(desc.gravity_m_s2) || !std::isfinite(desc.air_density_kg_m3))
         return make_error(ErrorCode::non_finite, "gravity or air density is not finite");
@@ -278,6 +288,7 @@ void reserve_cloth(WorldDesc& desc, const ClothAsset& asset) {
     desc.max_particles += asset.slot_count;
     desc.max_constraints += asset.lane_count;
     desc.max_coarse_nodes += asset.coarse_slot_count;
+    desc.max_skin_constraints += asset.skin.count;
 }
 
 MemoryRequirements world_memory_requirements(const WorldDesc& desc) {
@@ -316,6 +327,8 @@ Result create_world(const WorldDesc& desc, void* memory, size_t bytes, World** o
                               int(rtcGetDeviceError(nullptr)));
         rtcSetDeviceMemoryMonitorFunction(world->embree_device, count_embree_memory, world);
     }
+    if (const size_t skin_bytes = skin_pool_bytes(desc); skin_bytes > 0)
+        world->skin_pool = Arena{static_cast<uint8_t*>(arena.allocate(skin_bytes)), skin_bytes, 0};
     world->arena = arena;
     world->gravity_m_s2 = desc.gravity_m_s2;
 

@@ -20,6 +20,8 @@ struct ClothInstance {
     // Skin constraints (bind_skin_constraints): the caller's arrays and the body they follow.
     SkinConstraints skin{};
     uint32_t skin_body = ~0u;
+    SkinState skin_state;          // the bound constraints in slot order (constraints/skin.h)
+    uint32_t skin_capacity = 0;    // constraints skin_state's arrays hold (a multiple of kSimdWidth)
     uint32_t* body_order = nullptr;   // [slot_count] with bodies: the body pass's slot order (collide/body.h)
     // [max_cached_plane_bodies * kContactPlaneArrays * slot_count]: the contact planes of each
     // cached_planes body, at its BodyState::plane_index (collide/body.h: contact_planes_in).
@@ -54,6 +56,7 @@ struct World {
     EmbreeCommitHook commit_hook = nullptr;
     void* commit_hook_user = nullptr;
     uint32_t* validation_scratch = nullptr;  // [max(max_particles, max_coarse_nodes)], for validate_asset
+    Arena skin_pool;  // WorldDesc::max_skin_constraints: carved by bind_skin_constraints
     uint32_t particles_used = 0;
     uint32_t constraints_used = 0;
     uint32_t coarse_nodes_used = 0;

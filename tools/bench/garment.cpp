@@ -222,7 +222,9 @@ int run_garment(uint32_t steps, bool as_json, const std::vector<BodyCollision>& 
             BodyCollision model;
             scenes::SceneWorld sw;
             std::vector<double> step_us, integrate_us, constraints_us, body_us, other_us, plain_us;
+            std::vector<double> springs_us, coarse_us, tethers_us;  // the parts of constraints_us
             double deepest = 0.0, max_strain = 0.0, strain_sum = 0.0, queried = 0.0;
+            uint64_t projections = 0;  // spring lanes projected a step (padding excluded)
         };
         std::vector<Run> runs(models.size());
         for (size_t m = 0; m < models.size(); ++m) {
@@ -260,6 +262,9 @@ int run_garment(uint32_t steps, bool as_json, const std::vector<BodyCollision>& 
                 r.step_us.push_back(us);
                 r.integrate_us.push_back(integrate);
                 r.constraints_us.push_back(constraints);
+                r.springs_us.push_back(pass(Pass::constraints));
+                r.coarse_us.push_back(pass(Pass::coarse));
+                r.tethers_us.push_back(pass(Pass::tethers));
                 r.body_us.push_back(body);
                 r.other_us.push_back(us - integrate - constraints - body);
                 if (&r == &runs[0]) r.plain_us.push_back(baseline);
@@ -269,6 +274,7 @@ int run_garment(uint32_t steps, bool as_json, const std::vector<BodyCollision>& 
                 r.max_strain = std::max(r.max_strain, strain.max);
                 r.strain_sum += strain.mean;
                 r.queried += double(after.body_queried);
+                r.projections = after.run_projections + after.indexed_projections;
             }
         }
         const double plain_us = median(runs[0].plain_us);
@@ -288,6 +294,10 @@ int run_garment(uint32_t steps, bool as_json, const std::vector<BodyCollision>& 
                                 {"us_per_step", step_us},
                                 {"integrate_us", median(r.integrate_us)},
                                 {"constraints_us", median(r.constraints_us)},
+                                {"springs_us", median(r.springs_us)},
+                                {"coarse_us", median(r.coarse_us)},
+                                {"tethers_us", median(r.tethers_us)},
+                                {"spring_projections_per_step", double(r.projections)},
                                 {"body_us", body_us},
                                 {"body_share", step_us > 0 ? body_us / step_us : 0.0},
                                 {"other_us", median(r.other_us)},

@@ -216,6 +216,9 @@ std::string build_scene(const Scene& scene, SceneWorld* out, const std::vector<s
         wd.max_cached_plane_bodies = scene.body->collision == BodyCollision::cached_planes ? 1 : 0;  // 76 B a slot
         wd.max_body_vertices = uint32_t(out->body->rest.size());
         wd.max_body_triangles = uint32_t(out->body->triangles.size() / 3);
+        if (scene.body->collision == BodyCollision::skin_constraints)
+            for (const auto& c : out->cloths)  // a cloth without baked ones is bound below, at most a constraint a particle
+                if (c.asset->skin.count == 0) wd.max_skin_constraints += c.asset->particle_count;
     }
     wd.max_colliders = uint32_t(scene.colliders.size());
     wd.wind = scene.wind_m_s.has_value();

@@ -46,6 +46,9 @@ struct WorldDesc {
     // Bodies that may use BodyCollision::cached_planes (at most max_bodies): each costs every cloth
     // 76 bytes a particle slot for its contact planes; add_body refuses one more. 0: none, no bytes.
     uint32_t max_cached_plane_bodies = 0;
+    // Skin constraints (weft/attachments.h) summed over the cloths that bind them; reserve_cloth
+    // adds the asset's. Each costs 56 bytes; a cloth rebound to more than it holds takes new room.
+    uint32_t max_skin_constraints = 0;
 
     // Features: a pass that is not enabled is not in the step at all (and costs nothing).
     bool wind = false;

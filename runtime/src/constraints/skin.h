@@ -3,73 +3,92 @@
 // max_distance_m around its skinned position (the offset hull's point P at the particle's
 // barycentric weights, moved out by its rest offset along the interpolated normal N), then onto
 // the half-space (x - P) . N >= -backstop_m behind the hull, and onto their intersection when the
-// second projection left the first's ball. Lanes run across constraints (eight
-// particles at a time on AVX2); every lane's data is gathered by loads and its particle written
-// back lane by lane, so the scalar and AVX2 paths do the same IEEE operations per particle.
+// second projection left the first's ball.
+//
+// Two passes, as Jolt's SkinVertices / ApplySkinConstraints: once a step, skin_frames finds every
+// constraint's P at the previous and the current hull and its N (the only pass that gathers from
+// the body); every substep, project_skin interpolates P between the two and projects. Bind keeps
+// the constraints in slot order with their own copies of the per-constraint numbers, so the
+// substep pass reads them as vectors. Lanes run across constraints (eight particles at a time on
+// AVX2); the scalar and AVX2 paths do the same IEEE operations per particle.
 #pragma once
 
 #include <algorithm>
 #include <cstdint>
 
 #include "kernels.h"
-#include "weft/attachments.h"
 #include "simd/float_w.h"
+#include "weft/attachments.h"
 
 namespace weft {
 
-// One cloth's skin constraints against one body, this substep.
-struct SkinArgs {
+// The body a cloth's skin constraints follow, this step.
+struct SkinFrameArgs {
     const float* hull = nullptr;           // [4 * vertices]: the body's offset hull this step (x, y, z, motion)
     const float* previous_hull = nullptr;  // [4 * vertices]: the hull at the previous step
     const float* normals = nullptr;        // [3 * vertices]: unit vertex normals of this step's hull
     const uint32_t* body_triangles = nullptr;
-    SkinConstraints skin;
-    float t = 1.0f;  // how far into the step this substep ends, 0..1 (the hull's interpolation)
+    SkinConstraints skin;                  // the caller's arrays (SkinState::source indexes them)
 };
 
+// Once a step: P at both hulls and N, per constraint (padding lanes included).
 template <class F>
-void project_skin(const Particles& p, const ClothAsset& asset, const SkinArgs& args) {
+void skin_frames(const SkinState& s, const SkinFrameArgs& args) {
     using namespace simd;
     constexpr uint32_t W = F::width;
-    const SkinConstraints& skin = args.skin;
-    const F t = splat(args.t, F{});
-    for (uint32_t k0 = 0; k0 < skin.count; k0 += W) {
-        const uint32_t lanes = std::min(W, skin.count - k0);
-        // The lanes' data; lanes past the end repeat the last constraint (computed, not written).
-        uint32_t slot[W], hull_index[3][W], normal_index[3][W];
-        alignas(32) float w[3][W], offset[W], radius[W], backstop[W];
+    const uint32_t padded = (s.count + kSimdWidth - 1) / kSimdWidth * kSimdWidth;
+    for (uint32_t k0 = 0; k0 < padded; k0 += W) {
+        uint32_t hull_index[3][W], normal_index[3][W];
+        alignas(32) float w[3][W];
         for (uint32_t l = 0; l < W; ++l) {
-            const uint32_t k = k0 + std::min(l, lanes - 1);
-            slot[l] = asset.slot_of_particle[skin.particle[k]];
-            const uint32_t* tri = args.body_triangles + 3 * skin.triangle[k];
+            const uint32_t k = s.source[k0 + l];
+            const uint32_t* tri = args.body_triangles + 3 * args.skin.triangle[k];
             for (int c = 0; c < 3; ++c) {
                 hull_index[c][l] = 4 * tri[c];
                 normal_index[c][l] = 3 * tri[c];
-                w[c][l] = skin.weight[3 * k + c];
+                w[c][l] = args.skin.weight[3 * k + c];
             }
-            offset[l] = skin.rest_offset_m[k];
-            radius[l] = skin.max_distance_m[k];
-            backstop[l] = skin.backstop_m[k];
         }
-        // P: the hull point at the weights, each corner interpolated from the previous pose (the
-        // same operations as follow_attachments). N: the weighted vertex normals, normalised.
-        F P[3] = {splat(0.0f, F{}), splat(0.0f, F{}), splat(0.0f, F{})};
-        F N[3] = {splat(0.0f, F{}), splat(0.0f, F{}), splat(0.0f, F{})};
+        F before[3] = {splat(0.0f, F{}), splat(0.0f, F{}), splat(0.0f, F{})};
+        F now[3] = {before[0], before[1], before[2]};
+        F N[3] = {before[0], before[1], before[2]};
         for (int c = 0; c < 3; ++c) {
             const F wc = load(w[c], F{});
             for (int i = 0; i < 3; ++i) {
-                const F now = gather_by_loads(args.hull + i, hull_index[c], F{});
-                const F before = gather_by_loads(args.previous_hull + i, hull_index[c], F{});
-                P[i] = mul_add(wc, mul_add(t, now - before, before), P[i]);
+                before[i] = mul_add(wc, gather_by_loads(args.previous_hull + i, hull_index[c], F{}), before[i]);
+                now[i] = mul_add(wc, gather_by_loads(args.hull + i, hull_index[c], F{}), now[i]);
                 N[i] = mul_add(wc, gather_by_loads(args.normals + i, normal_index[c], F{}), N[i]);
             }
         }
         const F inverse_length = splat(1.0f, F{}) / sqrt(mul_add(N[0], N[0], mul_add(N[1], N[1], N[2] * N[2])));
-        for (F& n : N) n = n * inverse_length;
-        F x[3] = {gather_by_loads(p.x, slot, F{}), gather_by_loads(p.y, slot, F{}), gather_by_loads(p.z, slot, F{})};
+        for (int i = 0; i < 3; ++i) {
+            store(s.previous_point[i] + k0, before[i]);
+            store(s.point[i] + k0, now[i]);
+            store(s.normal[i] + k0, N[i] * inverse_length);
+        }
+    }
+}
+
+// Every substep: t is how far into the step the substep ends (0..1), the hull's interpolation.
+template <class F>
+void project_skin(const Particles& p, const SkinState& s, float t_step) {
+    using namespace simd;
+    constexpr uint32_t W = F::width;
+    const F t = splat(t_step, F{});
+    for (uint32_t k0 = 0; k0 < s.count; k0 += W) {
+        const uint32_t* slot = s.slot + k0;
+        F P[3], N[3], x[3];
+        for (int i = 0; i < 3; ++i) {
+            const F before = load(s.previous_point[i] + k0, F{});
+            P[i] = mul_add(t, load(s.point[i] + k0, F{}) - before, before);
+            N[i] = load(s.normal[i] + k0, F{});
+        }
+        x[0] = gather_by_loads(p.x, slot, F{});
+        x[1] = gather_by_loads(p.y, slot, F{});
+        x[2] = gather_by_loads(p.z, slot, F{});
 
         // Max distance: onto the ball around the skinned position S = P + offset N.
-        const F r = load(radius, F{}), rest = load(offset, F{});
+        const F r = load(s.max_distance_m + k0, F{}), rest = load(s.rest_offset_m + k0, F{});
         F S[3], d[3];
         for (int i = 0; i < 3; ++i) S[i] = mul_add(rest, N[i], P[i]), d[i] = x[i] - S[i];
         const F length = sqrt(mul_add(d[0], d[0], mul_add(d[1], d[1], d[2] * d[2])));
@@ -79,7 +98,7 @@ void project_skin(const Particles& p, const ClothAsset& asset, const SkinArgs& a
 
         // Backstop: in front of the plane backstop_m behind P along N.
         const F height = mul_add(x[0] - P[0], N[0], mul_add(x[1] - P[1], N[1], (x[2] - P[2]) * N[2]));
-        const F b = load(backstop, F{});
+        const F b = load(s.backstop_m + k0, F{});
         const F depth = splat(0.0f, F{}) - b - height;  // > 0: behind the backstop
         const auto behind = depth > splat(0.0f, F{});
         for (int i = 0; i < 3; ++i) x[i] = select(behind, mul_add(depth, N[i], x[i]), x[i]);
@@ -97,13 +116,10 @@ void project_skin(const Particles& p, const ClothAsset& asset, const SkinArgs& a
         for (int i = 0; i < 3; ++i)
             x[i] = select(onto_circle, mul_add(e[i], to_circle, neg_mul_add(centre_height, N[i], S[i])), x[i]);
 
-        alignas(32) float out[3][W];
-        for (int i = 0; i < 3; ++i) store(out[i], x[i]);
-        for (uint32_t l = 0; l < lanes; ++l) {
-            p.x[slot[l]] = out[0][l];
-            p.y[slot[l]] = out[1][l];
-            p.z[slot[l]] = out[2][l];
-        }
+        // Padding lanes repeat the last constraint: the same inputs, so the same bits written twice.
+        scatter_by_stores(p.x, slot, x[0]);
+        scatter_by_stores(p.y, slot, x[1]);
+        scatter_by_stores(p.z, slot, x[2]);
     }
 }
 
