@@ -98,6 +98,25 @@ TEST_CASE("a scene's world holds the cached planes only when its body collides b
     CHECK(bytes[0] + 76 * size_t(slots) <= bytes[1]);
 }
 
+TEST_CASE("a scene's world holds room for skin constraints only when its body collides by them") {
+    const std::string head = R"({"format": "weft-scene", "version": 1, "cloths": [{"grid": {"n": 4}}], "body": {"mannequin": {})";
+    size_t bytes[2] = {0, 0};
+    uint32_t particles = 0;
+    for (int m = 0; m < 2; ++m) {
+        scenes::Scene scene;
+        REQUIRE(scenes::parse_scene(head + (m == 0 ? R"(, "collision": "exact"}})" : R"(, "collision": "skin_constraints"}})"),
+                                    ".", &scene)
+                    .empty());
+        scenes::SceneWorld w;
+        const std::string error = scenes::build_scene(scene, &w);
+        INFO(error);
+        REQUIRE(error.empty());
+        bytes[m] = w.memory_bytes;
+        particles = w.cloths[0].asset->particle_count;
+    }
+    CHECK(bytes[0] + 56 * size_t(particles) <= bytes[1]);  // kSkinArrays floats a constraint
+}
+
 // body.collision skin_constraints: build_scene binds every free particle and the step searches nothing.
 // A grid's asset has no baked skin constraints, so the scene builder cooks a binding itself (a
 // dressed garment's baked ones: tests/test_sew.cpp).

@@ -216,10 +216,14 @@ std::string build_scene(const Scene& scene, SceneWorld* out, const std::vector<s
         wd.max_cached_plane_bodies = scene.body->collision == BodyCollision::cached_planes ? 1 : 0;  // 76 B a slot
         wd.max_body_vertices = uint32_t(out->body->rest.size());
         wd.max_body_triangles = uint32_t(out->body->triangles.size() / 3);
-        if (scene.body->collision == BodyCollision::skin_constraints)
-            for (const auto& c : out->cloths)  // a cloth without baked ones is bound below, at most a constraint a particle
-                if (c.asset->skin.count == 0) wd.max_skin_constraints += c.asset->particle_count;
     }
+    // Skin constraints are bound below only under the skin_constraints model: the asset's, or for
+    // an asset without them at most one a particle. Other scenes reserve none (reserve_cloth's count
+    // is for a game that binds them).
+    wd.max_skin_constraints = 0;
+    if (scene.body && scene.body->collision == BodyCollision::skin_constraints)
+        for (const auto& c : out->cloths)
+            wd.max_skin_constraints += c.asset->skin.count > 0 ? c.asset->skin.count : c.asset->particle_count;
     wd.max_colliders = uint32_t(scene.colliders.size());
     wd.wind = scene.wind_m_s.has_value();
     wd.gravity_m_s2 = scene.gravity_m_s2;
