@@ -80,55 +80,39 @@ TEST_CASE("a scene's body collides by cached planes unless it names the exact pa
     }
 }
 
-// A scene reserves the cached planes (WorldDesc::max_cached_plane_bodies) only when its body uses them.
-TEST_CASE("a scene's world holds the cached planes only when its body collides by them") {
-    const std::string head = R"({"format": "weft-scene", "version": 1, "cloths": [{"grid": {"n": 4}}], "body": {"mannequin": {})";
-    size_t bytes[2] = {0, 0};
-    uint32_t slots = 0;
-    for (int m = 0; m < 2; ++m) {
-        scenes::Scene scene;
-        REQUIRE(scenes::parse_scene(head + (m == 0 ? R"(, "collision": "exact"}})" : "}}"), ".", &scene).empty());
-        scenes::SceneWorld w;
-        const std::string error = scenes::build_scene(scene, &w);
-        INFO(error);
-        REQUIRE(error.empty());
-        bytes[m] = w.memory_bytes;
-        slots = w.cloths[0].asset->slot_count;
-    }
-    CHECK(bytes[0] + 76 * size_t(slots) <= bytes[1]);
+namespace {
+
+// A scene of one 4 x 4 grid on the mannequin whose body collides by `model`, built into `w`.
+void build_grid_on_mannequin(const char* model, scenes::SceneWorld* w) {
+    const std::string text = std::string(R"({"format": "weft-scene", "version": 1, "cloths": [{"grid": {"n": 4}}], )") +
+                             R"("body": {"mannequin": {}, "collision": ")" + model + "\"}}";
+    scenes::Scene scene;
+    REQUIRE(scenes::parse_scene(text, ".", &scene).empty());
+    const std::string error = scenes::build_scene(scene, w);
+    INFO(error);
+    REQUIRE(error.empty());
 }
 
-TEST_CASE("a scene's world holds room for skin constraints only when its body collides by them") {
-    const std::string head = R"({"format": "weft-scene", "version": 1, "cloths": [{"grid": {"n": 4}}], "body": {"mannequin": {})";
-    size_t bytes[2] = {0, 0};
-    uint32_t particles = 0;
-    for (int m = 0; m < 2; ++m) {
-        scenes::Scene scene;
-        REQUIRE(scenes::parse_scene(head + (m == 0 ? R"(, "collision": "exact"}})" : R"(, "collision": "skin_constraints"}})"),
-                                    ".", &scene)
-                    .empty());
-        scenes::SceneWorld w;
-        const std::string error = scenes::build_scene(scene, &w);
-        INFO(error);
-        REQUIRE(error.empty());
-        bytes[m] = w.memory_bytes;
-        particles = w.cloths[0].asset->particle_count;
-    }
-    CHECK(bytes[0] + 56 * size_t(particles) <= bytes[1]);  // kSkinArrays floats a constraint
+}  // namespace
+
+// What a model needs is reserved only by the scenes that use it: the cached planes 76 bytes a
+// particle slot, skin constraints 56 bytes a constraint (kSkinArrays floats).
+TEST_CASE("a scene's world holds the cached planes or the skin constraints only when its body collides by them") {
+    scenes::SceneWorld exact, planes, skin;
+    build_grid_on_mannequin("exact", &exact);
+    build_grid_on_mannequin("cached_planes", &planes);
+    build_grid_on_mannequin("skin_constraints", &skin);
+    const ClothAsset& asset = *exact.cloths[0].asset;
+    CHECK(exact.memory_bytes + 76 * size_t(asset.slot_count) <= planes.memory_bytes);
+    CHECK(exact.memory_bytes + 56 * size_t(asset.particle_count) <= skin.memory_bytes);
 }
 
 // body.collision skin_constraints: build_scene binds every free particle and the step searches nothing.
 // A grid's asset has no baked skin constraints, so the scene builder cooks a binding itself (a
 // dressed garment's baked ones: tests/test_sew.cpp).
 TEST_CASE("a scene whose body collides by skin constraints binds its cloth's free particles") {
-    const std::string text = R"({"format": "weft-scene", "version": 1, "cloths": [{"grid": {"n": 4}}], )"
-                             R"("body": {"mannequin": {}, "collision": "skin_constraints"}})";
-    scenes::Scene scene;
-    REQUIRE(scenes::parse_scene(text, ".", &scene).empty());
     scenes::SceneWorld w;
-    const std::string error = scenes::build_scene(scene, &w);
-    INFO(error);
-    REQUIRE(error.empty());
+    build_grid_on_mannequin("skin_constraints", &w);
     CHECK(w.cloths[0].asset->skin.count == 0);
     REQUIRE(w.cloths[0].skin);
     ClothView view;
