@@ -81,33 +81,38 @@ Result bind_skin_constraints(World* world, ClothId cloth, BodyId body, const Ski
                               skin.count);
         SkinState& s = c.skin_state;
         auto next = [&, i = 0u]() mutable { return block + size_t(padded) * i++; };
-        s.source = next();
+        auto next_float = [&] { return reinterpret_cast<float*>(next()); };
         s.slot = next();
-        s.rest_offset_m = reinterpret_cast<float*>(next());
-        s.max_distance_m = reinterpret_cast<float*>(next());
-        s.backstop_m = reinterpret_cast<float*>(next());
-        for (int i = 0; i < 3; ++i) {
-            s.previous_point[i] = reinterpret_cast<float*>(next());
-            s.point[i] = reinterpret_cast<float*>(next());
-            s.normal[i] = reinterpret_cast<float*>(next());
-        }
+        for (int i = 0; i < 3; ++i) s.corner[i] = next(), s.weight[i] = next_float();
+        s.rest_offset_m = next_float();
+        s.max_distance_m = next_float();
+        s.backstop_m = next_float();
+        for (int i = 0; i < 3; ++i)
+            s.previous_point[i] = next_float(), s.point[i] = next_float(), s.normal[i] = next_float();
         c.skin_capacity = padded;
     }
     // Slot order (each particle is bound once, so the order changes no result): the substep
-    // pass's loads and stores then walk the particle arrays forwards.
+    // pass's loads and stores then walk the particle arrays forwards. The permutation is sorted in
+    // corner[0], which each constraint's own entry overwrites last.
     SkinState& s = c.skin_state;
     s.count = skin.count;
-    for (uint32_t k = 0; k < skin.count; ++k) s.source[k] = k;
-    std::sort(s.source, s.source + skin.count, [&](uint32_t u, uint32_t v) {
+    uint32_t* const order = s.corner[0];
+    for (uint32_t k = 0; k < skin.count; ++k) order[k] = k;
+    std::sort(order, order + skin.count, [&](uint32_t u, uint32_t v) {
         return a.slot_of_particle[skin.particle[u]] < a.slot_of_particle[skin.particle[v]];
     });
-    for (uint32_t k = skin.count; k < padded; ++k) s.source[k] = s.source[skin.count - 1];
+    for (uint32_t k = skin.count; k < padded; ++k) order[k] = order[skin.count - 1];
+    const uint32_t* const body_triangles = b.triangles;
     for (uint32_t k = 0; k < padded; ++k) {
-        const uint32_t j = s.source[k];
+        const uint32_t j = order[k];
         s.slot[k] = a.slot_of_particle[skin.particle[j]];
         s.rest_offset_m[k] = skin.rest_offset_m[j];
         s.max_distance_m[k] = skin.max_distance_m[j];
         s.backstop_m[k] = skin.backstop_m[j];
+        for (int i = 2; i >= 0; --i) {  // corner[0] last: it holds j
+            s.weight[i][k] = skin.weight[3 * j + i];
+            s.corner[i][k] = body_triangles[3 * skin.triangle[j] + i];
+        }
     }
     c.skin = skin;
     c.skin_body = body.index;

@@ -120,8 +120,9 @@ Result add_body(World* world, const BodyDesc& desc, BodyId* out_body) {
     const uint32_t v = desc.vertex_count, t = desc.triangle_count;
     float* hull = world->arena.allocate_array<float>(4 * size_t(v) + 4);
     float* previous = world->arena.allocate_array<float>(4 * size_t(v));
-    float* normals = world->arena.allocate_array<float>(3 * size_t(v));
+    float* normals = world->arena.allocate_array<float>(3 * size_t(v) + 4);  // + 4: skin_frames loads 16 bytes a vertex
     uint32_t* triangles = world->arena.allocate_array<uint32_t>(3 * size_t(t) + 4);
+    if (normals != nullptr) std::memset(normals + 3 * size_t(v), 0, 4 * sizeof(float));
     if (hull == nullptr || previous == nullptr || normals == nullptr || triangles == nullptr) {
         world->arena = saved;
         return make_error(ErrorCode::capacity_exceeded, "world memory exhausted");

@@ -79,11 +79,12 @@ inline constexpr uint32_t coarse_column_stride(uint32_t lattice_plane_cols) {
 
 // One cloth's bound skin constraints, in slot order, each array padded to a whole number of
 // kSimdWidth lanes with copies of the last constraint (a copy computes and writes the same bits).
-inline constexpr uint32_t kSkinArrays = 14;  // source, slot, 3 copies, 3 x 3 frame coordinates
+inline constexpr uint32_t kSkinArrays = 19;  // slot, 3 corners, 3 weights, 3 copies, 3 x 3 frame coordinates
 struct SkinState {
     uint32_t count = 0;                 // constraints (the padding not counted)
-    uint32_t* source = nullptr;         // index into the caller's SkinConstraints
     uint32_t* slot = nullptr;           // the constrained particle's slot
+    uint32_t* corner[3] = {};           // the bound body triangle's vertices
+    float* weight[3] = {};              // barycentric weights on it
     float* rest_offset_m = nullptr;     // copies of the caller's arrays, in this order
     float* max_distance_m = nullptr;
     float* backstop_m = nullptr;

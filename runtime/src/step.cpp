@@ -209,7 +209,7 @@ void find_skin_frames(World& world, ClothInstance& cloth) {
     if (cloth.skin_body == ~0u) return;
     PassTimer timer(world, Pass::body);
     const BodyState& body = world.bodies[cloth.skin_body];
-    const SkinFrameArgs args{body.hull, body.previous_hull, body.normals, body.triangles, cloth.skin};
+    const SkinFrameArgs args{body.hull, body.previous_hull, body.normals};
     world.kernels->skin_frames(cloth.skin_state, args);
 }
 

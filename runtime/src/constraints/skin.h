@@ -8,8 +8,8 @@
 // Two passes, as Jolt's SkinVertices / ApplySkinConstraints: once a step, skin_frames finds every
 // constraint's P at the previous and the current hull and its N (the only pass that gathers from
 // the body); every substep, project_skin interpolates P between the two and projects. Bind keeps
-// the constraints in slot order with their own copies of the per-constraint numbers, so the
-// substep pass reads them as vectors. Lanes run across constraints (eight particles at a time on
+// the constraints in slot order with their own copies of the per-constraint numbers (the bound
+// triangle's vertices among them), so both passes read them as vectors. Lanes run across constraints (eight particles at a time on
 // AVX2); the scalar and AVX2 paths do the same IEEE operations per particle.
 #pragma once
 
@@ -22,43 +22,33 @@
 
 namespace weft {
 
-// The body a cloth's skin constraints follow, this step.
+// The body a cloth's skin constraints follow, this step. Each array is readable 16 bytes past a
+// vertex's start (the body's arrays carry that padding for Embree).
 struct SkinFrameArgs {
     const float* hull = nullptr;           // [4 * vertices]: the body's offset hull this step (x, y, z, motion)
     const float* previous_hull = nullptr;  // [4 * vertices]: the hull at the previous step
     const float* normals = nullptr;        // [3 * vertices]: unit vertex normals of this step's hull
-    const uint32_t* body_triangles = nullptr;
-    SkinConstraints skin;                  // the caller's arrays (SkinState::source indexes them)
 };
 
 // Once a step: P at both hulls and N, per constraint (padding lanes included).
 template <class F>
 void skin_frames(const SkinState& s, const SkinFrameArgs& args) {
     using namespace simd;
-    constexpr uint32_t W = F::width;
     const uint32_t padded = (s.count + kSimdWidth - 1) / kSimdWidth * kSimdWidth;
-    for (uint32_t k0 = 0; k0 < padded; k0 += W) {
-        uint32_t hull_index[3][W], normal_index[3][W];
-        alignas(32) float w[3][W];
-        for (uint32_t l = 0; l < W; ++l) {
-            const uint32_t k = s.source[k0 + l];
-            const uint32_t* tri = args.body_triangles + 3 * args.skin.triangle[k];
-            for (int c = 0; c < 3; ++c) {
-                hull_index[c][l] = 4 * tri[c];
-                normal_index[c][l] = 3 * tri[c];
-                w[c][l] = args.skin.weight[3 * k + c];
-            }
-        }
+    for (uint32_t k0 = 0; k0 < padded; k0 += F::width) {
         F before[3] = {splat(0.0f, F{}), splat(0.0f, F{}), splat(0.0f, F{})};
         F now[3] = {before[0], before[1], before[2]};
         F N[3] = {before[0], before[1], before[2]};
         for (int c = 0; c < 3; ++c) {
-            const F wc = load(w[c], F{});
-            for (int i = 0; i < 3; ++i) {
-                before[i] = mul_add(wc, gather_by_loads(args.previous_hull + i, hull_index[c], F{}), before[i]);
-                now[i] = mul_add(wc, gather_by_loads(args.hull + i, hull_index[c], F{}), now[i]);
-                N[i] = mul_add(wc, gather_by_loads(args.normals + i, normal_index[c], F{}), N[i]);
-            }
+            const uint32_t* corner = s.corner[c] + k0;
+            const F wc = load(s.weight[c] + k0, F{});
+            F v[3];
+            gather_xyz(args.previous_hull, 4, corner, &v[0], &v[1], &v[2]);
+            for (int i = 0; i < 3; ++i) before[i] = mul_add(wc, v[i], before[i]);
+            gather_xyz(args.hull, 4, corner, &v[0], &v[1], &v[2]);
+            for (int i = 0; i < 3; ++i) now[i] = mul_add(wc, v[i], now[i]);
+            gather_xyz(args.normals, 3, corner, &v[0], &v[1], &v[2]);
+            for (int i = 0; i < 3; ++i) N[i] = mul_add(wc, v[i], N[i]);
         }
         const F inverse_length = splat(1.0f, F{}) / sqrt(mul_add(N[0], N[0], mul_add(N[1], N[1], N[2] * N[2])));
         for (int i = 0; i < 3; ++i) {
@@ -83,9 +73,11 @@ void project_skin(const Particles& p, const SkinState& s, float t_step) {
             P[i] = mul_add(t, load(s.point[i] + k0, F{}) - before, before);
             N[i] = load(s.normal[i] + k0, F{});
         }
-        x[0] = gather_by_loads(p.x, slot, F{});
-        x[1] = gather_by_loads(p.y, slot, F{});
-        x[2] = gather_by_loads(p.z, slot, F{});
+        // Bound in slot order, most groups are eight consecutive slots: plain loads and stores.
+        const bool consecutive = slot[F::width - 1] == slot[0] + (F::width - 1);
+        float* const xyz[3] = {p.x, p.y, p.z};
+        for (int i = 0; i < 3; ++i)
+            x[i] = consecutive ? load(xyz[i] + slot[0], F{}) : gather_by_loads(xyz[i], slot, F{});
 
         // Max distance: onto the ball around the skinned position S = P + offset N.
         const F r = load(s.max_distance_m + k0, F{}), rest = load(s.rest_offset_m + k0, F{});
@@ -117,9 +109,12 @@ void project_skin(const Particles& p, const SkinState& s, float t_step) {
             x[i] = select(onto_circle, mul_add(e[i], to_circle, neg_mul_add(centre_height, N[i], S[i])), x[i]);
 
         // Padding lanes repeat the last constraint: the same inputs, so the same bits written twice.
-        scatter_by_stores(p.x, slot, x[0]);
-        scatter_by_stores(p.y, slot, x[1]);
-        scatter_by_stores(p.z, slot, x[2]);
+        for (int i = 0; i < 3; ++i) {
+            if (consecutive)
+                store(xyz[i] + slot[0], x[i]);
+            else
+                scatter_by_stores(xyz[i], slot, x[i]);
+        }
     }
 }
 
