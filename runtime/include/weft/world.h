@@ -47,7 +47,7 @@ struct WorldDesc {
     // 76 bytes a particle slot for its contact planes; add_body refuses one more. 0: none, no bytes.
     uint32_t max_cached_plane_bodies = 0;
     // Skin constraints (weft/attachments.h) summed over the cloths that bind them; reserve_cloth
-    // adds the asset's. Each costs 56 bytes; a cloth rebound to more than it holds takes new room.
+    // adds the asset's. Each costs 76 bytes; a cloth rebound to more than it holds takes new room.
     uint32_t max_skin_constraints = 0;
 
     // Features: a pass that is not enabled is not in the step at all (and costs nothing).
