@@ -440,7 +440,7 @@ TEST_CASE("stepping with a body allocates nothing, Embree's reference pass at mo
                                    : BodyCollision::exact;
         BodyId body;
         REQUIRE(add_body(world, bd, &body).ok());
-        SkinBinding skin;  // pass 3: every particle bound to the sphere (the arrays outlive the steps)
+        SkinBinding skin;  // pass 3: every particle bound to the sphere
         if (pass == 3) REQUIRE(scenes::bind_skin(world, cloth, body, SkinBindingOptions{}, &skin).empty());
         if (pass == 3) {  // binding arrays already made (an asset's: bind_asset_skin_constraints) allocates nothing
             uint64_t allocations = 0;

@@ -57,7 +57,6 @@ Result bind_skin_constraints(World* world, ClothId cloth, BodyId body, const Ski
     if (Result r = find_cloth_and_body(world, cloth, body); !r.ok()) return r;
     ClothInstance& c = world->cloths[cloth.index];
     if (skin.count == 0) {
-        c.skin = {};
         c.skin_body = ~0u;
         return {};
     }
@@ -114,7 +113,6 @@ Result bind_skin_constraints(World* world, ClothId cloth, BodyId body, const Ski
             s.corner[i][k] = body_triangles[3 * skin.triangle[j] + i];
         }
     }
-    c.skin = skin;
     c.skin_body = body.index;
     return {};
 }

@@ -17,8 +17,7 @@ struct ClothInstance {
     CoarseState coarse;
     float previous_substep_s = 0.0f;  // h_prev of time-corrected Verlet; 0 before the first step
     uint32_t attached_body = ~0u;     // the body the asset's attachments follow (weft/attachments.h)
-    // Skin constraints (bind_skin_constraints): the caller's arrays and the body they follow.
-    SkinConstraints skin{};
+    // Skin constraints (bind_skin_constraints): the body they follow and their copy.
     uint32_t skin_body = ~0u;
     SkinState skin_state;          // the bound constraints in slot order (constraints/skin.h)
     uint32_t skin_capacity = 0;    // constraints skin_state's arrays hold (a multiple of kSimdWidth)

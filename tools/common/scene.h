@@ -107,8 +107,8 @@ struct SceneCloth {
     const ClothAsset* asset = nullptr;
     ClothId id{};
     ClothDesc desc;  // what add_cloth was given (the scene's settings, the baked fabric's stiffness)
-    // The skin_constraints body model for an asset without baked ones: the arrays the world points
-    // into (null when the asset's own are bound).
+    // The skin_constraints body model for an asset without baked ones: the binding cooked for it,
+    // kept for inspection (the world holds its own copy; null when the asset's own are bound).
     std::unique_ptr<SkinBinding> skin;
 };
 

@@ -32,8 +32,9 @@ Result attach_cloth_to_body(World* world, ClothId cloth, BodyId body);
 // particle pinned since; nothing changes on failure. Nothing is moved at once.
 Result bind_asset_skin_constraints(World* world, ClothId cloth, BodyId body);
 
-// Binds skin constraints to a cloth and a body. The arrays are not copied (like an asset's): they
-// must stay valid while the cloth exists. Refuses a triangle past the body's, a particle past the
+// Binds skin constraints to a cloth and a body. The arrays are copied, in slot order, into the room
+// WorldDesc::max_skin_constraints reserved (capacity_exceeded when it is used up); the caller may
+// free them after the call. Refuses a triangle past the body's, a particle past the
 // cloth's, pinned or bound twice, weights or distances that are not finite, a negative max
 // distance; nothing changes on failure. A cloth has at most one binding (a new call replaces it);
 // `count` 0 removes it. Nothing is moved at once: the next substep projects.

@@ -9,8 +9,9 @@
 // constraint's P at the previous and the current hull and its N (the only pass that gathers from
 // the body); every substep, project_skin interpolates P between the two and projects. Bind keeps
 // the constraints in slot order with their own copies of the per-constraint numbers (the bound
-// triangle's vertices among them), so both passes read them as vectors. Lanes run across constraints (eight particles at a time on
-// AVX2); the scalar and AVX2 paths do the same IEEE operations per particle.
+// triangle's vertices among them), so both passes read them as vectors. Lanes run across
+// constraints (eight at a time on AVX2); the scalar and AVX2 paths do the same IEEE operations
+// per particle.
 #pragma once
 
 #include <algorithm>
