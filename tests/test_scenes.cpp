@@ -125,6 +125,32 @@ TEST_CASE("a scene whose body collides by skin constraints binds its cloth's fre
     CHECK(world_stats(w.world).body_queried == 0);
 }
 
+// body.limb_capsules: one capsule collider a bone and section, moved with the walk, refused by name
+// when the mannequin has no such bone.
+TEST_CASE("a scene's limb capsules are colliders that follow the walking mannequin's bones") {
+    const std::string head = R"({"format": "weft-scene", "version": 1, "cloths": [{"grid": {"n": 4}}], )";
+    scenes::Scene scene;
+    REQUIRE(scenes::parse_scene(head + R"("body": {"mannequin": {}, "animation": "walk", "ramp_s": 0,
+        "limb_capsules": ["thigh.L", "thigh.R"], "limb_capsule_sections": 3}})", ".", &scene).empty());
+    scenes::SceneWorld w;
+    REQUIRE(scenes::build_scene(scene, &w).empty());
+    REQUIRE(w.body->limb_colliders.size() == 6);
+    REQUIRE(scenes::animate_body(w, 0.275f).empty());  // a quarter stride: the thighs swung
+    std::vector<body::LimbCapsule> expect;
+    body::walk_capsules(*static_cast<const body::Mannequin*>(w.body->mannequin.get()), w.body->limb_capsules, 0.275f, &expect);
+    for (size_t c = 0; c < expect.size(); ++c) {
+        CHECK(w.body->posed_capsules[c].p0.z == expect[c].p0.z);
+        CHECK(w.body->posed_capsules[c].p1.z == expect[c].p1.z);
+        CHECK(std::abs(expect[c].p1.z - w.body->limb_capsules[c].p1.z) > 0.01f);  // moved
+    }
+    REQUIRE(step(w.world, w.dt_s).ok());
+
+    scenes::Scene bad;
+    REQUIRE(scenes::parse_scene(head + R"("body": {"mannequin": {}, "limb_capsules": ["tail"]}})", ".", &bad).empty());
+    scenes::SceneWorld none;
+    CHECK(scenes::build_scene(bad, &none).find("no bone named 'tail'") != std::string::npos);
+}
+
 TEST_CASE("malformed scenes are refused with the key's path") {
     const std::string head = R"({"format": "weft-scene", "version": 1, )";
     const std::string cloth = R"("cloths": [{"grid": {"n": 4}}])";
@@ -162,6 +188,11 @@ TEST_CASE("malformed scenes are refused with the key's path") {
         {head + cloth + R"(, "colliders": [{"shape": "sphere", "center_m": [0,0,0], "friction": -1}]})", "friction"},
         {head + cloth + R"(, "body": {"mannequin": {}, "collision": "spheres"}})", "scene.body.collision"},
         {head + cloth + R"(, "body": {"mannequin": {}, "collision": 1}})", "scene.body.collision"},
+        {head + cloth + R"(, "body": {"mannequin": {}, "limb_capsules": "thigh.L"}})", "scene.body.limb_capsules"},
+        {head + cloth + R"(, "body": {"mannequin": {}, "limb_capsules": [1]}})", "scene.body.limb_capsules[0]"},
+        {head + cloth + R"(, "body": {"mesh": "b.obj", "limb_capsules": ["thigh.L"]}})", "only the mannequin has bones"},
+        {head + cloth + R"(, "body": {"mannequin": {}, "limb_capsules": ["thigh.L"], "limb_capsule_sections": 0}})",
+         "scene.body.limb_capsule_sections"},
     };
     for (const Case& c : cases) {
         scenes::Scene scene;

@@ -160,6 +160,17 @@ struct Case {
 
 }  // namespace
 
+bool garment_model_from_name(const std::string& name, GarmentModel* out) {
+    const std::string suffix = "+limb_capsules";
+    const bool capsules = name.size() > suffix.size() && name.compare(name.size() - suffix.size(), suffix.size(), suffix) == 0;
+    out->limb_capsules = capsules;
+    return scenes::body_collision_from_name(capsules ? name.substr(0, name.size() - suffix.size()) : name, &out->collision);
+}
+
+std::string garment_model_name(const GarmentModel& model) {
+    return std::string(scenes::body_collision_name(model.collision)) + (model.limb_capsules ? "+limb_capsules" : "");
+}
+
 std::string mannequin_sew_body(bake::SewBody* out) {
     body::Mannequin m;
     if (std::string e = body::make_mannequin(body::Measurements{}, body::MannequinOptions{}, &m); !e.empty())
@@ -181,7 +192,7 @@ std::string dress_scene(const std::string& scene_file, const std::string& patter
     return f ? std::string() : "cannot write " + (dir / scene->cloths[0].asset_path).string();
 }
 
-int run_garment(uint32_t steps, bool as_json, const std::vector<BodyCollision>& models) {
+int run_garment(uint32_t steps, bool as_json, const std::vector<GarmentModel>& all_models) {
     const std::string shared = WEFT_SHARED_DATA_DIR;
     std::vector<Case> cases = {{std::string(WEFT_SOURCE_DIR) + "/samples/scenes/skirt-walk.json",
                                 std::string(WEFT_SOURCE_DIR) + "/samples/patterns/skirt.json", true},
@@ -216,12 +227,16 @@ int run_garment(uint32_t steps, bool as_json, const std::vector<BodyCollision>& 
             !e.empty())
             return std::fprintf(stderr, "weft-bench garment: %s\n", e.c_str()), 1;
         scene.profile = true;
+        std::vector<GarmentModel> models;  // limb capsules follow the mannequin's bones
+        for (const GarmentModel& m : all_models)
+            if (!m.limb_capsules || c.mannequin) models.push_back(m);
+        const std::vector<std::string> scene_capsules = scene.body->limb_capsules;
         // One world per model, stepped in turn every frame: the same load on each, so the ratios
         // between them hold even when the machine's speed drifts.
         struct Run {
-            BodyCollision model;
+            GarmentModel model;
             scenes::SceneWorld sw;
-            std::vector<double> step_us, integrate_us, constraints_us, body_us, other_us, plain_us;
+            std::vector<double> step_us, integrate_us, constraints_us, body_us, capsules_us, other_us, plain_us;
             std::vector<double> springs_us, coarse_us, tethers_us;  // the parts of constraints_us
             double deepest = 0.0, max_strain = 0.0, strain_sum = 0.0, queried = 0.0;
             uint64_t projections = 0;  // spring lanes projected a step (padding excluded)
@@ -229,7 +244,10 @@ int run_garment(uint32_t steps, bool as_json, const std::vector<BodyCollision>& 
         std::vector<Run> runs(models.size());
         for (size_t m = 0; m < models.size(); ++m) {
             runs[m].model = models[m];
-            scene.body->collision = models[m];
+            scene.body->collision = models[m].collision;
+            scene.body->limb_capsules.clear();
+            if (models[m].limb_capsules)
+                scene.body->limb_capsules = scene_capsules.empty() ? std::vector<std::string>{"thigh.L", "thigh.R"} : scene_capsules;
             if (std::string e = scenes::build_scene(scene, &runs[m].sw, {dir.string()}); !e.empty())
                 return std::fprintf(stderr, "weft-bench garment: %s: %s\n", scene.name.c_str(), e.c_str()), 1;
         }
@@ -258,7 +276,7 @@ int run_garment(uint32_t steps, bool as_json, const std::vector<BodyCollision>& 
                 auto pass = [&](Pass p) { return double(after.pass_ns[int(p)] - before.pass_ns[int(p)]) / 1e3; };
                 const double integrate = pass(Pass::integrate) + pass(Pass::wind);
                 const double constraints = pass(Pass::coarse) + pass(Pass::constraints) + pass(Pass::tethers);
-                const double body = pass(Pass::body);
+                const double body = pass(Pass::body) + pass(Pass::collide);  // limb capsules are colliders
                 r.step_us.push_back(us);
                 r.integrate_us.push_back(integrate);
                 r.constraints_us.push_back(constraints);
@@ -266,6 +284,7 @@ int run_garment(uint32_t steps, bool as_json, const std::vector<BodyCollision>& 
                 r.coarse_us.push_back(pass(Pass::coarse));
                 r.tethers_us.push_back(pass(Pass::tethers));
                 r.body_us.push_back(body);
+                r.capsules_us.push_back(pass(Pass::collide));
                 r.other_us.push_back(us - integrate - constraints - body);
                 if (&r == &runs[0]) r.plain_us.push_back(baseline);
                 // Penetration by the exact hull query (query_body), whatever model stepped the cloth.
@@ -280,12 +299,13 @@ int run_garment(uint32_t steps, bool as_json, const std::vector<BodyCollision>& 
         const double plain_us = median(runs[0].plain_us);
         const Run* exact = nullptr;
         for (const Run& r : runs)
-            if (r.model == BodyCollision::exact) exact = &r;
+            if (r.model.collision == BodyCollision::exact && !r.model.limb_capsules) exact = &r;
         for (const Run& r : runs) {
             const scenes::SceneWorld& sw = r.sw;
             const double body_us = median(r.body_us), step_us = median(r.step_us);
             nlohmann::json j = {{"scene", scene.name},
-                                {"collision", scenes::body_collision_name(r.model)},
+                                {"collision", garment_model_name(r.model)},
+                                {"limb_capsules", sw.body->limb_capsules.size()},
                                 {"particles", sw.cloths[0].asset->particle_count},
                                 {"body_triangles", sw.body->triangles.size() / 3},
                                 {"steps", steps},
@@ -299,6 +319,7 @@ int run_garment(uint32_t steps, bool as_json, const std::vector<BodyCollision>& 
                                 {"tethers_us", median(r.tethers_us)},
                                 {"spring_projections_per_step", double(r.projections)},
                                 {"body_us", body_us},
+                                {"limb_capsules_us", median(r.capsules_us)},
                                 {"body_share", step_us > 0 ? body_us / step_us : 0.0},
                                 {"other_us", median(r.other_us)},
                                 {"baseline_point_query_us", plain_us},
@@ -320,7 +341,7 @@ int run_garment(uint32_t steps, bool as_json, const std::vector<BodyCollision>& 
                 std::printf("  %-18s %-13s %5u particles, %5zu body triangles: step %7.0f (integrate %5.0f, constraints %5.0f, "
                             "body %6.0f, other %5.0f); plain rtcPointQuery pass %6.0f; deepest %.2f mm; strain max %.1f%% "
                             "mean %.2f%%; %.0f particles searched a step\n",
-                            scene.name.c_str(), scenes::body_collision_name(r.model), sw.cloths[0].asset->particle_count,
+                            scene.name.c_str(), garment_model_name(r.model).c_str(), sw.cloths[0].asset->particle_count,
                             sw.body->triangles.size() / 3, step_us, median(r.integrate_us), median(r.constraints_us), body_us,
                             median(r.other_us), plain_us, r.deepest * 1e3, 100.0 * r.max_strain,
                             100.0 * r.strain_sum / double(steps), r.queried / double(steps));

@@ -584,8 +584,9 @@ int main(int argc, char** argv) {
     garment->add_option("--steps", garment_steps, "steps measured per scene (after the body's ramp)")->capture_default_str()
         ->check(CLI::Range(1u, 100000u));
     garment->add_flag("--json", garment_json, "one JSON object per scene and model");
-    std::vector<std::string> garment_models = {"exact", "cached_planes"};
-    garment->add_option("--collision", garment_models, "body collision models, each a row (exact, cached_planes, skin_constraints)")
+    std::vector<std::string> garment_models = {"exact", "cached_planes", "skin_constraints", "skin_constraints+limb_capsules"};
+    garment->add_option("--collision", garment_models, "body collision models, each a row (exact, cached_planes, skin_constraints; "
+                        "+limb_capsules adds the mannequin's limb capsules: the scene's, or the thighs')")
         ->delimiter(',')->capture_default_str();
     bench::CorpusOptions corpus_o;
     CLI::App* corpus = app.add_subcommand("corpus", "a folder of sewing patterns baked flat and sewn, one JSON line per garment and a summary");
@@ -646,9 +647,9 @@ int main(int argc, char** argv) {
     if (body->parsed()) return bench::run_body(body_o);
     if (corpus->parsed()) return bench::run_corpus(corpus_o);
     if (garment->parsed()) {
-        std::vector<BodyCollision> models(garment_models.size());
+        std::vector<bench::GarmentModel> models(garment_models.size());
         for (size_t m = 0; m < models.size(); ++m)
-            if (!scenes::body_collision_from_name(garment_models[m], &models[m]))
+            if (!bench::garment_model_from_name(garment_models[m], &models[m]))
                 return std::fprintf(stderr, "weft-bench garment: unknown --collision '%s'\n", garment_models[m].c_str()), 2;
         return bench::run_garment(garment_steps, garment_json, models);
     }

@@ -258,7 +258,10 @@ std::string make_mannequin(const Measurements& m, const MannequinOptions& option
     return {};
 }
 
-void walk_pose(const Mannequin& body, float t_s, std::vector<Vec3>* out) {
+namespace {
+
+// Each bone's rigid motion in the walk at time t.
+std::vector<Motion> walk_motions(const Mannequin& body, float t_s) {
     const double phase = 2.0 * M_PI * t_s / 1.1;  // one stride (two steps) every 1.1 s
     const double swing = 0.35 * std::sin(phase), sway = 0.06 * std::sin(phase);
     const P x_axis{1, 0, 0}, y_axis{0, 1, 0};
@@ -278,12 +281,65 @@ void walk_pose(const Mannequin& body, float t_s, std::vector<Vec3>* out) {
         const Motion local = rotation_about(head, axis, angle);
         world[b] = bone.parent < 0 ? local : compose(world[size_t(bone.parent)], local);
     }
+    return world;
+}
+
+P to_p(Vec3 v) { return {v.x, v.y, v.z}; }
+Vec3 to_vec3(P p) { return {float(p.x), float(p.y), float(p.z)}; }
+
+}  // namespace
+
+void walk_pose(const Mannequin& body, float t_s, std::vector<Vec3>* out) {
+    const std::vector<Motion> world = walk_motions(body, t_s);
     out->resize(body.positions.size());
     for (size_t v = 0; v < body.positions.size(); ++v) {
-        const P p{body.positions[v].x, body.positions[v].y, body.positions[v].z};
+        const P p = to_p(body.positions[v]);
         P q;
         for (int k = 0; k < kBoneInfluences; ++k) q = q + world[body.bone[v][k]].apply(p) * body.weight[v][k];
-        (*out)[v] = {float(q.x), float(q.y), float(q.z)};
+        (*out)[v] = to_vec3(q);
+    }
+}
+
+std::string fit_limb_capsules(const Mannequin& body, const std::vector<std::string>& bones, int sections,
+                              std::vector<LimbCapsule>* out) {
+    if (sections < 1) return "a limb needs at least one capsule section";
+    out->clear();
+    for (const std::string& name : bones) {
+        size_t b = 0;
+        while (b < body.bones.size() && body.bones[b].name != name) ++b;
+        if (b == body.bones.size()) return "no bone named '" + name + "'";
+        const P head = to_p(body.bones[b].head), axis = to_p(body.bones[b].tail) - head;
+        std::vector<std::vector<double>> radii{size_t(sections)};
+        for (size_t v = 0; v < body.positions.size(); ++v) {
+            const int k = body.weight[v][0] >= body.weight[v][1] ? 0 : 1;
+            if (body.bone[v][k] != b || body.weight[v][k] < 0.9f) continue;
+            const P d = to_p(body.positions[v]) - head;
+            const double t = dot(d, axis) / dot(axis, axis);
+            if (t < 0.0 || t > 1.0) continue;
+            radii[size_t(std::min(sections - 1, int(t * sections)))].push_back(length(d - axis * t));
+        }
+        for (int s = 0; s < sections; ++s) {
+            std::vector<double>& r = radii[size_t(s)];
+            if (r.empty()) return "bone '" + name + "' has a section no vertex follows alone";
+            const size_t q = r.size() * 3 / 4;
+            std::nth_element(r.begin(), r.begin() + ptrdiff_t(q), r.end());
+            // The first section starts a radius down the bone: its cap ends at the joint instead of
+            // bulging out of the blend into the parent (a thigh's out of the hip).
+            const double start = s == 0 ? std::min(r[q] / length(axis), 0.5 / sections) : double(s) / sections;
+            out->push_back({int(b), to_vec3(head + axis * start), to_vec3(head + axis * (double(s + 1) / sections)),
+                            float(r[q])});
+        }
+    }
+    return {};
+}
+
+void walk_capsules(const Mannequin& body, const std::vector<LimbCapsule>& rest, float t_s,
+                   std::vector<LimbCapsule>* out) {
+    const std::vector<Motion> world = walk_motions(body, t_s);
+    out->resize(rest.size());
+    for (size_t i = 0; i < rest.size(); ++i) {
+        const Motion& m = world[size_t(rest[i].bone)];
+        (*out)[i] = {rest[i].bone, to_vec3(m.apply(to_p(rest[i].p0))), to_vec3(m.apply(to_p(rest[i].p1))), rest[i].radius_m};
     }
 }
 

@@ -51,4 +51,23 @@ std::string make_mannequin(const Measurements& m, const MannequinOptions& option
 // sways (one stride every 1.1 s). Writes the skinned positions (linear blend skinning).
 void walk_pose(const Mannequin& body, float t_s, std::vector<Vec3>* out);
 
+// A capsule around one section of a limb bone: the collision proxy a game builds from its
+// skeleton (as Chaos's and NvCloth's per-bone capsules), moved by the bone alone.
+struct LimbCapsule {
+    int bone = -1;       // index into Mannequin::bones
+    Vec3 p0{}, p1{};     // axis ends, rest pose, metres
+    float radius_m = 0;  // 3 in 4 of the section's own vertices lie within it (see fit_limb_capsules)
+};
+
+// Capsules around the named bones, `sections` along each (a limb tapers, so more sections fit
+// closer). A section's radius is the 75th percentile of its vertices' distances from the bone's
+// axis, over the vertices that follow that bone alone (weight >= 0.9): the limb's own surface, not
+// the blends into the torso. Empty message on success; an unknown bone name fails.
+std::string fit_limb_capsules(const Mannequin& body, const std::vector<std::string>& bones, int sections,
+                              std::vector<LimbCapsule>* out);
+
+// The capsules moved with their bones to the walk at time t (the motion walk_pose skins with).
+void walk_capsules(const Mannequin& body, const std::vector<LimbCapsule>& rest, float t_s,
+                   std::vector<LimbCapsule>* out);
+
 }  // namespace weft::body

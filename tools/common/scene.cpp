@@ -141,6 +141,14 @@ std::string load_body(const BodySpec& spec, const Scene& scene, const std::vecto
         out->triangles = std::move(mesh.triangles);
     }
     if (spec.animation == BodyAnimation::walk && !spec.mannequin) return "only the mannequin walks";
+    if (!spec.limb_capsules.empty()) {
+        if (!spec.mannequin) return "only the mannequin has the bones limb capsules follow";
+        if (std::string e = body::fit_limb_capsules(*static_cast<const body::Mannequin*>(out->mannequin.get()),
+                                                    spec.limb_capsules, int(spec.limb_capsule_sections), &out->limb_capsules);
+            !e.empty())
+            return "limb capsules: " + e;
+        out->posed_capsules = out->limb_capsules;
+    }
     if (spec.animation == BodyAnimation::blend) {
         body::BodyMesh other;
         if (std::string e = body::load_body_mesh(find_asset(spec.blend_to_path, scene.base_dir, dirs), &other); !e.empty())
@@ -150,6 +158,18 @@ std::string load_body(const BodySpec& spec, const Scene& scene, const std::vecto
         out->blend_to = std::move(other.positions);
     }
     return {};
+}
+
+// A limb capsule as a collider: inflated by the body's thickness, with the body's friction.
+ColliderDesc limb_collider(const BodySpec& spec, const body::LimbCapsule& c) {
+    ColliderDesc d;
+    d.shape = ColliderShape::capsule;
+    d.p0 = c.p0;
+    d.p1 = c.p1;
+    d.radius_m = c.radius_m;
+    d.inflation_m = spec.thickness_m;
+    d.friction = spec.friction;
+    return d;
 }
 
 }  // namespace
@@ -187,6 +207,22 @@ std::string animate_body(SceneWorld& w, float t_s) {
                          b.rest[v].z + (b.blend_to[v].z - b.rest[v].z) * k};
     }
     if (Result r = set_body_vertices(w.world, b.id, b.pose.data(), uint32_t(n)); !r.ok()) return r.message;
+    if (!b.limb_capsules.empty()) {
+        const auto& m = *static_cast<const body::Mannequin*>(b.mannequin.get());
+        body::walk_capsules(m, b.limb_capsules, b.spec.animation == BodyAnimation::walk ? t_s : 0.0f, &b.posed_capsules);
+        const float u = b.spec.ramp_s > 0.0f ? std::min(1.0f, t_s / b.spec.ramp_s) : 1.0f, k = u * u * (3.0f - 2.0f * u);
+        for (size_t i = 0; i < b.posed_capsules.size(); ++i) {
+            body::LimbCapsule& c = b.posed_capsules[i];
+            const body::LimbCapsule& r = b.limb_capsules[i];
+            const auto enter = [k](Vec3 rest, Vec3 walk) {  // from the rest pose, as the vertices above
+                return Vec3{rest.x + (walk.x - rest.x) * k, rest.y + (walk.y - rest.y) * k, rest.z + (walk.z - rest.z) * k};
+            };
+            c.p0 = enter(r.p0, c.p0);
+            c.p1 = enter(r.p1, c.p1);
+            if (Result res = set_collider(w.world, b.limb_colliders[i], limb_collider(b.spec, c)); !res.ok())
+                return res.message;
+        }
+    }
     return {};
 }
 
@@ -225,6 +261,7 @@ std::string build_scene(const Scene& scene, SceneWorld* out, const std::vector<s
         for (const auto& c : out->cloths)
             wd.max_skin_constraints += c.asset->skin.count > 0 ? c.asset->skin.count : c.asset->particle_count;
     wd.max_colliders = uint32_t(scene.colliders.size());
+    if (out->body) wd.max_colliders += uint32_t(out->body->limb_capsules.size());
     wd.wind = scene.wind_m_s.has_value();
     wd.gravity_m_s2 = scene.gravity_m_s2;
     wd.air_density_kg_m3 = scene.air_density_kg_m3;
@@ -250,6 +287,10 @@ std::string build_scene(const Scene& scene, SceneWorld* out, const std::vector<s
         bd.friction = b.friction;
         bd.collision = b.collision;
         if (Result r = add_body(out->world, bd, &out->body->id); !r.ok()) return std::string("body: ") + r.message;
+        out->body->limb_colliders.resize(out->body->limb_capsules.size());
+        for (size_t i = 0; i < out->body->limb_capsules.size(); ++i)
+            if (Result r = add_collider(out->world, limb_collider(b, out->body->limb_capsules[i]), &out->body->limb_colliders[i]); !r.ok())
+                return std::string("body: limb capsule: ") + r.message;
     }
     for (size_t i = 0; i < scene.cloths.size(); ++i) {
         const ClothSpec& spec = scene.cloths[i];

@@ -10,6 +10,7 @@
 #include <vector>
 
 #include "asset_writer.h"
+#include "mannequin.h"
 #include "skin_binding.h"
 #include "weft/weft.h"
 
@@ -71,10 +72,14 @@ struct BodySpec {
     float period_s = 2.0f;      // blend: rest -> blend_to -> rest
     float ramp_s = 1.0f;        // walk: seconds from the rest pose into the full walk
     float thickness_m = 0.004f, margin_m = 0.002f, friction = 0.5f;  // BodyDesc
-    // BodyDesc::collision. A scene's dressed garment gets the cheaper model, which keeps its
-    // garments within the 2 mm bound on the mannequin and mean_all (docs/garments.md); `exact` is
-    // one key away.
+    // BodyDesc::collision. A scene names the cheapest model that keeps its garment within 2 mm of
+    // the hull (docs/garments.md); without a name, cached_planes, within it on every body measured.
     BodyCollision collision = BodyCollision::cached_planes;
+    // Capsule colliders around these bones of the mannequin, moved with them, `limb_capsule_sections`
+    // along each (body::fit_limb_capsules); none by default. Under skin_constraints they keep a
+    // skirt's free hem off the swinging thighs: its backstops stand at the hips (docs/garments.md).
+    std::vector<std::string> limb_capsules;
+    uint32_t limb_capsule_sections = 2;
 };
 
 // The scene files' names of the body collision models ("exact", "cached_planes").
@@ -119,6 +124,8 @@ struct SceneBody {
     std::vector<uint32_t> triangles;
     std::shared_ptr<const void> mannequin;  // body::Mannequin for the walk (tools/body)
     BodyId id{};
+    std::vector<body::LimbCapsule> limb_capsules, posed_capsules;  // rest pose; at the last animate_body
+    std::vector<ColliderId> limb_colliders;
 };
 
 struct SceneWorld {

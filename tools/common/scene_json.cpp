@@ -202,7 +202,7 @@ ColliderDesc parse_collider(const json& j, const std::string& where) {
 
 BodySpec parse_body(const json& j, const std::string& where) {
     object(j, where, {"mannequin", "mesh", "animation", "blend_to", "period_s", "ramp_s", "thickness_m", "margin_m",
-                      "friction", "collision"});
+                      "friction", "collision", "limb_capsules", "limb_capsule_sections"});
     BodySpec b;
     if (j.contains("mannequin") == j.contains("mesh")) fail(where, "needs exactly one of 'mannequin' and 'mesh'");
     if (j.contains("mannequin")) {
@@ -227,6 +227,14 @@ BodySpec parse_body(const json& j, const std::string& where) {
     }
     read(j, "period_s", where, 0.01, 1e4, &b.period_s);
     read(j, "ramp_s", where, 0.0, 1e4, &b.ramp_s);
+    if (j.contains("limb_capsules")) {
+        const json& bones = j["limb_capsules"];
+        if (!bones.is_array() || bones.size() > 64) fail(where + ".limb_capsules", "must be an array of at most 64 bone names");
+        if (!b.mannequin) fail(where + ".limb_capsules", "only the mannequin has bones");
+        for (size_t i = 0; i < bones.size(); ++i)
+            b.limb_capsules.push_back(text(bones[i], where + ".limb_capsules[" + std::to_string(i) + "]"));
+    }
+    read(j, "limb_capsule_sections", where, 1.0, 8.0, &b.limb_capsule_sections);
     read(j, "thickness_m", where, 1e-5, 0.5, &b.thickness_m);
     read(j, "margin_m", where, 0.0, 0.5, &b.margin_m);
     read(j, "friction", where, 0.0, 10.0, &b.friction);
