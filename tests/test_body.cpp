@@ -927,7 +927,10 @@ namespace {
 // Points near the A-pose skin, bound by scenes::bind_skin (every one with a max distance), stepped
 // 12 frames from A to T under gravity pulling them into the body, 3 substeps; after every step each
 // constraint is checked against this step's hull. Returns the final positions.
-std::vector<Vec3> run_skin_points(SimdPath path, double* worst_ball_m, double* worst_backstop_m, uint64_t* queried) {
+// With `rebind_every_frame`, the binding is bound again before every step, so each step gathers
+// the skinned points on the previous hull instead of keeping the last step's.
+std::vector<Vec3> run_skin_points(SimdPath path, double* worst_ball_m, double* worst_backstop_m, uint64_t* queried,
+                                  bool rebind_every_frame = false) {
     const BodyMesh& a = *shared_pose(false);
     const BodyMesh& t = *shared_pose(true);
     const std::vector<Vec3> start = points_near_a_pose(7, 0.0f, 0.02f, 3);
@@ -952,6 +955,7 @@ std::vector<Vec3> run_skin_points(SimdPath path, double* worst_ball_m, double* w
     for (int frame = 1; frame <= 12; ++frame) {
         body::blend(a, t, float(frame) / 12.0f, &pose);
         REQUIRE(set_body_vertices(w.owned.world, w.body, pose.data(), uint32_t(pose.size())).ok());
+        if (rebind_every_frame) REQUIRE(bind_skin_constraints(w.owned.world, w.cloth, w.body, skin.constraints()).ok());
         w.step_once();
         *queried += world_stats(w.owned.world).body_queried;
         const BodyView v = w.view();
@@ -1006,6 +1010,20 @@ TEST_CASE("body: the scalar and AVX2 skin constraints give the same bits on the 
     const std::vector<Vec3> scalar = run_skin_points(SimdPath::scalar, &ball, &backstop, &queried);
     const std::vector<Vec3> avx2 = run_skin_points(SimdPath::avx2, &ball, &backstop, &queried);
     CHECK(same_bits(scalar, avx2));
+}
+
+// The frames pass keeps each step's skinned point for the next step's previous one: the same bits
+// as gathering it again from the previous hull (a rebinding forces that).
+TEST_CASE("body: skin constraints keep the last step's skinned points, to the bit of gathering them again") {
+    if (skip_without_shared_body()) return;
+    for (SimdPath path : available_paths()) {
+        CAPTURE(simd_path_name(path));
+        double ball = 0, backstop = 0;
+        uint64_t queried = 0;
+        const std::vector<Vec3> kept = run_skin_points(path, &ball, &backstop, &queried);
+        const std::vector<Vec3> gathered = run_skin_points(path, &ball, &backstop, &queried, true);
+        CHECK(same_bits(kept, gathered));
+    }
 }
 
 TEST_CASE("body: bind_skin_constraints refuses bad bindings with a message") {

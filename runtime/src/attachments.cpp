@@ -114,6 +114,7 @@ Result bind_skin_constraints(World* world, ClothId cloth, BodyId body, const Ski
         }
     }
     c.skin_body = body.index;
+    c.skin_points_current = false;  // the first step gathers P on both hulls
     return {};
 }
 

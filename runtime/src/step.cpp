@@ -209,8 +209,13 @@ void find_skin_frames(World& world, ClothInstance& cloth) {
     if (cloth.skin_body == ~0u) return;
     PassTimer timer(world, Pass::body);
     const BodyState& body = world.bodies[cloth.skin_body];
-    const SkinFrameArgs args{body.hull, body.previous_hull, body.normals};
-    world.kernels->skin_frames(cloth.skin_state, args);
+    // The last step's P is P on this step's previous hull (a byte copy of the hull it used).
+    SkinState& s = cloth.skin_state;
+    if (cloth.skin_points_current)
+        for (int i = 0; i < 3; ++i) std::swap(s.previous_point[i], s.point[i]);
+    const SkinFrameArgs args{body.hull, cloth.skin_points_current ? nullptr : body.previous_hull, body.normals};
+    world.kernels->skin_frames(s, args);
+    cloth.skin_points_current = true;
 }
 
 void project_skin_constraints(World& world, ClothInstance& cloth, uint32_t substep, uint32_t substeps) {

@@ -21,6 +21,9 @@ struct ClothInstance {
     uint32_t skin_body = ~0u;
     SkinState skin_state;          // the bound constraints in slot order (constraints/skin.h)
     uint32_t skin_capacity = 0;    // constraints skin_state's arrays hold (a multiple of kSimdWidth)
+    // skin_state.point holds P on the hull that is now the body's previous one (the last step's):
+    // the next frames pass takes it as previous_point instead of gathering it again.
+    bool skin_points_current = false;
     uint32_t* body_order = nullptr;   // [slot_count] with bodies: the body pass's slot order (collide/body.h)
     // [max_cached_plane_bodies * kContactPlaneArrays * slot_count]: the contact planes of each
     // cached_planes body, at its BodyState::plane_index (collide/body.h: contact_planes_in).

@@ -27,11 +27,12 @@ namespace weft {
 // vertex's start (the body's arrays carry that padding for Embree).
 struct SkinFrameArgs {
     const float* hull = nullptr;           // [4 * vertices]: the body's offset hull this step (x, y, z, motion)
-    const float* previous_hull = nullptr;  // [4 * vertices]: the hull at the previous step
+    const float* previous_hull = nullptr;  // [4 * vertices]: the hull at the previous step; null: previous_point holds it
     const float* normals = nullptr;        // [3 * vertices]: unit vertex normals of this step's hull
 };
 
-// Once a step: P at both hulls and N, per constraint (padding lanes included).
+// Once a step: P at both hulls and N, per constraint (padding lanes included); P at the previous
+// hull only when the caller has not kept it from the last step.
 template <class F>
 void skin_frames(const SkinState& s, const SkinFrameArgs& args) {
     using namespace simd;
@@ -44,8 +45,10 @@ void skin_frames(const SkinState& s, const SkinFrameArgs& args) {
             const uint32_t* corner = s.corner[c] + k0;
             const F wc = load(s.weight[c] + k0, F{});
             F v[3];
-            gather_xyz(args.previous_hull, 4, corner, &v[0], &v[1], &v[2]);
-            for (int i = 0; i < 3; ++i) before[i] = mul_add(wc, v[i], before[i]);
+            if (args.previous_hull != nullptr) {
+                gather_xyz(args.previous_hull, 4, corner, &v[0], &v[1], &v[2]);
+                for (int i = 0; i < 3; ++i) before[i] = mul_add(wc, v[i], before[i]);
+            }
             gather_xyz(args.hull, 4, corner, &v[0], &v[1], &v[2]);
             for (int i = 0; i < 3; ++i) now[i] = mul_add(wc, v[i], now[i]);
             gather_xyz(args.normals, 3, corner, &v[0], &v[1], &v[2]);
@@ -53,7 +56,7 @@ void skin_frames(const SkinState& s, const SkinFrameArgs& args) {
         }
         const F inverse_length = splat(1.0f, F{}) / sqrt(mul_add(N[0], N[0], mul_add(N[1], N[1], N[2] * N[2])));
         for (int i = 0; i < 3; ++i) {
-            store(s.previous_point[i] + k0, before[i]);
+            if (args.previous_hull != nullptr) store(s.previous_point[i] + k0, before[i]);
             store(s.point[i] + k0, now[i]);
             store(s.normal[i] + k0, N[i] * inverse_length);
         }
@@ -84,10 +87,15 @@ void project_skin(const Particles& p, const SkinState& s, float t_step) {
         const F r = load(s.max_distance_m + k0, F{}), rest = load(s.rest_offset_m + k0, F{});
         F S[3], d[3];
         for (int i = 0; i < 3; ++i) S[i] = mul_add(rest, N[i], P[i]), d[i] = x[i] - S[i];
-        const F length = sqrt(mul_add(d[0], d[0], mul_add(d[1], d[1], d[2] * d[2])));
-        const auto outside_ball = length > r;
-        const F shrink = (length - r) / max(length, splat(1e-30f, F{}));
-        for (int i = 0; i < 3; ++i) x[i] = select(outside_ball, neg_mul_add(shrink, d[i], x[i]), x[i]);
+        // Compared squared: the square root and division only for a group with a lane outside
+        // (a lane inside keeps x either way, so every path writes the same bits).
+        const F length2 = mul_add(d[0], d[0], mul_add(d[1], d[1], d[2] * d[2]));
+        const auto outside_ball = length2 > r * r;
+        if (any(outside_ball)) {
+            const F length = sqrt(length2);
+            const F shrink = (length - r) / max(length, splat(1e-30f, F{}));
+            for (int i = 0; i < 3; ++i) x[i] = select(outside_ball, neg_mul_add(shrink, d[i], x[i]), x[i]);
+        }
 
         // Backstop: in front of the plane backstop_m behind P along N.
         const F height = mul_add(x[0] - P[0], N[0], mul_add(x[1] - P[1], N[1], (x[2] - P[2]) * N[2]));
@@ -98,16 +106,21 @@ void project_skin(const Particles& p, const SkinState& s, float t_step) {
 
         // Both at once: a particle put on the backstop plane may have left the ball; then it goes
         // to the nearest point of the circle where the plane cuts the ball (centre C, radius rho),
-        // which lies in both. A ball wholly behind the plane leaves the backstop's answer.
-        const F centre_height = rest + b;  // of S above the plane, along N
-        const F rho2 = neg_mul_add(centre_height, centre_height, r * r);
-        F e[3];
-        for (int i = 0; i < 3; ++i) e[i] = x[i] - neg_mul_add(centre_height, N[i], S[i]);
-        const F e2 = mul_add(e[0], e[0], mul_add(e[1], e[1], e[2] * e[2]));
-        const auto onto_circle = behind & (e2 > rho2) & (rho2 > splat(0.0f, F{}));
-        const F to_circle = sqrt(max(rho2, splat(0.0f, F{}))) / sqrt(max(e2, splat(1e-30f, F{})));
-        for (int i = 0; i < 3; ++i)
-            x[i] = select(onto_circle, mul_add(e[i], to_circle, neg_mul_add(centre_height, N[i], S[i])), x[i]);
+        // which lies in both. A ball wholly behind the plane leaves the backstop's answer. Only a
+        // group with a lane behind the backstop pays for it (as the ball above).
+        if (any(behind)) {
+            const F centre_height = rest + b;  // of S above the plane, along N
+            const F rho2 = neg_mul_add(centre_height, centre_height, r * r);
+            F e[3];
+            for (int i = 0; i < 3; ++i) e[i] = x[i] - neg_mul_add(centre_height, N[i], S[i]);
+            const F e2 = mul_add(e[0], e[0], mul_add(e[1], e[1], e[2] * e[2]));
+            const auto onto_circle = behind & (e2 > rho2) & (rho2 > splat(0.0f, F{}));
+            if (any(onto_circle)) {
+                const F to_circle = sqrt(max(rho2, splat(0.0f, F{}))) / sqrt(max(e2, splat(1e-30f, F{})));
+                for (int i = 0; i < 3; ++i)
+                    x[i] = select(onto_circle, mul_add(e[i], to_circle, neg_mul_add(centre_height, N[i], S[i])), x[i]);
+            }
+        }
 
         // Padding lanes repeat the last constraint: the same inputs, so the same bits written twice.
         for (int i = 0; i < 3; ++i) {
