@@ -292,3 +292,38 @@ TEST_CASE("friction: a moving plane carries a sticking cloth along") {
     CHECK(moved > 0.5 * plane.p0.x);
     CHECK(moved < 1.5 * plane.p0.x);
 }
+
+// A collider whose box misses the cloth's is skipped for that cloth and substep: the same bits as
+// a world without it, while one the cloth falls onto is skipped only until the cloth reaches it.
+TEST_CASE("colliders: one out of the cloth's reach is skipped, to the bit of not having it") {
+    const scenes::GridMesh grid = small_cloth(12, 0.6f, 0.5f);
+    const CookedCloth cooked = cook(grid.desc());
+    ColliderDesc sphere;  // under the cloth: it falls onto it
+    sphere.p0 = {0.0f, 0.0f, 0.0f};
+    sphere.radius_m = 0.3f;
+    ColliderDesc far_capsule = horizontal_segment(ColliderShape::capsule);
+    far_capsule.p0 = {3.0f, 0.5f, 0.0f};  // beside the cloth, 2.4 m off its edge
+    far_capsule.p1 = {3.0f, 1.5f, 0.0f};
+    ColliderDesc far_plane;
+    far_plane.shape = ColliderShape::plane;
+    far_plane.p0 = {0.0f, -2.0f, 0.0f};  // a floor 2 m below
+    far_plane.p1 = {0.0f, 1.0f, 0.0f};
+    for (SimdPath path : available_paths()) {
+        CAPTURE(simd_path_name(path));
+        ColliderWorld with(cooked.asset(), {sphere, far_capsule, far_plane}, path);
+        ColliderWorld without(cooked.asset(), {sphere}, path);
+        uint64_t skipped_first = 0, skipped_landed = 0;
+        for (int i = 0; i < 60; ++i) {
+            with.step_once();
+            without.step_once();
+            const uint64_t skipped = world_stats(with.owned.world).colliders_skipped;
+            if (i == 0) skipped_first = skipped;
+            if (i == 19) skipped_landed = skipped;  // a third of a second: fallen 0.2 m onto it
+        }
+        CHECK(same_bits(with.positions(), without.positions()));
+        SolverSplit split;
+        REQUIRE(cloth_solver_split(with.owned.world, with.cloth, &split).ok());
+        CHECK(skipped_first == 3 * split.substeps);  // 0.2 m above the sphere: all three
+        CHECK(skipped_landed == 2 * split.substeps);  // on the sphere: the far two
+    }
+}

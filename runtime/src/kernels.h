@@ -120,6 +120,11 @@ struct ColliderKernelArgs {
     Vec3 motion;        // displacement of the collider over this substep (friction is relative)
 };
 
+// The box around a cloth's movable particles (inverse mass > 0: the ones a collider may move).
+struct ParticleBounds {
+    Vec3 lo, hi;  // metres; lo > hi on every axis when no particle moves
+};
+
 struct WindArgs;
 struct SkinFrameArgs;
 
@@ -139,6 +144,7 @@ struct Kernels {
     void (*apply_wind)(const Particles&, const ClothAsset&, const WindArgs&);
     // Skin constraints (constraints/skin.h): their skinned frames once a step, then max distance
     // and backstop every substep at `t` (0..1) into the step.
+    void (*particle_bounds)(const Particles&, ParticleBounds*);
     void (*skin_frames)(const SkinState&, const SkinFrameArgs&);
     void (*project_skin)(const Particles&, const SkinState&, float t);
 };

@@ -21,7 +21,7 @@ const Kernels* avx2_kernels() {
     static constexpr Kernels kernels{SimdPath::avx2, integrate_verlet<F>, solve_coarse_level<F>,
                                      {project_run<F, true>, project_run<F, false>},
                                      {project_indexed<F, true>, project_indexed<F, false>},
-                                     project_tethers<F>, collide<F>, apply_wind<F>, skin_frames<F>, project_skin<F>};
+                                     project_tethers<F>, collide<F>, apply_wind<F>, particle_bounds<F>, skin_frames<F>, project_skin<F>};
     return &kernels;
 }
 #else

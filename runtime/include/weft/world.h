@@ -152,6 +152,8 @@ struct WorldStats {
     // Projections the last step ran on runs and on the indexed path (padding lanes excluded).
     uint64_t run_projections = 0;
     uint64_t indexed_projections = 0;
+    // Colliders skipped for a cloth in a substep because their box missed the cloth's, last step.
+    uint64_t colliders_skipped = 0;
     // Body colliders, last step: particle contacts found, tunnelling rays cast, bodies refitted.
     uint64_t body_contacts = 0;
     uint64_t body_rays = 0;

@@ -8,6 +8,9 @@
 // friction * penetration depth (sticking) and shortened by that much otherwise (sliding).
 #pragma once
 
+#include <algorithm>
+#include <limits>
+
 #include "kernels.h"
 #include "simd/float_w.h"
 #include "weft/world.h"
@@ -167,6 +170,53 @@ void collide_segment_with(const Particles& p, const ColliderKernelArgs& c) {
     } else {
         collide_segment<F, kShape, false>(p, c);
     }
+}
+
+// The box around the movable particles. Min and max round nothing, so every path finds the same
+// box and skips the same colliders.
+template <class F>
+void particle_bounds(const Particles& p, ParticleBounds* out) {
+    using namespace simd;
+    const F inf = splat(std::numeric_limits<float>::infinity(), F{}), zero = splat(0.0f, F{});
+    const F minus_inf = zero - inf;
+    F lo[3] = {inf, inf, inf}, hi[3] = {minus_inf, minus_inf, minus_inf};
+    const float* const xyz[3] = {p.x, p.y, p.z};
+    for (uint32_t i = 0; i < p.slot_count; i += F::width) {
+        const auto movable = load(p.inverse_mass + i, F{}) > zero;
+        for (int k = 0; k < 3; ++k) {
+            const F v = load(xyz[k] + i, F{});
+            lo[k] = min(lo[k], select(movable, v, inf));
+            hi[k] = max(hi[k], select(movable, v, minus_inf));
+        }
+    }
+    float l[3][F::width], h[3][F::width];
+    for (int k = 0; k < 3; ++k) store(l[k], lo[k]), store(h[k], hi[k]);
+    float box[2][3];
+    for (int k = 0; k < 3; ++k) {
+        box[0][k] = l[k][0], box[1][k] = h[k][0];
+        for (uint32_t j = 1; j < F::width; ++j)
+            box[0][k] = std::min(box[0][k], l[k][j]), box[1][k] = std::max(box[1][k], h[k][j]);
+    }
+    *out = {{box[0][0], box[0][1], box[0][2]}, {box[1][0], box[1][1], box[1][2]}};
+}
+
+// False when no particle inside `box` can touch the collider (its inflated shape's box, 1 mm wider
+// against rounding, misses it): the kernel would move none, so skipping it changes no bit.
+inline bool collider_may_touch(const ParticleBounds& box, const ColliderKernelArgs& c) {
+    constexpr float kSlack_m = 1e-3f;
+    const float lo[3] = {box.lo.x, box.lo.y, box.lo.z}, hi[3] = {box.hi.x, box.hi.y, box.hi.z};
+    if (static_cast<ColliderShape>(c.shape) == ColliderShape::plane) {
+        // The box corner deepest below the plane (NaN anywhere: not skipped).
+        const float n[3] = {c.normal.x, c.normal.y, c.normal.z}, p0[3] = {c.p0.x, c.p0.y, c.p0.z};
+        float height = 0.0f;
+        for (int k = 0; k < 3; ++k) height += ((n[k] > 0.0f ? lo[k] : hi[k]) - p0[k]) * n[k];
+        return !(height > c.radius + kSlack_m);
+    }
+    const float a[3] = {c.p0.x, c.p0.y, c.p0.z}, b[3] = {c.p1.x, c.p1.y, c.p1.z};
+    const float reach = c.radius + kSlack_m;
+    for (int k = 0; k < 3; ++k)
+        if (lo[k] > std::max(a[k], b[k]) + reach || hi[k] < std::min(a[k], b[k]) - reach) return false;
+    return true;
 }
 
 template <class F>
