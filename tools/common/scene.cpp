@@ -160,6 +160,13 @@ std::string load_body(const BodySpec& spec, const Scene& scene, const std::vecto
     return {};
 }
 
+// How far into the walk at time t: the walk is entered from the rest pose (the garment was dressed
+// on it), by a smoothstep over ramp_s.
+float walk_entry(const BodySpec& spec, float t_s) {
+    const float u = spec.ramp_s > 0.0f ? std::min(1.0f, t_s / spec.ramp_s) : 1.0f;
+    return u * u * (3.0f - 2.0f * u);
+}
+
 // A limb capsule as a collider: inflated by the body's thickness, with the body's friction.
 ColliderDesc limb_collider(const BodySpec& spec, const body::LimbCapsule& c) {
     ColliderDesc d;
@@ -194,8 +201,7 @@ std::string animate_body(SceneWorld& w, float t_s) {
     if (b.spec.animation == BodyAnimation::walk) {
         const auto& m = *static_cast<const body::Mannequin*>(b.mannequin.get());
         body::walk_pose(m, t_s, &b.pose);
-        // Enter the walk from the rest pose (the garment was dressed on it): smoothstep over ramp_s.
-        const float u = b.spec.ramp_s > 0.0f ? std::min(1.0f, t_s / b.spec.ramp_s) : 1.0f, k = u * u * (3.0f - 2.0f * u);
+        const float k = walk_entry(b.spec, t_s);
         for (size_t v = 0; v < n; ++v)
             b.pose[v] = {b.rest[v].x + (b.pose[v].x - b.rest[v].x) * k, b.rest[v].y + (b.pose[v].y - b.rest[v].y) * k,
                          b.rest[v].z + (b.pose[v].z - b.rest[v].z) * k};
@@ -210,7 +216,7 @@ std::string animate_body(SceneWorld& w, float t_s) {
     if (!b.limb_capsules.empty()) {
         const auto& m = *static_cast<const body::Mannequin*>(b.mannequin.get());
         body::walk_capsules(m, b.limb_capsules, b.spec.animation == BodyAnimation::walk ? t_s : 0.0f, &b.posed_capsules);
-        const float u = b.spec.ramp_s > 0.0f ? std::min(1.0f, t_s / b.spec.ramp_s) : 1.0f, k = u * u * (3.0f - 2.0f * u);
+        const float k = walk_entry(b.spec, t_s);
         for (size_t i = 0; i < b.posed_capsules.size(); ++i) {
             body::LimbCapsule& c = b.posed_capsules[i];
             const body::LimbCapsule& r = b.limb_capsules[i];
