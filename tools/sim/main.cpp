@@ -162,10 +162,17 @@ int main(int argc, char** argv) {
 
     uint32_t particles = 0;
     for (const scenes::SceneCloth& c : sw.cloths) particles += c.asset->particle_count;
-    if (!json)
-        std::printf("weft-sim %s: %zu cloth(s), %u particles, %zu collider(s), %s, dt %.4g s, %u frames\n",
-                    scene_path.c_str(), sw.cloths.size(), particles, scene.colliders.size(),
+    if (!json) {
+        std::string body;  // the body and how the cloth collides with it
+        if (sw.body) {
+            body = std::string(", body by ") + scenes::body_collision_name(sw.body->spec.collision);
+            if (!sw.body->limb_capsules.empty())
+                body += " + " + std::to_string(sw.body->limb_capsules.size()) + " limb capsules";
+        }
+        std::printf("weft-sim %s: %zu cloth(s), %u particles, %zu collider(s)%s, %s, dt %.4g s, %u frames\n",
+                    scene_path.c_str(), sw.cloths.size(), particles, scene.colliders.size(), body.c_str(),
                     simd_path_name(world_simd_path(sw.world)), double(scene.dt_s), scene.frames);
+    }
     sim::PictureRecorder recorder(pictures, scene.frames, scene.dt_s);
     const bool show_progress = progress_label.empty() ? progress::wanted(json) : progress::stderr_is_terminal();
     progress::Bar bar(progress_label.empty() ? "weft-sim " + scene_path : progress_label, scene.frames, show_progress);
