@@ -201,8 +201,9 @@ std::vector<SimdPath> available_paths() {
 }
 
 std::unique_ptr<scenes::SeedWorld> make_scene(SeedScene scene, SimdPath path, bool profile, uint32_t n = 50,
-                                              bool contact_tethers = false) {
+                                              bool contact_tethers = false, bool normals = false) {
     scenes::SceneOptions o;
+    o.normals = normals;
     o.n = n;
     o.contact_tethers = contact_tethers;
     o.simd = path;
@@ -287,12 +288,12 @@ TEST_CASE("stepping the sphere with contact tethers 1000 times allocates nothing
     check_no_allocation(SeedScene::sphere, true);
 }
 
-TEST_CASE("a frame's calls allocate nothing: set_wind, set_collider, step, read_positions, view_cloth") {
+TEST_CASE("a frame's calls allocate nothing: set_wind, set_collider, step, read_positions, read_normals, view_cloth") {
     for (SeedScene scene : {SeedScene::flag, SeedScene::sphere}) {
         const std::string scene_name = scenes::scene_name(scene);
         CAPTURE(scene_name);
-        auto w = make_scene(scene, SimdPath::automatic, true, 25);
-        std::vector<Vec3> positions(w->asset().particle_count);
+        auto w = make_scene(scene, SimdPath::automatic, true, 25, false, true);
+        std::vector<Vec3> positions(w->asset().particle_count), normals(positions.size());
         ColliderDesc sphere;
         sphere.radius_m = 0.5f;
         sphere.inflation_m = 0.01f;
@@ -312,6 +313,7 @@ TEST_CASE("a frame's calls allocate nothing: set_wind, set_collider, step, read_
                 failures += !set_gravity(w->world, {0.0f, -9.81f, 0.0f}).ok();
                 failures += !step(w->world, w->dt_s).ok();
                 failures += !read_positions(w->world, w->cloth, positions.data(), uint32_t(positions.size())).ok();
+                failures += !read_normals(w->world, w->cloth, normals.data(), uint32_t(normals.size())).ok();
                 ClothView view;
                 failures += !view_cloth(w->world, w->cloth, &view).ok();
                 const WorldStats stats = world_stats(w->world);

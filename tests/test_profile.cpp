@@ -88,6 +88,8 @@ TEST_CASE("pass names") {
     CHECK(std::string(pass_name(Pass::constraints)) == "constraints");
     CHECK(std::string(pass_name(Pass::tethers)) == "tethers");
     CHECK(std::string(pass_name(Pass::collide)) == "collide");
+    CHECK(std::string(pass_name(Pass::body)) == "body");
+    CHECK(std::string(pass_name(Pass::normals)) == "normals");
     CHECK(std::string(simd_path_name(SimdPath::scalar)) == "scalar");
     CHECK(std::string(simd_path_name(SimdPath::avx2)) == "avx2");
     CHECK(simd_path_available(SimdPath::scalar));

@@ -23,6 +23,9 @@ struct Particles {
     float* wind_x = nullptr;        // wind acceleration this substep, m/s^2 (wind feature only)
     float* wind_y = nullptr;
     float* wind_z = nullptr;
+    float* normal_x = nullptr;      // unit vertex normal at the end of the step (normals feature only)
+    float* normal_y = nullptr;
+    float* normal_z = nullptr;
 };
 
 // What the distance kernels move: positions and inverse masses by slot. A cloth's particles, or
@@ -147,6 +150,7 @@ struct Kernels {
     void (*particle_bounds)(const Particles&, ParticleBounds*);
     void (*skin_frames)(const SkinState&, const SkinFrameArgs&);
     void (*project_skin)(const Particles&, const SkinState&, float t);
+    void (*vertex_normals)(const Particles&, const ClothAsset&);
 };
 
 const Kernels& scalar_kernels();

@@ -7,6 +7,7 @@
 #include "constraints/tethers.h"
 #include "integrate/verlet.h"
 #include "kernels.h"
+#include "render/normals.h"
 
 #if defined(WEFT_SIMD_REQUIRE_AVX2) && !WEFT_HAVE_AVX2
 #error "WEFT_SIMD=avx2 but this file is not compiled for AVX2 + FMA"
@@ -21,7 +22,8 @@ const Kernels* avx2_kernels() {
     static constexpr Kernels kernels{SimdPath::avx2, integrate_verlet<F>, solve_coarse_level<F>,
                                      {project_run<F, true>, project_run<F, false>},
                                      {project_indexed<F, true>, project_indexed<F, false>},
-                                     project_tethers<F>, collide<F>, apply_wind<F>, particle_bounds<F>, skin_frames<F>, project_skin<F>};
+                                     project_tethers<F>, collide<F>, apply_wind<F>, particle_bounds<F>, skin_frames<F>, project_skin<F>,
+                                     vertex_normals<F>};
     return &kernels;
 }
 #else

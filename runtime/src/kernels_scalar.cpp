@@ -8,6 +8,7 @@
 #include "constraints/tethers.h"
 #include "integrate/verlet.h"
 #include "kernels.h"
+#include "render/normals.h"
 
 namespace weft {
 
@@ -16,7 +17,8 @@ const Kernels& scalar_kernels() {
     static constexpr Kernels kernels{SimdPath::scalar, integrate_verlet<F>, solve_coarse_level<F>,
                                      {project_run<F, true>, project_run<F, false>},
                                      {project_indexed<F, true>, project_indexed<F, false>},
-                                     project_tethers<F>, collide<F>, apply_wind<F>, particle_bounds<F>, skin_frames<F>, project_skin<F>};
+                                     project_tethers<F>, collide<F>, apply_wind<F>, particle_bounds<F>, skin_frames<F>, project_skin<F>,
+                                     vertex_normals<F>};
     return kernels;
 }
 

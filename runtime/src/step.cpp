@@ -10,6 +10,7 @@
 //   4. collision test and response against the inflated colliders, then the bodies' offset hulls
 //      (section 4.2; a body the game moved is refitted once at the start of the step; a
 //      skin_constraints body skips both for the cloths its skin constraints bind)
+//   5. after the last substep, the render output (the normals feature): vertex normals
 // 3a runs before 2 on the coarse nodes' own Verlet prediction, so that its correction rides along
 // in the integration pass (one trip through the particle arrays instead of two).
 //
@@ -255,6 +256,12 @@ void collide_bodies(World& world, ClothInstance& cloth, uint32_t substep, uint32
     world.stats.body_queried += counts.queried;
 }
 
+void find_vertex_normals(World& world, ClothInstance& cloth) {
+    if (!world.desc.normals) return;
+    PassTimer timer(world, Pass::normals);
+    world.kernels->vertex_normals(cloth.particles, *cloth.asset);
+}
+
 void step_cloth(World& world, ClothInstance& cloth, float dt) {
     const float h = dt / float(cloth.split.substeps);
     find_skin_frames(world, cloth);                            // the skinned frames of 3d
@@ -277,6 +284,7 @@ void step_cloth(World& world, ClothInstance& cloth, float dt) {
         cloth.previous_substep_s = h;
     }
     find_contact_anchors(world, cloth);
+    find_vertex_normals(world, cloth);                         // 5. render output: vertex normals
 }
 
 uint64_t count_projections(const World& world, BatchLayout layout) {

@@ -47,6 +47,7 @@ const char* pass_name(Pass pass) {
         case Pass::tethers: return "tethers";
         case Pass::collide: return "collide";
         case Pass::body: return "body";
+        case Pass::normals: return "normals";
         case Pass::count: break;
     }
     return "unknown";
@@ -56,8 +57,9 @@ bool is_finite(Vec3 v) { return std::isfinite(v.x) && std::isfinite(v.y) && std:
 
 namespace {
 
-// Particle arrays per cloth: x, y, z, previous x, y, z, inverse mass, and (wind) 3 accelerations.
-uint32_t arrays_per_cloth(const WorldDesc& desc) { return desc.wind ? 10u : 7u; }
+// Particle arrays per cloth: x, y, z, previous x, y, z, inverse mass, (wind) 3 accelerations and
+// (normals) 3 normal components.
+uint32_t arrays_per_cloth(const WorldDesc& desc) { return 7u + (desc.wind ? 3u : 0u) + (desc.normals ? 3u : 0u); }
 
 // Asset validation stamps every particle slot and every coarse node slot.
 uint32_t validation_scratch_count(const WorldDesc& desc) {
@@ -209,7 +211,7 @@ void clear_contact_anchors(ClothInstance& cloth) {
     }
 }
 
-void place_at_start(ClothInstance& cloth) {
+void place_at_start(const Kernels& kernels, ClothInstance& cloth) {
     const ClothAsset& a = *cloth.asset;
     const Particles& p = cloth.particles;
     const Vec3 t = cloth.settings.translation_m;
@@ -227,6 +229,7 @@ void place_at_start(ClothInstance& cloth) {
         std::memset(p.wind_y, 0, sizeof(float) * a.slot_count);
         std::memset(p.wind_z, 0, sizeof(float) * a.slot_count);
     }
+    if (p.normal_x != nullptr) kernels.vertex_normals(p, a);
     cloth.previous_substep_s = 0.0f;
 }
 
@@ -413,10 +416,16 @@ Result add_cloth(World* world, const ClothDesc& desc, ClothId* out_cloth) {
     p.previous_y = arrays[4];
     p.previous_z = arrays[5];
     p.inverse_mass = arrays[6];
+    uint32_t next_array = 7;
     if (world->desc.wind) {
-        p.wind_x = arrays[7];
-        p.wind_y = arrays[8];
-        p.wind_z = arrays[9];
+        p.wind_x = arrays[next_array++];
+        p.wind_y = arrays[next_array++];
+        p.wind_z = arrays[next_array++];
+    }
+    if (world->desc.normals) {
+        p.normal_x = arrays[next_array++];
+        p.normal_y = arrays[next_array++];
+        p.normal_z = arrays[next_array++];
     }
     CoarseState& c = cloth.coarse;
     c.x = arrays[count + 0];
@@ -435,7 +444,7 @@ Result add_cloth(World* world, const ClothDesc& desc, ClothId* out_cloth) {
     c.column_stride = column_stride;
     for (float* node_array : {c.x, c.y, c.z, c.dx, c.dy, c.dz})  // the padding is read, never used
         for (uint32_t i = 0; i < asset.coarse_slot_count + kCoarseNodePadding; ++i) node_array[i] = 0.0f;
-    place_at_start(cloth);
+    place_at_start(*world->kernels, cloth);
     world->particles_used += asset.slot_count;
     world->constraints_used += asset.lane_count;
     world->coarse_nodes_used += asset.coarse_slot_count;
@@ -512,9 +521,10 @@ Result cloth_solver_split(const World* world, ClothId cloth, SolverSplit* out) {
     return {};
 }
 
-Result read_positions(const World* world, ClothId cloth, Vec3* out, uint32_t count) {
-    if (Result r = find_cloth(world, cloth); !r.ok()) return r;
-    const ClothInstance& c = world->cloths[cloth.index];
+namespace {
+
+// Copies three slot arrays of a cloth out in the caller's particle order.
+Result read_by_particle(const ClothInstance& c, const float* x, const float* y, const float* z, Vec3* out, uint32_t count) {
     if (out == nullptr) return make_error(ErrorCode::invalid_argument, "out is null");
     if (count != c.asset->particle_count)
         return make_error(ErrorCode::out_of_range, "count %u, cloth has %u particles", count,
@@ -522,9 +532,25 @@ Result read_positions(const World* world, ClothId cloth, Vec3* out, uint32_t cou
     const uint32_t* slot = c.asset->slot_of_particle;
     for (uint32_t i = 0; i < count; ++i) {
         const uint32_t s = slot[i];
-        out[i] = {c.particles.x[s], c.particles.y[s], c.particles.z[s]};
+        out[i] = {x[s], y[s], z[s]};
     }
     return {};
+}
+
+}  // namespace
+
+Result read_positions(const World* world, ClothId cloth, Vec3* out, uint32_t count) {
+    if (Result r = find_cloth(world, cloth); !r.ok()) return r;
+    const Particles& p = world->cloths[cloth.index].particles;
+    return read_by_particle(world->cloths[cloth.index], p.x, p.y, p.z, out, count);
+}
+
+Result read_normals(const World* world, ClothId cloth, Vec3* out, uint32_t count) {
+    if (Result r = find_cloth(world, cloth); !r.ok()) return r;
+    const Particles& p = world->cloths[cloth.index].particles;
+    if (p.normal_x == nullptr)
+        return make_error(ErrorCode::invalid_argument, "world was created without the normals feature");
+    return read_by_particle(world->cloths[cloth.index], p.normal_x, p.normal_y, p.normal_z, out, count);
 }
 
 Result set_particle(World* world, ClothId cloth, uint32_t particle, Vec3 position_m, float inverse_mass_per_kg) {
@@ -549,7 +575,7 @@ Result set_particle(World* world, ClothId cloth, uint32_t particle, Vec3 positio
 
 Result reset_cloth(World* world, ClothId cloth) {
     if (Result r = find_cloth(world, cloth); !r.ok()) return r;
-    place_at_start(world->cloths[cloth.index]);
+    place_at_start(*world->kernels, world->cloths[cloth.index]);
     return {};
 }
 
@@ -565,6 +591,9 @@ Result view_cloth(const World* world, ClothId cloth, ClothView* out) {
     out->previous_y = c.particles.previous_y;
     out->previous_z = c.particles.previous_z;
     out->inverse_mass = c.particles.inverse_mass;
+    out->normal_x = c.particles.normal_x;
+    out->normal_y = c.particles.normal_y;
+    out->normal_z = c.particles.normal_z;
     out->last_substep_s = c.previous_substep_s;
     return {};
 }

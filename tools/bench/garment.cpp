@@ -227,6 +227,7 @@ int run_garment(uint32_t steps, bool as_json, const std::vector<GarmentModel>& a
             !e.empty())
             return std::fprintf(stderr, "weft-bench garment: %s\n", e.c_str()), 1;
         scene.profile = true;
+        scene.normals = true;  // a game renders the garment: the step ends with its vertex normals
         std::vector<GarmentModel> models;  // limb capsules follow the mannequin's bones
         for (const GarmentModel& m : all_models)
             if (!m.limb_capsules || c.mannequin) models.push_back(m);
@@ -236,7 +237,7 @@ int run_garment(uint32_t steps, bool as_json, const std::vector<GarmentModel>& a
         struct Run {
             GarmentModel model;
             scenes::SceneWorld sw;
-            std::vector<double> step_us, integrate_us, constraints_us, body_us, capsules_us, other_us, plain_us;
+            std::vector<double> step_us, integrate_us, constraints_us, body_us, capsules_us, normals_us, other_us, plain_us;
             std::vector<double> springs_us, coarse_us, tethers_us;  // the parts of constraints_us
             double deepest = 0.0, max_strain = 0.0, strain_sum = 0.0, queried = 0.0;
             uint64_t projections = 0;  // spring lanes projected a step (padding excluded)
@@ -285,7 +286,8 @@ int run_garment(uint32_t steps, bool as_json, const std::vector<GarmentModel>& a
                 r.tethers_us.push_back(pass(Pass::tethers));
                 r.body_us.push_back(body);
                 r.capsules_us.push_back(pass(Pass::collide));
-                r.other_us.push_back(us - integrate - constraints - body);
+                r.normals_us.push_back(pass(Pass::normals));
+                r.other_us.push_back(us - integrate - constraints - body - pass(Pass::normals));
                 if (&r == &runs[0]) r.plain_us.push_back(baseline);
                 // Penetration by the exact hull query (query_body), whatever model stepped the cloth.
                 r.deepest = std::max(r.deepest, metrics::max_body_penetration_m(sw.world, sw.body->id, cloth));
@@ -321,6 +323,7 @@ int run_garment(uint32_t steps, bool as_json, const std::vector<GarmentModel>& a
                                 {"body_us", body_us},
                                 {"limb_capsules_us", median(r.capsules_us)},
                                 {"body_share", step_us > 0 ? body_us / step_us : 0.0},
+                                {"normals_us", median(r.normals_us)},
                                 {"other_us", median(r.other_us)},
                                 {"baseline_point_query_us", plain_us},
                                 {"body_vs_baseline", plain_us > 0 ? body_us / plain_us : 0.0},
@@ -339,11 +342,11 @@ int run_garment(uint32_t steps, bool as_json, const std::vector<GarmentModel>& a
                 std::printf("%s\n", j.dump().c_str());
             } else {
                 std::printf("  %-18s %-13s %5u particles, %5zu body triangles: step %7.0f (integrate %5.0f, constraints %5.0f, "
-                            "body %6.0f, other %5.0f); plain rtcPointQuery pass %6.0f; deepest %.2f mm; strain max %.1f%% "
+                            "body %6.0f, normals %4.0f, other %5.0f); plain rtcPointQuery pass %6.0f; deepest %.2f mm; strain max %.1f%% "
                             "mean %.2f%%; %.0f particles searched a step\n",
                             scene.name.c_str(), garment_model_name(r.model).c_str(), sw.cloths[0].asset->particle_count,
                             sw.body->triangles.size() / 3, step_us, median(r.integrate_us), median(r.constraints_us), body_us,
-                            median(r.other_us), plain_us, r.deepest * 1e3, 100.0 * r.max_strain,
+                            median(r.normals_us), median(r.other_us), plain_us, r.deepest * 1e3, 100.0 * r.max_strain,
                             100.0 * r.strain_sum / double(steps), r.queried / double(steps));
             }
         }

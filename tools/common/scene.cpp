@@ -273,6 +273,7 @@ std::string build_scene(const Scene& scene, SceneWorld* out, const std::vector<s
     wd.air_density_kg_m3 = scene.air_density_kg_m3;
     wd.simd = scene.simd;
     wd.profile = scene.profile;
+    wd.normals = scene.normals;
     const MemoryRequirements need = world_memory_requirements(wd);
     if (need.bytes == 0) return "bad world description";
     const size_t bytes = (need.bytes + need.alignment - 1) / need.alignment * need.alignment;

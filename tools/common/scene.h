@@ -97,6 +97,7 @@ struct Scene {
     std::optional<Vec3> wind_m_s;  // present: the world has the wind pass
     SimdPath simd = SimdPath::automatic;
     bool profile = false;
+    bool normals = false;  // the step ends with vertex normals (WorldDesc::normals): a renderer's cost
     std::vector<ClothSpec> cloths;
     std::vector<ColliderDesc> colliders;
     std::optional<BodySpec> body;

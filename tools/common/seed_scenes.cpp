@@ -71,6 +71,7 @@ Scene seed_scene(SeedScene which, const SceneOptions& o) {
     scene.name = scene_name(which);
     scene.simd = o.simd;
     scene.profile = o.profile;
+    scene.normals = o.normals;
     ClothSpec cloth;
     cloth.name = scene.name;
     GridSource grid;

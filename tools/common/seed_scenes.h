@@ -57,6 +57,7 @@ struct SceneOptions {
     float sphere_friction = 0.0f;
     float sphere_offset_m = 0.0f;  // drop point off the sphere's top, along x
     bool profile = false;
+    bool normals = false;  // WorldDesc::normals: the step ends with vertex normals
 };
 
 // The two configurations every figure compares (docs/solver.md):

@@ -52,6 +52,8 @@ struct WorldDesc {
 
     // Features: a pass that is not enabled is not in the step at all (and costs nothing).
     bool wind = false;
+    // The step ends with each cloth's vertex normals, for rendering (read_normals, ClothView).
+    bool normals = false;
 
     Vec3 gravity_m_s2{0.0f, -9.81f, 0.0f};
     float air_density_kg_m3 = 1.2f;  // rho in equations (2) and (3)
@@ -142,7 +144,8 @@ struct ClothId {
 
 // The passes of a step, in the order they run (seed section 2.3).
 // `body`: the body colliders (refit of moved bodies, closest-point queries, tunnelling rays).
-enum class Pass : uint8_t { wind = 0, integrate, coarse, constraints, tethers, collide, body, count };
+// `normals`: the vertex normals the step ends with (WorldDesc::normals).
+enum class Pass : uint8_t { wind = 0, integrate, coarse, constraints, tethers, collide, body, normals, count };
 const char* pass_name(Pass pass);
 
 struct WorldStats {
@@ -221,6 +224,10 @@ Result cloth_solver_split(const World* world, ClothId cloth, SolverSplit* out);
 
 // Particle access, in the caller's particle order (the asset's permutation is applied here).
 Result read_positions(const World* world, ClothId cloth, Vec3* out, uint32_t count);
+// Unit vertex normals (area-weighted over each particle's triangles, the asset's winding) as of the
+// last step, add_cloth or reset_cloth; (0, 0, 0) for a particle with no triangle of non-zero area.
+// Needs WorldDesc::normals.
+Result read_normals(const World* world, ClothId cloth, Vec3* out, uint32_t count);
 Result set_particle(World* world, ClothId cloth, uint32_t particle, Vec3 position_m,
                     float inverse_mass_per_kg);
 // Puts the cloth back at its start pose, at rest.
@@ -237,6 +244,9 @@ struct ClothView {
     const float* previous_y = nullptr;
     const float* previous_z = nullptr;
     const float* inverse_mass = nullptr;
+    const float* normal_x = nullptr;  // unit vertex normals (null without WorldDesc::normals)
+    const float* normal_y = nullptr;
+    const float* normal_z = nullptr;
     float last_substep_s = 0.0f;  // duration of the last substep (velocity = (x - previous) / it)
 };
 Result view_cloth(const World* world, ClothId cloth, ClothView* out);

@@ -13,6 +13,7 @@
 
 #include "kernels.h"
 #include "simd/float_w.h"
+#include "triangle_groups.h"
 
 namespace weft {
 
@@ -144,24 +145,17 @@ void apply_wind(const Particles& p, const ClothAsset& a, const WindArgs& args) {
     std::memset(p.wind_x, 0, bytes);
     std::memset(p.wind_y, 0, bytes);
     std::memset(p.wind_z, 0, bytes);
-    for (uint32_t r = 0; r < a.wind_run_count; ++r) {
-        const TriangleRun& run = a.wind_runs[r];
-        for (uint32_t k = 0; k < run.lane_count; k += F::width) {
-            const uint32_t corner[3] = {run.a0 + k, run.b0 + k, run.c0 + k};
-            const uint32_t lane = run.first_lane + k;
+    const float* const rest_area = a.wind_rest_area + a.wind_lane_count - a.wind_run_triangles;  // by triangle
+    for_each_triangle_group<F>(
+        a,
+        [&](const uint32_t (&corner)[3], uint32_t lane) {
             wind_lanes<F>(p, corner, simd::load(a.wind_lane_weight + lane, F{}), simd::load(a.wind_rest_area + lane, F{}),
                           args);
-        }
-    }
-    // The rest F::width at a time with gathered corners, then the last few one at a time.
-    const float* const rest_area = a.wind_rest_area + a.wind_lane_count - a.wind_run_triangles;  // by triangle
-    uint32_t t = a.wind_run_triangles;
-    if constexpr (F::width > 1)
-        for (; t + F::width <= a.triangle_count; t += F::width) wind_gathered<F>(p, a.triangles + 3 * t, rest_area + t, args);
-    for (; t < a.triangle_count; ++t) {
-        const uint32_t corner[3] = {a.triangles[3 * t], a.triangles[3 * t + 1], a.triangles[3 * t + 2]};
-        wind_lanes<simd::Float1>(p, corner, simd::Float1{1.0f}, simd::Float1{rest_area[t]}, args);
-    }
+        },
+        [&](uint32_t t) { wind_gathered<F>(p, a.triangles + 3 * t, rest_area + t, args); },
+        [&](const uint32_t (&corner)[3], uint32_t t) {
+            wind_lanes<simd::Float1>(p, corner, simd::Float1{1.0f}, simd::Float1{rest_area[t]}, args);
+        });
 }
 
 }  // namespace weft
