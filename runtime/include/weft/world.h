@@ -223,6 +223,10 @@ Result cloth_solver_split(const World* world, ClothId cloth, SolverSplit* out);
 Result read_positions(const World* world, ClothId cloth, Vec3* out, uint32_t count);
 Result set_particle(World* world, ClothId cloth, uint32_t particle, Vec3 position_m,
                     float inverse_mass_per_kg);
+// Per-particle normals of `positions` (caller order, as read_positions gives them): the area-weighted
+// sum of the adjacent triangles' normals (the asset's triangles and winding), unit length; (0, 0, 0)
+// for a particle on no triangle of non-zero area. Allocates nothing.
+Result compute_normals(const ClothAsset& asset, const Vec3* positions, Vec3* out_normals, uint32_t count);
 // Puts the cloth back at its start pose, at rest.
 Result reset_cloth(World* world, ClothId cloth);
 
