@@ -180,7 +180,9 @@ TEST_CASE("C API: null pointers, small blocks and bad descriptions are refused w
     CHECK_WEFT_ERROR(weft_reserve_cloth(nullptr, c->asset), WEFT_INVALID_ARGUMENT);
     REQUIRE_WEFT_OK(weft_reserve_cloth(&desc, c->asset));
     desc.simd = WeftSimdPath(7);
-    CHECK(weft_world_memory_requirements(&desc, &need).code != WEFT_OK);
+    CHECK_WEFT_ERROR(weft_world_memory_requirements(&desc, &need), WEFT_UNSUPPORTED);
+    desc.simd = WeftSimdPath(256);
+    CHECK_WEFT_ERROR(weft_world_memory_requirements(&desc, &need), WEFT_UNSUPPORTED);
     desc.simd = WEFT_SIMD_AUTOMATIC;
     REQUIRE_WEFT_OK(weft_world_memory_requirements(&desc, &need));
     Block world_block = alloc_block({need.bytes + need.alignment, need.alignment});
@@ -204,6 +206,8 @@ TEST_CASE("C API: null pointers, small blocks and bad descriptions are refused w
     WeftColliderId collider_id = 0;
     CHECK_WEFT_ERROR(weft_add_collider(c->world, &collider, &collider_id), WEFT_CAPACITY_EXCEEDED);
     CHECK_WEFT_ERROR(weft_add_collider(c->world, nullptr, &collider_id), WEFT_INVALID_ARGUMENT);
+    collider.shape = WeftColliderShape(256);  // any value a C caller may pass names nothing here
+    CHECK_WEFT_ERROR(weft_add_collider(c->world, &collider, &collider_id), WEFT_INVALID_ARGUMENT);
     WeftBodyDesc body = weft_default_body_desc();
     WeftBodyId body_id = 0;
     CHECK(weft_add_body(c->world, &body, &body_id).code != WEFT_OK);  // no mesh, no room

@@ -84,13 +84,13 @@ WorldDesc to_cpp(const WeftWorldDesc& d) {
     w.wind = d.wind != 0;
     w.gravity_m_s2 = to_cpp(d.gravity_m_s2);
     w.air_density_kg_m3 = d.air_density_kg_m3;
-    w.simd = SimdPath(d.simd);
+    w.simd = d.simd <= WEFT_SIMD_AVX2 ? SimdPath(d.simd) : SimdPath(0xFF);  // refused by create_world
     return w;
 }
 
 ColliderDesc to_cpp(const WeftColliderDesc& d) {
     ColliderDesc c;
-    c.shape = ColliderShape(d.shape);
+    c.shape = d.shape <= WEFT_COLLIDER_PLANE ? ColliderShape(d.shape) : ColliderShape(0xFF);  // refused by add_collider
     c.p0 = to_cpp(d.p0);
     c.p1 = to_cpp(d.p1);
     c.radius_m = d.radius_m;

@@ -27,7 +27,15 @@
 extern "C" {
 #endif
 
-typedef enum WeftErrorCode {
+/* Enums are 32-bit; in C++ they have that fixed type, so any value a C caller passes is well defined
+ * (and refused where it names nothing). */
+#ifdef __cplusplus
+#define WEFT_ENUM(name) enum name : uint32_t
+#else
+#define WEFT_ENUM(name) enum name
+#endif
+
+typedef WEFT_ENUM(WeftErrorCode) {
     WEFT_OK = 0,
     WEFT_INVALID_ARGUMENT = 1,   /* a null pointer, a zero count, a handle that is not live */
     WEFT_NON_FINITE = 2,         /* NaN or infinity where a finite value is needed */
@@ -55,7 +63,7 @@ typedef struct WeftMemoryRequirements {
     size_t alignment; /* the block's start must be a multiple of this */
 } WeftMemoryRequirements;
 
-typedef enum WeftSimdPath { WEFT_SIMD_AUTOMATIC = 0, WEFT_SIMD_SCALAR = 1, WEFT_SIMD_AVX2 = 2 } WeftSimdPath;
+typedef WEFT_ENUM(WeftSimdPath) { WEFT_SIMD_AUTOMATIC = 0, WEFT_SIMD_SCALAR = 1, WEFT_SIMD_AVX2 = 2 } WeftSimdPath;
 
 typedef struct WeftAsset WeftAsset; /* a loaded .weft asset, in the caller's block */
 typedef struct WeftWorld WeftWorld; /* a world, in the caller's block */
@@ -157,7 +165,7 @@ WeftResult weft_set_body_vertices(WeftWorld* world, WeftBodyId body, const WeftV
 /* Binds the asset's body attachments (a dressed garment's waistband) to the body it was dressed on. */
 WeftResult weft_attach_cloth_to_body(WeftWorld* world, WeftClothId cloth, WeftBodyId body);
 
-typedef enum WeftColliderShape {
+typedef WEFT_ENUM(WeftColliderShape) {
     WEFT_COLLIDER_SPHERE = 0,  /* centre p0 */
     WEFT_COLLIDER_CAPSULE = 1, /* axis p0 to p1 */
     WEFT_COLLIDER_CYLINDER = 2,
