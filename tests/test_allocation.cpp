@@ -23,8 +23,10 @@
 #include <string>
 #include <vector>
 
+#include "asset_writer.h"
 #include "seed_scenes.h"
 #include "weft/weft.h"
+#include "weft/weft_c.h"
 
 #if defined(__SANITIZE_ADDRESS__)
 #define WEFT_TEST_COUNT_MALLOC 0
@@ -506,4 +508,61 @@ TEST_CASE("stepping with a body allocates nothing, Embree's reference pass at mo
         CHECK(after.embree_bytes == created.embree_bytes);  // a refit holds no new memory
         destroy_world(world);
     }
+}
+
+// The C interface (weft/weft_c.h) forwards to world.h and adds no allocation of its own: loading an
+// asset file, creating the world, the frame loop (refusals included) and destroying it.
+TEST_CASE("the C API allocates nothing: load, create, a frame loop with normals, destroy") {
+    auto w = make_scene(SeedScene::sphere, SimdPath::automatic, false, 25);
+    std::vector<std::byte> file_bytes;
+    REQUIRE(assets::write_asset(w->asset(), &file_bytes).ok());
+    const assets::AlignedBytes file(file_bytes.data(), file_bytes.size());
+    WeftMemoryRequirements asset_need{}, world_need{};
+    REQUIRE(weft_asset_memory_requirements(file.data(), file.size(), &asset_need).code == WEFT_OK);
+    std::vector<std::max_align_t> asset_block(asset_need.bytes / sizeof(std::max_align_t) + 1);
+    const uint32_t count = w->asset().particle_count;
+    std::vector<WeftVec3> positions(count), normals(count);
+    WeftAsset* asset = nullptr;
+    WeftWorldDesc desc = weft_default_world_desc();
+    uint32_t failures = 0;
+    uint64_t allocations = 0;
+    {
+        CountingScope counting;
+        failures += weft_load_asset(file.data(), file.size(), asset_block.data(), asset_need.bytes, &asset).code != WEFT_OK;
+        failures += weft_reserve_cloth(&desc, asset).code != WEFT_OK;
+        desc.max_colliders = 1;
+        desc.normals = 1;
+        failures += weft_world_memory_requirements(&desc, &world_need).code != WEFT_OK;
+        allocations += counting.allocations();
+    }
+    REQUIRE(failures == 0);
+    std::vector<unsigned char> block(world_need.bytes + world_need.alignment);
+    void* memory = block.data() + (world_need.alignment - reinterpret_cast<uintptr_t>(block.data()) % world_need.alignment);
+    {
+        CountingScope counting;
+        WeftWorld* world = nullptr;
+        failures += weft_create_world(&desc, memory, world_need.bytes, &world).code != WEFT_OK;
+        const WeftClothDesc cloth_desc = weft_default_cloth_desc(asset);
+        WeftClothId cloth = 0;
+        failures += weft_add_cloth(world, &cloth_desc, &cloth).code != WEFT_OK;
+        WeftColliderDesc sphere = weft_default_collider_desc();
+        sphere.inflation_m = 0.01f;
+        sphere.friction = 0.5f;
+        WeftColliderId collider = 0;
+        failures += weft_add_collider(world, &sphere, &collider).code != WEFT_OK;
+        for (uint32_t i = 0; i < 100; ++i) {
+            sphere.p0.x = 0.1f * std::sin(float(i) * w->dt_s);
+            failures += weft_set_collider(world, collider, &sphere).code != WEFT_OK;
+            failures += weft_step(world, w->dt_s).code != WEFT_OK;
+            failures += weft_read_positions(world, cloth, positions.data(), count).code != WEFT_OK;
+            failures += weft_read_normals(world, cloth, normals.data(), count).code != WEFT_OK;
+            failures += weft_step(world, -1.0f).code == WEFT_OK;  // refusals format their message in place
+            failures += weft_read_positions(world, 7, positions.data(), count).code == WEFT_OK;
+        }
+        weft_destroy_world(world);
+        failures += weft_step(world, w->dt_s).code == WEFT_OK;  // a dead handle
+        allocations += counting.allocations();
+    }
+    CHECK(failures == 0);
+    CHECK(allocations == 0);
 }

@@ -1,0 +1,206 @@
+/* Weft's C interface: the whole frame loop, for C games and engine bindings (C99 and C++).
+ *
+ *   WeftMemoryRequirements need;
+ *   weft_asset_memory_requirements(file, size, &need);          // file: a .weft, 64-byte aligned
+ *   WeftAsset* asset;  weft_load_asset(file, size, asset_block, need.bytes, &asset);
+ *   WeftWorldDesc desc = weft_default_world_desc();  weft_reserve_cloth(&desc, asset);
+ *   weft_world_memory_requirements(&desc, &need);
+ *   WeftWorld* world;  weft_create_world(&desc, world_block, need.bytes, &world);
+ *   WeftClothDesc cloth = weft_default_cloth_desc(asset);  weft_add_cloth(world, &cloth, &cloth_id);
+ *   every frame: weft_set_body_vertices(...), weft_set_collider(...), weft_step(world, dt),
+ *                weft_read_positions(...), weft_read_normals(...)
+ *   weft_destroy_world(world); then free the blocks and the file bytes: they are the caller's.
+ *
+ * Every fallible call returns a WeftResult: a code (WEFT_OK is 0) and a message; a refused call
+ * changes nothing. Nothing allocates: the asset and the world live in blocks the caller provides
+ * (a world with bodies also holds an Embree device, released by weft_destroy_world). A handle
+ * used after weft_destroy_world, or a block that never held one, gives an error while its memory
+ * is still the caller's; a freed block or a wild pointer cannot be detected.
+ * The C++ API is weft/world.h; this is a thin layer over it, stepping to the same bits. */
+#ifndef WEFT_C_H
+#define WEFT_C_H
+
+#include <stddef.h>
+#include <stdint.h>
+
+#ifdef __cplusplus
+extern "C" {
+#endif
+
+/* Enums are 32-bit; in C++ they have that fixed type, so any value a C caller passes is well defined
+ * (and refused where it names nothing). */
+#ifdef __cplusplus
+#define WEFT_ENUM(name) enum name : uint32_t
+#else
+#define WEFT_ENUM(name) enum name
+#endif
+
+typedef WEFT_ENUM(WeftErrorCode) {
+    WEFT_OK = 0,
+    WEFT_INVALID_ARGUMENT = 1,   /* a null pointer, a zero count, a handle that is not live */
+    WEFT_NON_FINITE = 2,         /* NaN or infinity where a finite value is needed */
+    WEFT_OUT_OF_RANGE = 3,       /* an id or count that does not match, a value outside its range */
+    WEFT_CAPACITY_EXCEEDED = 4,  /* the world was created too small for what is added */
+    WEFT_MEMORY_TOO_SMALL = 5,   /* the caller's block is smaller or less aligned than required */
+    WEFT_UNSUPPORTED = 6,        /* e.g. the AVX2 path on a CPU without it */
+    WEFT_CORRUPT_ASSET = 7       /* the asset file failed validation */
+} WeftErrorCode;
+
+typedef struct WeftResult {
+    WeftErrorCode code;
+    char message[120]; /* NUL-terminated; empty on WEFT_OK */
+} WeftResult;
+
+/* The code's name ("ok", "corrupt_asset", ...). */
+const char* weft_error_name(WeftErrorCode code);
+
+typedef struct WeftVec3 {
+    float x, y, z; /* metres, m/s or m/s^2 */
+} WeftVec3;
+
+typedef struct WeftMemoryRequirements {
+    size_t bytes;
+    size_t alignment; /* the block's start must be a multiple of this */
+} WeftMemoryRequirements;
+
+typedef WEFT_ENUM(WeftSimdPath) { WEFT_SIMD_AUTOMATIC = 0, WEFT_SIMD_SCALAR = 1, WEFT_SIMD_AVX2 = 2 } WeftSimdPath;
+
+typedef struct WeftAsset WeftAsset; /* a loaded .weft asset, in the caller's block */
+typedef struct WeftWorld WeftWorld; /* a world, in the caller's block */
+typedef uint32_t WeftClothId;       /* as returned by weft_add_cloth: 0, 1, 2... */
+typedef uint32_t WeftBodyId;
+typedef uint32_t WeftColliderId;
+
+/* --- assets (weft-bake's files) ---------------------------------------------------------------- */
+
+/* The block weft_load_asset needs for this file (checks the header and checksum first). */
+WeftResult weft_asset_memory_requirements(const void* file, size_t size, WeftMemoryRequirements* out);
+
+/* Loads the asset in place: `file` (64-byte aligned) must stay alive and unchanged while the asset
+ * is used; `memory` holds the handle and the loader's scratch. Every byte is validated first. */
+WeftResult weft_load_asset(const void* file, size_t size, void* memory, size_t memory_bytes, WeftAsset** out_asset);
+
+typedef struct WeftAssetInfo {
+    uint32_t particle_count; /* positions and normals are read in this count, the caller's order */
+    uint32_t triangle_count;
+} WeftAssetInfo;
+WeftResult weft_asset_info(const WeftAsset* asset, WeftAssetInfo* out);
+
+/* The triangles as particle indices (caller order, the asset's winding): 3 * triangle_count values. */
+WeftResult weft_asset_triangles(const WeftAsset* asset, uint32_t* out_indices, uint32_t index_count);
+
+/* --- the world ----------------------------------------------------------------------------------- */
+
+typedef struct WeftWorldDesc {
+    uint32_t max_cloths;         /* weft_reserve_cloth adds 1 and the next three per cloth */
+    uint32_t max_particles;
+    uint32_t max_constraints;
+    uint32_t max_coarse_nodes;
+    uint32_t max_colliders;
+    uint32_t max_bodies;         /* > 0: the world creates an Embree device */
+    uint32_t max_body_vertices;  /* summed over bodies */
+    uint32_t max_body_triangles; /* summed over bodies */
+    int wind;                    /* non-zero: the wind pass exists (weft_set_wind) */
+    int normals;                 /* non-zero: each step ends with vertex normals (weft_read_normals) */
+    WeftVec3 gravity_m_s2;
+    float air_density_kg_m3;     /* for the wind's drag and lift */
+    WeftSimdPath simd;
+} WeftWorldDesc;
+
+/* No capacity, gravity (0, -9.81, 0) m/s^2, air 1.2 kg/m^3, no wind, the widest SIMD path. */
+WeftWorldDesc weft_default_world_desc(void);
+
+/* Adds one instance of `asset` to the capacities. */
+WeftResult weft_reserve_cloth(WeftWorldDesc* desc, const WeftAsset* asset);
+
+WeftResult weft_world_memory_requirements(const WeftWorldDesc* desc, WeftMemoryRequirements* out);
+
+/* Creates a world in `memory` (at least weft_world_memory_requirements, suitably aligned). */
+WeftResult weft_create_world(const WeftWorldDesc* desc, void* memory, size_t bytes, WeftWorld** out_world);
+
+/* Releases the world's Embree device (if it has bodies); the handle is dead afterwards. Null: nothing. */
+void weft_destroy_world(WeftWorld* world);
+
+typedef struct WeftClothDesc {
+    const WeftAsset* asset;        /* must outlive the world */
+    WeftVec3 translation_m;        /* added to the asset's start positions */
+    uint32_t sweeps;               /* the solver budget: passes over every constraint per step (1..1000) */
+    float compliance_m_per_n[3];   /* stretch, shear, bend; 0 = hard */
+    float damping_per_s;           /* dv/dt = -damping * v */
+    float drag_coefficient;        /* wind, with the world's wind feature */
+    float lift_coefficient;
+} WeftClothDesc;
+
+/* world.h's ClothDesc defaults, with the compliance and damping of the asset's fabric if it has one. */
+WeftClothDesc weft_default_cloth_desc(const WeftAsset* asset);
+
+WeftResult weft_add_cloth(WeftWorld* world, const WeftClothDesc* desc, WeftClothId* out_cloth);
+
+/* --- bodies and colliders -------------------------------------------------------------------------- */
+
+typedef struct WeftBodyDesc {
+    const WeftVec3* positions;  /* rest pose, metres; copied */
+    uint32_t vertex_count;
+    const uint32_t* triangles;  /* 3 per triangle, counter-clockwise seen from outside; copied */
+    uint32_t triangle_count;
+    float thickness_m;          /* the collision hull's offset from the skin */
+    float margin_m;             /* query reach beyond the thickness */
+    float friction;             /* Coulomb coefficient against the moving surface */
+} WeftBodyDesc;
+
+/* body.h's defaults: thickness 5 mm, margin 2 mm, friction 0.5; no mesh. */
+WeftBodyDesc weft_default_body_desc(void);
+
+/* A triangle-mesh body the cloth collides with (the exact collision model, weft/body.h). */
+WeftResult weft_add_body(WeftWorld* world, const WeftBodyDesc* desc, WeftBodyId* out_body);
+
+/* The body's new pose (vertex_count positions, metres); the next step moves the hull there. */
+WeftResult weft_set_body_vertices(WeftWorld* world, WeftBodyId body, const WeftVec3* positions, uint32_t count);
+
+/* Binds the asset's body attachments (a dressed garment's waistband) to the body it was dressed on. */
+WeftResult weft_attach_cloth_to_body(WeftWorld* world, WeftClothId cloth, WeftBodyId body);
+
+typedef WEFT_ENUM(WeftColliderShape) {
+    WEFT_COLLIDER_SPHERE = 0,  /* centre p0 */
+    WEFT_COLLIDER_CAPSULE = 1, /* axis p0 to p1 */
+    WEFT_COLLIDER_CYLINDER = 2,
+    WEFT_COLLIDER_PLANE = 3    /* point p0, unit normal p1 */
+} WeftColliderShape;
+
+typedef struct WeftColliderDesc {
+    WeftColliderShape shape;
+    WeftVec3 p0, p1;    /* metres (a plane's p1: its unit normal) */
+    float radius_m;     /* sphere, capsule, cylinder */
+    float inflation_m;  /* collision skin added to the radius; a plane's offset */
+    float friction;     /* Coulomb coefficient; 0 = frictionless */
+} WeftColliderDesc;
+
+/* world.h's defaults: a sphere of radius 0.5 m at the origin, no inflation, no friction. */
+WeftColliderDesc weft_default_collider_desc(void);
+
+WeftResult weft_add_collider(WeftWorld* world, const WeftColliderDesc* desc, WeftColliderId* out_collider);
+
+/* Moves or reshapes a collider; the next step sees it (its motion drives friction). */
+WeftResult weft_set_collider(WeftWorld* world, WeftColliderId collider, const WeftColliderDesc* desc);
+
+/* --- every frame ------------------------------------------------------------------------------------ */
+
+/* Wind velocity, m/s (needs WeftWorldDesc::wind). */
+WeftResult weft_set_wind(WeftWorld* world, WeftVec3 velocity_m_s);
+WeftResult weft_set_gravity(WeftWorld* world, WeftVec3 gravity_m_s2);
+
+/* Advances every cloth by dt seconds (0 < dt <= 1): a fixed amount of work, no allocation. */
+WeftResult weft_step(WeftWorld* world, float dt_s);
+
+/* The cloth's positions in the caller's particle order, metres; count = the asset's particle_count. */
+WeftResult weft_read_positions(const WeftWorld* world, WeftClothId cloth, WeftVec3* out, uint32_t count);
+
+/* Unit vertex normals as of the last step (area-weighted, the asset's winding; (0, 0, 0) on no
+ * triangle of non-zero area), caller order; needs WeftWorldDesc::normals. */
+WeftResult weft_read_normals(const WeftWorld* world, WeftClothId cloth, WeftVec3* out, uint32_t count);
+
+#ifdef __cplusplus
+}
+#endif
+
+#endif /* WEFT_C_H */

@@ -1,0 +1,356 @@
+// The C interface (weft/weft_c.h): each call checks its handles, converts its plain C structs to
+// world.h's and forwards. Handles are small headers at the start of the caller's blocks, with a
+// magic word that weft_destroy_world clears, so a dead handle is refused instead of followed.
+#include "weft/weft_c.h"
+
+#include <cmath>
+#include <cstdint>
+#include <cstring>
+#include <new>
+
+#include "weft/weft.h"
+#include "world_internal.h"  // make_error
+
+using namespace weft;
+
+static_assert(sizeof(WeftVec3) == sizeof(Vec3) && offsetof(WeftVec3, y) == offsetof(Vec3, y) &&
+                  offsetof(WeftVec3, z) == offsetof(Vec3, z),
+              "WeftVec3 and weft::Vec3 must share a layout: arrays of one are read as the other");
+static_assert(sizeof(WeftResult::message) == sizeof(Result::message));
+static_assert(uint32_t(WEFT_CORRUPT_ASSET) == uint32_t(ErrorCode::corrupt_asset));
+static_assert(uint32_t(WEFT_SIMD_AVX2) == uint32_t(SimdPath::avx2));
+static_assert(uint32_t(WEFT_COLLIDER_PLANE) == uint32_t(ColliderShape::plane));
+
+struct WeftAsset {
+    uint32_t magic;
+    ClothAsset asset;
+};
+
+struct WeftWorld {
+    uint32_t magic;
+    World* world;
+};
+
+namespace {
+
+constexpr uint32_t kAssetHandleMagic = 0x41544657u;  // "WFTA"
+constexpr uint32_t kWorldHandleMagic = 0x57544657u;  // "WFTW"
+// The world's own block starts this far into the caller's, after the handle, on a cache line.
+constexpr size_t kWorldHeaderBytes = 64;
+static_assert(sizeof(WeftWorld) <= kWorldHeaderBytes);
+// The loader's scratch follows the handle in the asset's block.
+constexpr size_t kAssetScratchOffset = (sizeof(WeftAsset) + alignof(uint32_t) - 1) / alignof(uint32_t) * alignof(uint32_t);
+
+WeftResult to_c(const Result& r) {
+    WeftResult out;
+    out.code = WeftErrorCode(r.code);
+    std::memcpy(out.message, r.message, sizeof(out.message));
+    out.message[sizeof(out.message) - 1] = '\0';
+    return out;
+}
+
+Vec3 to_cpp(WeftVec3 v) { return {v.x, v.y, v.z}; }
+const Vec3* to_cpp(const WeftVec3* v) { return reinterpret_cast<const Vec3*>(v); }
+Vec3* to_cpp(WeftVec3* v) { return reinterpret_cast<Vec3*>(v); }
+
+bool is_aligned(const void* p, size_t alignment) { return reinterpret_cast<uintptr_t>(p) % alignment == 0; }
+
+Result live_asset(const WeftAsset* asset) {
+    if (asset == nullptr) return make_error(ErrorCode::invalid_argument, "asset is null");
+    if (!is_aligned(asset, alignof(WeftAsset)) || asset->magic != kAssetHandleMagic)
+        return make_error(ErrorCode::invalid_argument, "asset handle is not a loaded asset");
+    return {};
+}
+
+Result live_world(const WeftWorld* world) {
+    if (world == nullptr) return make_error(ErrorCode::invalid_argument, "world is null");
+    if (!is_aligned(world, alignof(WeftWorld)) || world->magic != kWorldHandleMagic)
+        return make_error(ErrorCode::invalid_argument, "world handle is not a live world (destroyed or never created)");
+    return {};
+}
+
+WorldDesc to_cpp(const WeftWorldDesc& d) {
+    WorldDesc w;
+    w.max_cloths = d.max_cloths;
+    w.max_particles = d.max_particles;
+    w.max_constraints = d.max_constraints;
+    w.max_coarse_nodes = d.max_coarse_nodes;
+    w.max_colliders = d.max_colliders;
+    w.max_bodies = d.max_bodies;
+    w.max_body_vertices = d.max_body_vertices;
+    w.max_body_triangles = d.max_body_triangles;
+    w.max_cached_plane_bodies = 0;  // bodies use the exact collision model
+    w.max_skin_constraints = 0;     // the C API binds no skin constraints
+    w.wind = d.wind != 0;
+    w.normals = d.normals != 0;
+    w.gravity_m_s2 = to_cpp(d.gravity_m_s2);
+    w.air_density_kg_m3 = d.air_density_kg_m3;
+    w.simd = d.simd <= WEFT_SIMD_AVX2 ? SimdPath(d.simd) : SimdPath(0xFF);  // refused by create_world
+    return w;
+}
+
+ColliderDesc to_cpp(const WeftColliderDesc& d) {
+    ColliderDesc c;
+    c.shape = d.shape <= WEFT_COLLIDER_PLANE ? ColliderShape(d.shape) : ColliderShape(0xFF);  // refused by add_collider
+    c.p0 = to_cpp(d.p0);
+    c.p1 = to_cpp(d.p1);
+    c.radius_m = d.radius_m;
+    c.inflation_m = d.inflation_m;
+    c.friction = d.friction;
+    return c;
+}
+
+}  // namespace
+
+extern "C" {
+
+const char* weft_error_name(WeftErrorCode code) {
+    switch (code) {
+        case WEFT_OK: return "ok";
+        case WEFT_INVALID_ARGUMENT: return "invalid_argument";
+        case WEFT_NON_FINITE: return "non_finite";
+        case WEFT_OUT_OF_RANGE: return "out_of_range";
+        case WEFT_CAPACITY_EXCEEDED: return "capacity_exceeded";
+        case WEFT_MEMORY_TOO_SMALL: return "memory_too_small";
+        case WEFT_UNSUPPORTED: return "unsupported";
+        case WEFT_CORRUPT_ASSET: return "corrupt_asset";
+    }
+    return "unknown";
+}
+
+// --- assets ---------------------------------------------------------------------------------------
+
+WeftResult weft_asset_memory_requirements(const void* file, size_t size, WeftMemoryRequirements* out) {
+    if (file == nullptr || out == nullptr) return to_c(make_error(ErrorCode::invalid_argument, "file or out is null"));
+    AssetFileInfo info;
+    if (Result r = read_asset_header(file, size, &info); !r.ok()) return to_c(r);
+    out->bytes = kAssetScratchOffset + sizeof(uint32_t) * size_t(info.load_scratch_count);
+    out->alignment = alignof(WeftAsset);
+    return {};
+}
+
+WeftResult weft_load_asset(const void* file, size_t size, void* memory, size_t memory_bytes, WeftAsset** out_asset) {
+    if (file == nullptr || memory == nullptr || out_asset == nullptr)
+        return to_c(make_error(ErrorCode::invalid_argument, "file, memory or out_asset is null"));
+    if (!is_aligned(memory, alignof(WeftAsset)) || memory_bytes < kAssetScratchOffset)
+        return to_c(make_error(ErrorCode::memory_too_small, "asset block of %zu bytes at alignment < %zu", memory_bytes,
+                               alignof(WeftAsset)));
+    // The loader checks the scratch against the file's need (memory_too_small) and every byte.
+    uint32_t* scratch = reinterpret_cast<uint32_t*>(static_cast<unsigned char*>(memory) + kAssetScratchOffset);
+    const size_t scratch_count = (memory_bytes - kAssetScratchOffset) / sizeof(uint32_t);
+    ClothAsset asset;
+    const uint32_t scratch_capped = uint32_t(scratch_count > UINT32_MAX ? UINT32_MAX : scratch_count);
+    if (Result r = load_asset_in_place(file, size, scratch, scratch_capped, &asset); !r.ok()) return to_c(r);
+    WeftAsset* handle = new (memory) WeftAsset{kAssetHandleMagic, asset};
+    *out_asset = handle;
+    return {};
+}
+
+WeftResult weft_asset_info(const WeftAsset* asset, WeftAssetInfo* out) {
+    if (Result r = live_asset(asset); !r.ok()) return to_c(r);
+    if (out == nullptr) return to_c(make_error(ErrorCode::invalid_argument, "out is null"));
+    out->particle_count = asset->asset.particle_count;
+    out->triangle_count = asset->asset.triangle_count;
+    return {};
+}
+
+WeftResult weft_asset_triangles(const WeftAsset* asset, uint32_t* out_indices, uint32_t index_count) {
+    if (Result r = live_asset(asset); !r.ok()) return to_c(r);
+    const ClothAsset& a = asset->asset;
+    if (out_indices == nullptr) return to_c(make_error(ErrorCode::invalid_argument, "out_indices is null"));
+    if (uint64_t(index_count) != 3 * uint64_t(a.triangle_count))
+        return to_c(make_error(ErrorCode::out_of_range, "index_count %u, the asset has %u triangles", index_count,
+                               a.triangle_count));
+    for (uint32_t i = 0; i < index_count; ++i) out_indices[i] = a.particle_of_slot[a.triangles[i]];
+    return {};
+}
+
+// --- the world --------------------------------------------------------------------------------------
+
+WeftWorldDesc weft_default_world_desc(void) {
+    const WorldDesc d;
+    WeftWorldDesc w{};
+    w.max_cloths = 0;  // weft_reserve_cloth counts the cloths
+    w.wind = d.wind ? 1 : 0;
+    w.normals = d.normals ? 1 : 0;
+    w.gravity_m_s2 = {d.gravity_m_s2.x, d.gravity_m_s2.y, d.gravity_m_s2.z};
+    w.air_density_kg_m3 = d.air_density_kg_m3;
+    w.simd = WeftSimdPath(d.simd);
+    return w;
+}
+
+WeftResult weft_reserve_cloth(WeftWorldDesc* desc, const WeftAsset* asset) {
+    if (desc == nullptr) return to_c(make_error(ErrorCode::invalid_argument, "desc is null"));
+    if (Result r = live_asset(asset); !r.ok()) return to_c(r);
+    WorldDesc w = to_cpp(*desc);
+    reserve_cloth(w, asset->asset);
+    desc->max_cloths = w.max_cloths;
+    desc->max_particles = w.max_particles;
+    desc->max_constraints = w.max_constraints;
+    desc->max_coarse_nodes = w.max_coarse_nodes;
+    return {};
+}
+
+WeftResult weft_world_memory_requirements(const WeftWorldDesc* desc, WeftMemoryRequirements* out) {
+    if (desc == nullptr || out == nullptr) return to_c(make_error(ErrorCode::invalid_argument, "desc or out is null"));
+    const MemoryRequirements need = world_memory_requirements(to_cpp(*desc));
+    if (need.bytes == 0) {  // the description is refused: say why, as create_world would
+        World* unused = nullptr;
+        Result r = create_world(to_cpp(*desc), nullptr, 0, &unused);
+        if (r.ok()) r = make_error(ErrorCode::invalid_argument, "bad world description");
+        return to_c(r);
+    }
+    out->bytes = kWorldHeaderBytes + need.bytes;
+    out->alignment = need.alignment > alignof(WeftWorld) ? need.alignment : alignof(WeftWorld);
+    return {};
+}
+
+WeftResult weft_create_world(const WeftWorldDesc* desc, void* memory, size_t bytes, WeftWorld** out_world) {
+    if (desc == nullptr || memory == nullptr || out_world == nullptr)
+        return to_c(make_error(ErrorCode::invalid_argument, "desc, memory or out_world is null"));
+    if (!is_aligned(memory, alignof(WeftWorld)) || bytes < kWorldHeaderBytes)
+        return to_c(make_error(ErrorCode::memory_too_small, "world block of %zu bytes is too small or misaligned", bytes));
+    unsigned char* block = static_cast<unsigned char*>(memory);
+    World* world = nullptr;
+    if (Result r = create_world(to_cpp(*desc), block + kWorldHeaderBytes, bytes - kWorldHeaderBytes, &world); !r.ok())
+        return to_c(r);
+    *out_world = new (memory) WeftWorld{kWorldHandleMagic, world};
+    return {};
+}
+
+void weft_destroy_world(WeftWorld* world) {
+    if (!live_world(world).ok()) return;
+    destroy_world(world->world);
+    world->magic = 0;
+    world->world = nullptr;
+}
+
+WeftClothDesc weft_default_cloth_desc(const WeftAsset* asset) {
+    const ClothDesc d;
+    WeftClothDesc c{};
+    c.asset = asset;
+    c.sweeps = d.sweeps;
+    for (uint32_t k = 0; k < 3; ++k) c.compliance_m_per_n[k] = d.compliance_m_per_n[k];
+    c.damping_per_s = d.damping_per_s;
+    c.drag_coefficient = d.drag_coefficient;
+    c.lift_coefficient = d.lift_coefficient;
+    if (live_asset(asset).ok() && asset->asset.has_fabric) {  // the fabric the pattern named (as weft-sim)
+        const Fabric& f = asset->asset.fabric;
+        for (uint32_t k = 0; k < 3; ++k) c.compliance_m_per_n[k] = f.compliance_m_per_n[k];
+        c.damping_per_s = f.damping_per_s;
+    }
+    return c;
+}
+
+WeftResult weft_add_cloth(WeftWorld* world, const WeftClothDesc* desc, WeftClothId* out_cloth) {
+    if (Result r = live_world(world); !r.ok()) return to_c(r);
+    if (desc == nullptr || out_cloth == nullptr) return to_c(make_error(ErrorCode::invalid_argument, "desc or out_cloth is null"));
+    if (Result r = live_asset(desc->asset); !r.ok()) return to_c(r);
+    ClothDesc c;
+    c.asset = &desc->asset->asset;
+    c.translation_m = to_cpp(desc->translation_m);
+    c.sweeps = desc->sweeps;
+    for (uint32_t k = 0; k < 3; ++k) c.compliance_m_per_n[k] = desc->compliance_m_per_n[k];
+    c.damping_per_s = desc->damping_per_s;
+    c.drag_coefficient = desc->drag_coefficient;
+    c.lift_coefficient = desc->lift_coefficient;
+    ClothId id;
+    if (Result r = add_cloth(world->world, c, &id); !r.ok()) return to_c(r);
+    *out_cloth = id.index;
+    return {};
+}
+
+// --- bodies and colliders ------------------------------------------------------------------------------
+
+WeftBodyDesc weft_default_body_desc(void) {
+    const BodyDesc d;
+    WeftBodyDesc b{};
+    b.thickness_m = d.thickness_m;
+    b.margin_m = d.margin_m;
+    b.friction = d.friction;
+    return b;
+}
+
+WeftResult weft_add_body(WeftWorld* world, const WeftBodyDesc* desc, WeftBodyId* out_body) {
+    if (Result r = live_world(world); !r.ok()) return to_c(r);
+    if (desc == nullptr || out_body == nullptr) return to_c(make_error(ErrorCode::invalid_argument, "desc or out_body is null"));
+    BodyDesc b;
+    b.positions = to_cpp(desc->positions);
+    b.vertex_count = desc->vertex_count;
+    b.triangles = desc->triangles;
+    b.triangle_count = desc->triangle_count;
+    b.thickness_m = desc->thickness_m;
+    b.margin_m = desc->margin_m;
+    b.friction = desc->friction;
+    BodyId id;
+    if (Result r = add_body(world->world, b, &id); !r.ok()) return to_c(r);
+    *out_body = id.index;
+    return {};
+}
+
+WeftResult weft_set_body_vertices(WeftWorld* world, WeftBodyId body, const WeftVec3* positions, uint32_t count) {
+    if (Result r = live_world(world); !r.ok()) return to_c(r);
+    return to_c(set_body_vertices(world->world, BodyId{body}, to_cpp(positions), count));
+}
+
+WeftResult weft_attach_cloth_to_body(WeftWorld* world, WeftClothId cloth, WeftBodyId body) {
+    if (Result r = live_world(world); !r.ok()) return to_c(r);
+    return to_c(attach_cloth_to_body(world->world, ClothId{cloth}, BodyId{body}));
+}
+
+WeftColliderDesc weft_default_collider_desc(void) {
+    const ColliderDesc d;
+    WeftColliderDesc c{};
+    c.shape = WeftColliderShape(d.shape);
+    c.p0 = {d.p0.x, d.p0.y, d.p0.z};
+    c.p1 = {d.p1.x, d.p1.y, d.p1.z};
+    c.radius_m = d.radius_m;
+    c.inflation_m = d.inflation_m;
+    c.friction = d.friction;
+    return c;
+}
+
+WeftResult weft_add_collider(WeftWorld* world, const WeftColliderDesc* desc, WeftColliderId* out_collider) {
+    if (Result r = live_world(world); !r.ok()) return to_c(r);
+    if (desc == nullptr || out_collider == nullptr)
+        return to_c(make_error(ErrorCode::invalid_argument, "desc or out_collider is null"));
+    ColliderId id;
+    if (Result r = add_collider(world->world, to_cpp(*desc), &id); !r.ok()) return to_c(r);
+    *out_collider = id.index;
+    return {};
+}
+
+WeftResult weft_set_collider(WeftWorld* world, WeftColliderId collider, const WeftColliderDesc* desc) {
+    if (Result r = live_world(world); !r.ok()) return to_c(r);
+    if (desc == nullptr) return to_c(make_error(ErrorCode::invalid_argument, "desc is null"));
+    return to_c(set_collider(world->world, ColliderId{collider}, to_cpp(*desc)));
+}
+
+// --- every frame ----------------------------------------------------------------------------------------
+
+WeftResult weft_set_wind(WeftWorld* world, WeftVec3 velocity_m_s) {
+    if (Result r = live_world(world); !r.ok()) return to_c(r);
+    return to_c(set_wind(world->world, to_cpp(velocity_m_s)));
+}
+
+WeftResult weft_set_gravity(WeftWorld* world, WeftVec3 gravity_m_s2) {
+    if (Result r = live_world(world); !r.ok()) return to_c(r);
+    return to_c(set_gravity(world->world, to_cpp(gravity_m_s2)));
+}
+
+WeftResult weft_step(WeftWorld* world, float dt_s) {
+    if (Result r = live_world(world); !r.ok()) return to_c(r);
+    return to_c(step(world->world, dt_s));
+}
+
+WeftResult weft_read_positions(const WeftWorld* world, WeftClothId cloth, WeftVec3* out, uint32_t count) {
+    if (Result r = live_world(world); !r.ok()) return to_c(r);
+    return to_c(read_positions(world->world, ClothId{cloth}, to_cpp(out), count));
+}
+
+WeftResult weft_read_normals(const WeftWorld* world, WeftClothId cloth, WeftVec3* out, uint32_t count) {
+    if (Result r = live_world(world); !r.ok()) return to_c(r);
+    return to_c(read_normals(world->world, ClothId{cloth}, to_cpp(out), count));
+}
+
+}  // extern "C"

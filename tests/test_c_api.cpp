@@ -1,0 +1,302 @@
+// The C interface (weft/weft_c.h): the seed drape and sphere driven through it step to the same bits
+// as through world.h, and bad input (null pointers, small blocks, corrupt files, dead handles) gives
+// an error code and a message, never a crash.
+#include "asset_writer.h"
+#include "test_support.h"
+#include "weft/weft_c.h"
+
+using namespace weft;
+using namespace weft::test;
+using scenes::SeedScene;
+
+namespace {
+
+constexpr uint32_t kGrid = 30;
+constexpr uint32_t kSteps = 120;
+
+#define REQUIRE_WEFT_OK(call)                                      \
+    do {                                                           \
+        const WeftResult r_ = (call);                              \
+        INFO(#call, ": ", weft_error_name(r_.code), ": ", r_.message); \
+        REQUIRE(r_.code == WEFT_OK);                               \
+    } while (0)
+
+// A refused call: the code expected, and a message saying why.
+#define CHECK_WEFT_ERROR(call, expected)                           \
+    do {                                                           \
+        const WeftResult r_ = (call);                              \
+        INFO(#call, ": ", weft_error_name(r_.code), ": ", r_.message); \
+        CHECK(r_.code == (expected));                              \
+        CHECK(std::strlen(r_.message) > 0);                        \
+    } while (0)
+
+using Block = std::unique_ptr<void, decltype(&std::free)>;
+Block alloc_block(WeftMemoryRequirements need) {
+    REQUIRE(need.bytes > 0);
+    REQUIRE(need.alignment > 0);
+    return {std::aligned_alloc(need.alignment, (need.bytes + need.alignment - 1) / need.alignment * need.alignment),
+            &std::free};
+}
+
+// An asset's file bytes (what weft-bake writes), 64-byte aligned.
+assets::AlignedBytes file_of(const ClothAsset& asset) {
+    std::vector<std::byte> bytes;
+    const Result r = assets::write_asset(asset, &bytes);
+    INFO(r.message);
+    REQUIRE(r.ok());
+    return {bytes.data(), bytes.size()};
+}
+
+// An asset file loaded, and a world with one cloth of it, all through the C API.
+struct CWorld {
+    assets::AlignedBytes file;
+    Block asset_block{nullptr, &std::free}, world_block{nullptr, &std::free};
+    WeftAsset* asset = nullptr;
+    WeftWorld* world = nullptr;
+    WeftClothId cloth = 0;
+    WeftAssetInfo info{};
+    ~CWorld() { weft_destroy_world(world); }
+};
+
+std::unique_ptr<CWorld> make_c_world(const ClothAsset& asset, WeftSimdPath simd, const std::vector<ColliderDesc>& colliders) {
+    auto c = std::make_unique<CWorld>();
+    c->file = file_of(asset);
+    WeftMemoryRequirements need{};
+    REQUIRE_WEFT_OK(weft_asset_memory_requirements(c->file.data(), c->file.size(), &need));
+    c->asset_block = alloc_block(need);
+    REQUIRE_WEFT_OK(weft_load_asset(c->file.data(), c->file.size(), c->asset_block.get(), need.bytes, &c->asset));
+    REQUIRE_WEFT_OK(weft_asset_info(c->asset, &c->info));
+    WeftWorldDesc desc = weft_default_world_desc();
+    REQUIRE_WEFT_OK(weft_reserve_cloth(&desc, c->asset));
+    desc.max_colliders = uint32_t(colliders.size());
+    desc.normals = 1;
+    desc.simd = simd;
+    REQUIRE_WEFT_OK(weft_world_memory_requirements(&desc, &need));
+    c->world_block = alloc_block(need);
+    REQUIRE_WEFT_OK(weft_create_world(&desc, c->world_block.get(), need.bytes, &c->world));
+    const WeftClothDesc cloth = weft_default_cloth_desc(c->asset);
+    REQUIRE_WEFT_OK(weft_add_cloth(c->world, &cloth, &c->cloth));
+    for (const ColliderDesc& d : colliders) {
+        WeftColliderDesc cd = weft_default_collider_desc();
+        cd.shape = WeftColliderShape(d.shape);
+        cd.p0 = {d.p0.x, d.p0.y, d.p0.z};
+        cd.p1 = {d.p1.x, d.p1.y, d.p1.z};
+        cd.radius_m = d.radius_m;
+        cd.inflation_m = d.inflation_m;
+        cd.friction = d.friction;
+        WeftColliderId id = 0;
+        REQUIRE_WEFT_OK(weft_add_collider(c->world, &cd, &id));
+    }
+    return c;
+}
+
+std::vector<Vec3> read_c(const CWorld& c) {
+    std::vector<Vec3> p(c.info.particle_count);
+    REQUIRE_WEFT_OK(weft_read_positions(c.world, c.cloth, reinterpret_cast<WeftVec3*>(p.data()), c.info.particle_count));
+    return p;
+}
+
+void check_same_bits_as_cpp(SeedScene scene) {
+    for (SimdPath path : available_paths()) {
+        const std::string path_name = simd_path_name(path);
+        CAPTURE(path_name);
+        scenes::SceneOptions o = scene_options(kGrid, path);
+        o.normals = true;
+        auto cpp = make_scene(scene, o);
+        auto c = make_c_world(cpp->asset(), WeftSimdPath(path), scenes::seed_scene(scene, o).colliders);
+        REQUIRE(c->info.particle_count == cpp->asset().particle_count);
+        for (uint32_t i = 1; i <= kSteps; ++i) {
+            REQUIRE(step(cpp->world, cpp->dt_s).ok());
+            REQUIRE_WEFT_OK(weft_step(c->world, cpp->dt_s));
+            if (i % 20 == 0) {
+                CAPTURE(i);
+                REQUIRE(same_bits(read_all(*cpp), read_c(*c)));
+            }
+        }
+        const std::vector<Vec3> p = read_c(*c);
+        CHECK(all_finite(p));
+        CHECK(!same_bits(p, cpp->mesh.positions));  // it moved
+        // The step's normals, the same bits through both, unit length on this mesh.
+        std::vector<Vec3> n_c(p.size()), n_cpp(p.size());
+        REQUIRE_WEFT_OK(weft_read_normals(c->world, c->cloth, reinterpret_cast<WeftVec3*>(n_c.data()), uint32_t(p.size())));
+        REQUIRE(read_normals(cpp->world, cpp->cloth, n_cpp.data(), uint32_t(p.size())).ok());
+        CHECK(same_bits(n_c, n_cpp));
+        for (const Vec3& n : n_c) REQUIRE(std::fabs(std::hypot(n.x, n.y, n.z) - 1.0f) < 1e-5f);
+    }
+}
+
+}  // namespace
+
+TEST_CASE("C API: the seed drape steps to the same bits as through world.h") { check_same_bits_as_cpp(SeedScene::drape); }
+TEST_CASE("C API: the seed sphere (a collider) steps to the same bits as through world.h") {
+    check_same_bits_as_cpp(SeedScene::sphere);
+}
+
+TEST_CASE("C API: normals of a flat square point along its winding's normal, area-weighted") {
+    auto cpp = make_scene(SeedScene::drape, scene_options(4));  // flat in x-z at y = 2 m
+    auto c = make_c_world(cpp->asset(), WEFT_SIMD_AUTOMATIC, {});
+    const std::vector<Vec3> p = read_c(*c);
+    std::vector<Vec3> n(p.size());
+    REQUIRE_WEFT_OK(weft_read_normals(c->world, c->cloth, reinterpret_cast<WeftVec3*>(n.data()), uint32_t(p.size())));
+    std::vector<uint32_t> triangles(3 * size_t(c->info.triangle_count));
+    REQUIRE_WEFT_OK(weft_asset_triangles(c->asset, triangles.data(), uint32_t(triangles.size())));
+    REQUIRE(triangles.size() == cpp->mesh.triangles.size());
+    for (uint32_t v : triangles) REQUIRE(v < c->info.particle_count);  // caller order
+    for (const Vec3& v : n) {
+        CHECK(std::fabs(v.x) < 1e-6f);
+        CHECK(std::fabs(std::fabs(v.y) - 1.0f) < 1e-6f);
+        CHECK(v.y * n[0].y > 0.0f);  // one side for all
+        CHECK(std::fabs(v.z) < 1e-6f);
+    }
+}
+
+TEST_CASE("C API: null pointers, small blocks and bad descriptions are refused with a message") {
+    auto cpp = make_scene(SeedScene::drape, scene_options(8));
+    auto c = make_c_world(cpp->asset(), WEFT_SIMD_AUTOMATIC, {});
+    WeftMemoryRequirements need{};
+    CHECK_WEFT_ERROR(weft_asset_memory_requirements(nullptr, 100, &need), WEFT_INVALID_ARGUMENT);
+    CHECK_WEFT_ERROR(weft_asset_memory_requirements(c->file.data(), c->file.size(), nullptr), WEFT_INVALID_ARGUMENT);
+    REQUIRE_WEFT_OK(weft_asset_memory_requirements(c->file.data(), c->file.size(), &need));
+    Block block = alloc_block(need);
+    WeftAsset* asset = nullptr;
+    CHECK_WEFT_ERROR(weft_load_asset(c->file.data(), c->file.size(), block.get(), need.bytes - 4, &asset),
+                     WEFT_MEMORY_TOO_SMALL);
+    CHECK_WEFT_ERROR(weft_load_asset(c->file.data(), c->file.size(), block.get(), 8, &asset), WEFT_MEMORY_TOO_SMALL);
+    CHECK_WEFT_ERROR(weft_load_asset(c->file.data(), c->file.size(), nullptr, need.bytes, &asset), WEFT_INVALID_ARGUMENT);
+    CHECK_WEFT_ERROR(weft_load_asset(c->file.data(), c->file.size(), block.get(), need.bytes, nullptr), WEFT_INVALID_ARGUMENT);
+    CHECK(asset == nullptr);
+    WeftAssetInfo info{};
+    CHECK_WEFT_ERROR(weft_asset_info(nullptr, &info), WEFT_INVALID_ARGUMENT);
+    CHECK_WEFT_ERROR(weft_asset_info(c->asset, nullptr), WEFT_INVALID_ARGUMENT);
+    CHECK_WEFT_ERROR(weft_asset_triangles(c->asset, nullptr, 3), WEFT_INVALID_ARGUMENT);
+    uint32_t three[3];
+    CHECK_WEFT_ERROR(weft_asset_triangles(c->asset, three, 3), WEFT_OUT_OF_RANGE);
+
+    // The world: a description without a cloth, null pointers, a block one byte short or misaligned.
+    WeftWorldDesc desc = weft_default_world_desc();
+    CHECK_WEFT_ERROR(weft_world_memory_requirements(&desc, &need), WEFT_INVALID_ARGUMENT);  // max_cloths 0
+    CHECK_WEFT_ERROR(weft_world_memory_requirements(nullptr, &need), WEFT_INVALID_ARGUMENT);
+    CHECK_WEFT_ERROR(weft_reserve_cloth(&desc, nullptr), WEFT_INVALID_ARGUMENT);
+    CHECK_WEFT_ERROR(weft_reserve_cloth(nullptr, c->asset), WEFT_INVALID_ARGUMENT);
+    REQUIRE_WEFT_OK(weft_reserve_cloth(&desc, c->asset));
+    desc.simd = WeftSimdPath(7);
+    CHECK_WEFT_ERROR(weft_world_memory_requirements(&desc, &need), WEFT_UNSUPPORTED);
+    desc.simd = WeftSimdPath(256);
+    CHECK_WEFT_ERROR(weft_world_memory_requirements(&desc, &need), WEFT_UNSUPPORTED);
+    desc.simd = WEFT_SIMD_AUTOMATIC;
+    REQUIRE_WEFT_OK(weft_world_memory_requirements(&desc, &need));
+    Block world_block = alloc_block({need.bytes + need.alignment, need.alignment});
+    WeftWorld* world = nullptr;
+    CHECK_WEFT_ERROR(weft_create_world(&desc, world_block.get(), need.bytes - 1, &world), WEFT_MEMORY_TOO_SMALL);
+    CHECK_WEFT_ERROR(weft_create_world(&desc, world_block.get(), 16, &world), WEFT_MEMORY_TOO_SMALL);
+    CHECK_WEFT_ERROR(weft_create_world(&desc, static_cast<char*>(world_block.get()) + 1, need.bytes, &world),
+                     WEFT_MEMORY_TOO_SMALL);
+    CHECK_WEFT_ERROR(weft_create_world(nullptr, world_block.get(), need.bytes, &world), WEFT_INVALID_ARGUMENT);
+    CHECK_WEFT_ERROR(weft_create_world(&desc, world_block.get(), need.bytes, nullptr), WEFT_INVALID_ARGUMENT);
+    CHECK(world == nullptr);
+
+    // Calls on a live world with bad arguments.
+    WeftClothDesc cloth = weft_default_cloth_desc(c->asset);
+    WeftClothId cloth_id = 0;
+    CHECK_WEFT_ERROR(weft_add_cloth(c->world, nullptr, &cloth_id), WEFT_INVALID_ARGUMENT);
+    CHECK_WEFT_ERROR(weft_add_cloth(c->world, &cloth, &cloth_id), WEFT_CAPACITY_EXCEEDED);  // room for one
+    cloth.asset = nullptr;
+    CHECK_WEFT_ERROR(weft_add_cloth(c->world, &cloth, &cloth_id), WEFT_INVALID_ARGUMENT);
+    WeftColliderDesc collider = weft_default_collider_desc();
+    WeftColliderId collider_id = 0;
+    CHECK_WEFT_ERROR(weft_add_collider(c->world, &collider, &collider_id), WEFT_CAPACITY_EXCEEDED);
+    CHECK_WEFT_ERROR(weft_add_collider(c->world, nullptr, &collider_id), WEFT_INVALID_ARGUMENT);
+    collider.shape = WeftColliderShape(256);  // any value a C caller may pass names nothing here
+    CHECK_WEFT_ERROR(weft_add_collider(c->world, &collider, &collider_id), WEFT_INVALID_ARGUMENT);
+    WeftBodyDesc body = weft_default_body_desc();
+    WeftBodyId body_id = 0;
+    CHECK(weft_add_body(c->world, &body, &body_id).code != WEFT_OK);  // no mesh, no room
+    CHECK_WEFT_ERROR(weft_add_body(c->world, nullptr, &body_id), WEFT_INVALID_ARGUMENT);
+    CHECK_WEFT_ERROR(weft_set_wind(c->world, {1.0f, 0.0f, 0.0f}), WEFT_INVALID_ARGUMENT);  // no wind feature
+    CHECK_WEFT_ERROR(weft_set_gravity(c->world, {0.0f, NAN, 0.0f}), WEFT_NON_FINITE);
+    CHECK(weft_step(c->world, 0.0f).code != WEFT_OK);
+    CHECK(weft_step(c->world, NAN).code != WEFT_OK);
+    std::vector<WeftVec3> positions(c->info.particle_count), normals(c->info.particle_count);
+    CHECK_WEFT_ERROR(weft_read_positions(c->world, c->cloth, nullptr, c->info.particle_count), WEFT_INVALID_ARGUMENT);
+    CHECK_WEFT_ERROR(weft_read_positions(c->world, c->cloth, positions.data(), 1), WEFT_OUT_OF_RANGE);
+    CHECK_WEFT_ERROR(weft_read_normals(c->world, c->cloth, nullptr, c->info.particle_count), WEFT_INVALID_ARGUMENT);
+    CHECK_WEFT_ERROR(weft_read_normals(c->world, c->cloth, normals.data(), 2), WEFT_OUT_OF_RANGE);
+    CHECK_WEFT_ERROR(weft_read_normals(c->world, 9, normals.data(), c->info.particle_count), WEFT_OUT_OF_RANGE);
+    CHECK(std::strcmp(weft_error_name(WEFT_CORRUPT_ASSET), "corrupt_asset") == 0);
+    CHECK(std::strcmp(weft_error_name(WeftErrorCode(99)), "unknown") == 0);
+
+    // Every refusal left the world as it was: it still steps to the C++ API's bits.
+    for (uint32_t i = 0; i < 10; ++i) {
+        REQUIRE(step(cpp->world, cpp->dt_s).ok());
+        REQUIRE_WEFT_OK(weft_step(c->world, cpp->dt_s));
+    }
+    CHECK(same_bits(read_all(*cpp), read_c(*c)));
+}
+
+TEST_CASE("C API: corrupt, truncated and misaligned asset files are refused, the handle left alone") {
+    auto cpp = make_scene(SeedScene::drape, scene_options(8));
+    const assets::AlignedBytes good = file_of(cpp->asset());
+    WeftMemoryRequirements need{};
+    REQUIRE_WEFT_OK(weft_asset_memory_requirements(good.data(), good.size(), &need));
+    Block block = alloc_block(need);
+    WeftAsset* asset = nullptr;
+
+    assets::AlignedBytes flipped(good.data(), good.size());
+    flipped.data()[good.size() / 2] ^= std::byte{0x5a};
+    CHECK_WEFT_ERROR(weft_asset_memory_requirements(flipped.data(), flipped.size(), &need), WEFT_CORRUPT_ASSET);
+    CHECK_WEFT_ERROR(weft_load_asset(flipped.data(), flipped.size(), block.get(), need.bytes, &asset), WEFT_CORRUPT_ASSET);
+    CHECK_WEFT_ERROR(weft_load_asset(good.data(), good.size() / 2, block.get(), need.bytes, &asset), WEFT_CORRUPT_ASSET);
+    CHECK_WEFT_ERROR(weft_load_asset(good.data(), 7, block.get(), need.bytes, &asset), WEFT_CORRUPT_ASSET);
+    std::vector<std::byte> shifted_bytes(good.size() + 64);
+    std::byte* shifted = shifted_bytes.data() + (64 - reinterpret_cast<uintptr_t>(shifted_bytes.data()) % 64) % 64 + 4;
+    std::memcpy(shifted, good.data(), good.size());
+    CHECK(weft_load_asset(shifted, good.size(), block.get(), need.bytes, &asset).code != WEFT_OK);
+    CHECK(asset == nullptr);
+    // A block that never held a loaded asset is not one.
+    std::memset(block.get(), 0, need.bytes);
+    WeftAssetInfo info{};
+    CHECK_WEFT_ERROR(weft_asset_info(static_cast<const WeftAsset*>(block.get()), &info), WEFT_INVALID_ARGUMENT);
+    WeftWorldDesc desc = weft_default_world_desc();
+    CHECK_WEFT_ERROR(weft_reserve_cloth(&desc, static_cast<const WeftAsset*>(block.get())), WEFT_INVALID_ARGUMENT);
+    // The good file still loads into the same block.
+    REQUIRE_WEFT_OK(weft_load_asset(good.data(), good.size(), block.get(), need.bytes, &asset));
+    REQUIRE_WEFT_OK(weft_asset_info(asset, &info));
+    CHECK(info.particle_count == cpp->asset().particle_count);
+}
+
+TEST_CASE("C API: stale ids and a destroyed world give an error, not a crash") {
+    auto cpp = make_scene(SeedScene::sphere, scene_options(8));
+    auto c = make_c_world(cpp->asset(), WEFT_SIMD_AUTOMATIC, scenes::seed_scene(SeedScene::sphere, scene_options(8)).colliders);
+    std::vector<WeftVec3> positions(c->info.particle_count);
+    const WeftColliderDesc collider = weft_default_collider_desc();
+    WeftBodyDesc body = weft_default_body_desc();
+    CHECK_WEFT_ERROR(weft_read_positions(c->world, 1, positions.data(), c->info.particle_count), WEFT_OUT_OF_RANGE);
+    CHECK_WEFT_ERROR(weft_read_positions(c->world, 0xFFFFFFFFu, positions.data(), c->info.particle_count), WEFT_OUT_OF_RANGE);
+    CHECK_WEFT_ERROR(weft_set_collider(c->world, 1, &collider), WEFT_OUT_OF_RANGE);
+    CHECK_WEFT_ERROR(weft_set_collider(c->world, 0, nullptr), WEFT_INVALID_ARGUMENT);
+    REQUIRE_WEFT_OK(weft_set_collider(c->world, 0, &collider));
+    CHECK(weft_set_body_vertices(c->world, 0, body.positions, 3).code != WEFT_OK);  // no body 0
+    CHECK(weft_attach_cloth_to_body(c->world, 0, 0).code != WEFT_OK);
+
+    // Destroyed: every call refuses the handle; destroying again does nothing.
+    WeftWorld* world = c->world;
+    weft_destroy_world(world);
+    c->world = nullptr;
+    CHECK_WEFT_ERROR(weft_step(world, 0.01f), WEFT_INVALID_ARGUMENT);
+    CHECK_WEFT_ERROR(weft_read_positions(world, 0, positions.data(), c->info.particle_count), WEFT_INVALID_ARGUMENT);
+    CHECK_WEFT_ERROR(weft_set_collider(world, 0, &collider), WEFT_INVALID_ARGUMENT);
+    CHECK_WEFT_ERROR(weft_set_wind(world, {0.0f, 0.0f, 0.0f}), WEFT_INVALID_ARGUMENT);
+    CHECK_WEFT_ERROR(weft_set_gravity(world, {0.0f, -9.81f, 0.0f}), WEFT_INVALID_ARGUMENT);
+    const WeftClothDesc cloth = weft_default_cloth_desc(c->asset);
+    WeftClothId cloth_id = 0;
+    CHECK_WEFT_ERROR(weft_add_cloth(world, &cloth, &cloth_id), WEFT_INVALID_ARGUMENT);
+    WeftColliderId collider_id = 0;
+    CHECK_WEFT_ERROR(weft_add_collider(world, &collider, &collider_id), WEFT_INVALID_ARGUMENT);
+    WeftBodyId body_id = 0;
+    CHECK_WEFT_ERROR(weft_add_body(world, &body, &body_id), WEFT_INVALID_ARGUMENT);
+    CHECK_WEFT_ERROR(weft_set_body_vertices(world, 0, nullptr, 0), WEFT_INVALID_ARGUMENT);
+    CHECK_WEFT_ERROR(weft_attach_cloth_to_body(world, 0, 0), WEFT_INVALID_ARGUMENT);
+    weft_destroy_world(world);
+    weft_destroy_world(nullptr);
+    CHECK_WEFT_ERROR(weft_step(nullptr, 0.01f), WEFT_INVALID_ARGUMENT);
+}
