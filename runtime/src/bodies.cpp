@@ -179,10 +179,12 @@ Result set_body_vertices(World* world, BodyId id, const Vec3* positions, uint32_
     return {};
 }
 
-Result query_body(const World* world, BodyId id, Vec3 point, BodyContact* out) {
+Result query_body(const World* world, BodyId id, Vec3 point, BodyContact* out, float reach_m) {
     if (Result r = find_body(world, id); !r.ok()) return r;
     if (out == nullptr) return make_error(ErrorCode::invalid_argument, "out is null");
     if (!is_finite(point)) return make_error(ErrorCode::non_finite, "query point is not finite");
+    if (!(reach_m >= 0.0f) || !(reach_m <= 100.0f))
+        return make_error(ErrorCode::out_of_range, "query reach %g m outside [0, 100]", double(reach_m));
     const BodyState& body = world->bodies[id.index];
     if (body.refit_pending)
         return make_error(ErrorCode::invalid_argument, "body moved since the last step: step first");
@@ -191,8 +193,9 @@ Result query_body(const World* world, BodyId id, Vec3 point, BodyContact* out) {
     // a body must therefore not run concurrently with each other.
     refresh_body_hierarchy(const_cast<BodyState&>(body), world->kernels->path);
     const float p[3] = {point.x, point.y, point.z};
-    *out = body.desc.reference_queries ? closest_hull_point(body, p)
-                                       : closest_hull_point_hierarchy(body, p, world->kernels->path);
+    const float reach = reach_m > 0.0f ? reach_m : body.desc.thickness_m + body.desc.margin_m;
+    *out = body.desc.reference_queries ? closest_hull_point(body, p, reach)
+                                       : closest_hull_point_hierarchy(body, p, reach, world->kernels->path);
     return {};
 }
 

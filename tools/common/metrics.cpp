@@ -181,9 +181,15 @@ Vec3 particle_position(const ClothView& c, uint32_t particle) {
 }
 
 namespace {
+// How deep `point` is inside the body's hull: the step's query, then, for a point it does not reach,
+// a query kDeepReach_m wide (a particle that went deeper than the step's reach is out of its sight,
+// and must not be out of the metric's).
+constexpr float kDeepReach_m = 0.25f;
 double body_depth_m(const World* world, BodyId body, Vec3 point) {
     BodyContact c;
-    return query_body(world, body, point, &c).ok() && c.found ? std::max(0.0, double(c.penetration_m)) : 0.0;
+    if (!query_body(world, body, point, &c).ok()) return 0.0;
+    if (!c.found && !(query_body(world, body, point, &c, kDeepReach_m).ok() && c.found)) return 0.0;
+    return std::max(0.0, double(c.penetration_m));
 }
 }  // namespace
 

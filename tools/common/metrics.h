@@ -39,7 +39,8 @@ double max_penetration_m(const ClothAsset& asset, const std::vector<Vec3>& posit
                          const ColliderDesc* colliders, uint32_t count);
 
 // Deepest a cloth's free particle lies below a body's offset hull (weft/body.h: what the body
-// pass enforces, as query_body sees it within the hull's reach), metres; 0 when none is.
+// pass enforces), metres, by query_body: within the step's reach, and 0.25 m deep for a particle
+// beyond it; 0 when none is.
 double max_body_penetration_m(const World* world, BodyId body, const ClothView& cloth);
 // The same over positions in caller order (a peer solver's output); particles pinned in the asset
 // (attached) are skipped.

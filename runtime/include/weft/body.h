@@ -103,7 +103,8 @@ struct BodyContact {
     Vec3 normal{};            // contact normal: the interpolated hull normal there (unit, outward)
     uint32_t triangle = 0;
 };
-Result query_body(const World* world, BodyId body, Vec3 point, BodyContact* out);
+// `reach_m` > 0 looks that far instead (a metric's depth of particles deeper than the step reaches).
+Result query_body(const World* world, BodyId body, Vec3 point, BodyContact* out, float reach_m = 0.0f);
 
 // The offset hull as the step sees it, for tests, debugging views and brute-force references.
 struct BodyView {

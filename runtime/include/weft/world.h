@@ -6,7 +6,8 @@
 //   void* block = aligned_alloc(need.alignment, need.bytes); // or a game's own pool
 //   World* world; create_world(desc, block, need.bytes, &world);
 //   add_cloth(world, cloth_desc, &cloth);  add_collider(world, collider_desc, &collider);
-//   every frame: set_collider_pose(...), set_wind(...), step(world, dt), read_positions(...)
+//   every frame: set_collider(...), set_body_vertices(...), set_wind(...), step(world, dt),
+//                read_positions(...), read_normals(...)
 //   destroy_world(world) (releases the Embree device of a world with bodies, weft/body.h), then
 //   free the block: it is the caller's.
 #pragma once
@@ -142,7 +143,8 @@ struct ClothId {
     uint32_t index = 0;
 };
 
-// The passes of a step, in the order they run (seed section 2.3).
+// The passes of a step (seed section 2.3), as WorldStats times them. They run in this order except
+// `coarse`, which runs before `integrate` on the nodes' own prediction (runtime/src/step.cpp).
 // `body`: the body colliders (refit of moved bodies, closest-point queries, tunnelling rays).
 // `normals`: the vertex normals the step ends with (WorldDesc::normals).
 enum class Pass : uint8_t { wind = 0, integrate, coarse, constraints, tethers, collide, body, normals, count };

@@ -22,6 +22,9 @@ inline void sub3(const float* a, const float* b, float* out) {
     out[2] = a[2] - b[2];
 }
 
+// How far from the hull the step looks for it: the cloth's thickness and the margin.
+float base_reach(const BodyState& body) { return body.desc.thickness_m + body.desc.margin_m; }
+
 // What the point-query callback reads and keeps: the closest hull triangle seen so far.
 struct ClosestQuery {
     const BodyState* body;
@@ -53,10 +56,9 @@ bool closest_triangle_callback(RTCPointQueryFunctionArguments* args) {
     return true;
 }
 
-// The closest hull triangle to `point` within thickness + margin: its index and barycentric point.
-// (The plain reference: no widening by the body's motion, the rtcPointQuery pass.)
-bool find_closest(const BodyState& body, const float* point, uint32_t* triangle, Barycentric* w) {
-    const float reach = body.desc.thickness_m + body.desc.margin_m;
+// The closest hull triangle to `point` within `reach` (the plain reference pass: thickness + margin,
+// not widened by the body's motion, the rtcPointQuery pass).
+bool find_closest(const BodyState& body, const float* point, float reach, uint32_t* triangle, Barycentric* w) {
     ClosestQuery q{&body, {point[0], point[1], point[2]}, reach * reach, 0, {1.0f, 0.0f, 0.0f}};
     RTCPointQuery query;
     query.x = point[0];
@@ -227,11 +229,11 @@ void compute_offset_hull(BodyState& body, const Vec3* positions, const float* pr
     }
 }
 
-BodyContact closest_hull_point(const BodyState& body, const float* point) {
+BodyContact closest_hull_point(const BodyState& body, const float* point, float reach) {
     BodyContact contact;
     uint32_t triangle = 0;
     Barycentric w{};
-    if (!find_closest(body, point, &triangle, &w)) return contact;
+    if (!find_closest(body, point, reach, &triangle, &w)) return contact;
     float hull_point[3], normal[3], to_hull[3];
     interpolate(body, triangle, w, hull_point, normal);
     sub3(hull_point, point, to_hull);
@@ -277,7 +279,7 @@ void collide_body_reference(const Particles& p, const BodyState& body, float sha
         }
         if (!contact) {
             counts.queried += 1;
-            if (!find_closest(body, x, &triangle, &w)) continue;
+            if (!find_closest(body, x, base_reach(body), &triangle, &w)) continue;
             float to_hull[3];
             interpolate(body, triangle, w, hull_point, normal);
             sub3(hull_point, x, to_hull);
@@ -300,7 +302,6 @@ const body_query::Path& path_for(SimdPath path) {
 }
 
 // Reach of the step's query: thickness + margin; each leaf adds its own sweep (BodyHierarchy).
-float base_reach(const BodyState& body) { return body.desc.thickness_m + body.desc.margin_m; }
 
 // Searches of the pushed particles after the first push (the crease rounds in collide_body).
 constexpr uint32_t kCreaseRounds = 4;
@@ -390,12 +391,23 @@ void collide_clusters(const Particles& particles, const uint32_t* order, const B
         if (q.active == 0) continue;
         const uint32_t met = search(body.hierarchy, reach, q, candidates, contacts_only);
         counts.queried += uint64_t(__builtin_popcount(met));
-        uint32_t pushed = 0, pushed_from[kClusterSlots];
+        uint32_t pushed = 0, pushed_from[kClusterSlots], lost = 0;
         uint32_t plane_triangle[kClusterSlots];  // the contact plane each point keeps (planes model)
         Barycentric plane_at[kClusterSlots];
+        // Point k inside the hull at barycentric `w` of `triangle`, by `penetration` along `normal`:
+        // the response (seed eq. 7-8 against the hull, with friction).
+        const auto respond = [&](uint32_t k, uint32_t triangle, Barycentric w, const float* normal, float penetration) {
+            const float* x = q.point[k];
+            counts.contacts += 1;
+            pushed |= 1u << k;
+            pushed_from[k] = triangle;
+            args.motion = surface_motion(body, triangle, w, share);
+            const Vec3W<F> xw{{x[0]}, {x[1]}, {x[2]}};
+            const Vec3W<F> nw{{normal[0]}, {normal[1]}, {normal[2]}};
+            resolve_contact(p, slot[k], xw, nw, F{penetration}, simd::Mask1{true}, args);
+        };
         for (uint32_t k = 0; k < n; ++k) {
             if (!(q.active >> k & 1u)) continue;
-            const uint32_t i = slot[k];
             const float* x = q.point[k];
             plane_triangle[k] = kNoTriangle;
             uint32_t triangle = kNoTriangle;
@@ -414,7 +426,10 @@ void collide_clusters(const Particles& particles, const uint32_t* order, const B
             }
             if (triangle == kNoTriangle) {
                 const Best& best = q.best[k];
-                if (!(best.distance2 < std::numeric_limits<float>::infinity())) continue;
+                if (!(best.distance2 < std::numeric_limits<float>::infinity())) {
+                    lost |= (q.rays >> k & 1u) << k;  // moved far and met no hull on the way: below
+                    continue;
+                }
                 w = {1.0f - best.v - best.w, best.v, best.w};
                 float hull_point[3], to_hull[3];
                 interpolate(body, best.triangle, w, hull_point, normal);
@@ -424,13 +439,49 @@ void collide_clusters(const Particles& particles, const uint32_t* order, const B
                 if (!(penetration > 0.0f)) continue;
                 triangle = best.triangle;
             }
-            counts.contacts += 1;
-            pushed |= 1u << k;
-            pushed_from[k] = triangle;
-            args.motion = surface_motion(body, triangle, w, share);
-            const Vec3W<F> xw{{x[0]}, {x[1]}, {x[2]}};
-            const Vec3W<F> nw{{normal[0]}, {normal[1]}, {normal[2]}};
-            resolve_contact(p, i, xw, nw, F{penetration}, simd::Mask1{true}, args);
+            respond(k, triangle, w, normal, penetration);
+        }
+        const uint32_t searched = q.active;  // the crease rounds reuse q.active
+        // A particle that moved further than the thickness, met no entering hull on the way and has
+        // no hull within reach may have slid along the hull from a contact (its ray then starts
+        // inside the hull and meets no entry) and cut under the surface by up to how far it moved:
+        // such particles (rare) look that much further, and are pushed out of the closest surface
+        // if they were on or in front of it before this substep.
+        if (lost != 0) {
+            float far = 0.0f;
+            for (uint32_t k = 0; k < n; ++k) {
+                if (!(lost >> k & 1u)) continue;
+                float moved[3];
+                sub3(q.point[k], q.origin[k], moved);
+                far = std::max(far, std::sqrt(dot3(moved, moved)));
+            }
+            // Its own cluster and leaf list: the crease rounds below search the cluster's.
+            Cluster lost_q;
+            Candidates lost_candidates;
+            for (uint32_t k = 0; k < n; ++k)
+                for (int a = 0; a < 3; ++a) lost_q.point[k][a] = q.point[k][a];
+            lost_q.active = lost, lost_q.rays = 0;
+            counts.queried +=
+                uint64_t(__builtin_popcount(search(body.hierarchy, reach + far, lost_q, lost_candidates, false)));
+            for (uint32_t k = 0; k < n; ++k) {
+                const Best& best = lost_q.best[k];
+                if (!(lost >> k & 1u) || !(best.distance2 < std::numeric_limits<float>::infinity())) continue;
+                const Barycentric w{1.0f - best.v - best.w, best.v, best.w};
+                float hull_point[3], normal[3], to_hull[3];
+                interpolate(body, best.triangle, w, hull_point, normal);
+                plane_triangle[k] = best.triangle, plane_at[k] = w;
+                sub3(hull_point, q.point[k], to_hull);
+                const float penetration = dot3(to_hull, normal);
+                // Only a particle that came from the surface it is now under (within reach of it
+                // before this substep): one that was already behind that surface's plane (a point
+                // outside in a crease, behind another part's tangent plane) or far in front of it
+                // is not taken to have cut under it.
+                const uint32_t i = slot[k];
+                const float previous[3] = {p.previous_x[i], p.previous_y[i], p.previous_z[i]};
+                sub3(hull_point, previous, to_hull);
+                const float was = dot3(to_hull, normal);  // how deep the particle was behind it
+                if (penetration > 0.0f && was <= thickness && was >= -reach) respond(k, best.triangle, w, normal, penetration);
+            }
         }
         // In a crease of the hull (between the thighs, in the armpit) the push out of one surface
         // can land inside the other: the pushed particles are searched again from where they
@@ -443,7 +494,6 @@ void collide_clusters(const Particles& particles, const uint32_t* order, const B
         // Each search starts from the triangle the particle was last pushed out of, at its distance
         // from where the particle landed (about zero): only a strictly closer triangle, the other side
         // of a crease, can change the answer, so every leaf whose box lies further away is skipped.
-        const uint32_t searched = q.active;  // the crease rounds reuse q.active
         uint32_t crease_triangle[kClusterSlots];  // the other side of a crease (planes model)
         Barycentric crease_at[kClusterSlots];
         for (uint32_t k = 0; k < n; ++k) crease_triangle[k] = kNoTriangle;
@@ -553,14 +603,14 @@ ContactPlanes contact_planes_in(float* block, uint32_t slot_count) {
     return c;
 }
 
-BodyContact closest_hull_point_hierarchy(const BodyState& body, const float* point, SimdPath path) {
+BodyContact closest_hull_point_hierarchy(const BodyState& body, const float* point, float reach, SimdPath path) {
     using namespace body_query;
     BodyContact contact;
     Candidates candidates;
     Cluster q;
     q.point[0][0] = point[0], q.point[0][1] = point[1], q.point[0][2] = point[2];
     q.active = 1u;
-    path_for(path).search(body.hierarchy, base_reach(body), q, candidates, false);
+    path_for(path).search(body.hierarchy, reach, q, candidates, false);
     const Best& best = q.best[0];
     if (!(best.distance2 < std::numeric_limits<float>::infinity())) return contact;
     const Barycentric w{1.0f - best.v - best.w, best.v, best.w};

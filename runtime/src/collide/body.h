@@ -91,10 +91,10 @@ Barycentric closest_on_triangle(const float* p, const float* a, const float* b, 
 // each vertex's motion |hull - previous| (0 without `previous`, the hull before this pose).
 void compute_offset_hull(BodyState& body, const Vec3* positions, const float* previous = nullptr);
 
-// The closest hull point within thickness + margin (BodyContact::found false when none is), by
+// The closest hull point within `reach` (BodyContact::found false when none is), by
 // Embree's rtcPointQuery (the reference; the step uses its own hierarchy unless
 // BodyDesc::reference_queries).
-BodyContact closest_hull_point(const BodyState& body, const float* point);
+BodyContact closest_hull_point(const BodyState& body, const float* point, float reach);
 
 // Arena bytes for the hierarchies of bodies with these totals (world sizing).
 size_t body_hierarchy_bytes(uint32_t triangles, uint32_t bodies);
@@ -156,9 +156,9 @@ void collide_body(const Particles& particles, const uint32_t* order, const BodyS
 // is scratch, [slot_count].
 void order_for_body_pass(const ClothAsset& asset, uint32_t* key, uint32_t* order);
 
-// The step's contact query for one point through the hierarchy (query_body): the same result as
-// the pass sees.
-BodyContact closest_hull_point_hierarchy(const BodyState& body, const float* point, SimdPath path);
+// The step's contact query for one point through the hierarchy (query_body): at the step's reach
+// (thickness + margin), the same result as the pass sees.
+BodyContact closest_hull_point_hierarchy(const BodyState& body, const float* point, float reach, SimdPath path);
 
 
 }  // namespace weft
