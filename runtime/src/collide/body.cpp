@@ -22,7 +22,7 @@ inline void sub3(const float* a, const float* b, float* out) {
     out[2] = a[2] - b[2];
 }
 
-// How far from the hull the step looks for it: the cloth's thickness and the margin.
+// Reach of the step's query: thickness + margin; each leaf adds its own sweep (BodyHierarchy).
 float base_reach(const BodyState& body) { return body.desc.thickness_m + body.desc.margin_m; }
 
 // What the point-query callback reads and keeps: the closest hull triangle seen so far.
@@ -300,8 +300,6 @@ const body_query::Path& path_for(SimdPath path) {
         if (const body_query::Path* avx2 = body_query::avx2_path(); avx2 != nullptr) return *avx2;
     return body_query::scalar_path();
 }
-
-// Reach of the step's query: thickness + margin; each leaf adds its own sweep (BodyHierarchy).
 
 // Searches of the pushed particles after the first push (the crease rounds in collide_body).
 constexpr uint32_t kCreaseRounds = 4;
