@@ -27,6 +27,7 @@
 #include "seed_scenes.h"
 #include "weft/weft.h"
 #include "weft/weft_c.h"
+#include "weft/cook.h"
 
 #if defined(__SANITIZE_ADDRESS__)
 #define WEFT_TEST_COUNT_MALLOC 0

@@ -18,6 +18,7 @@
 #include "outline.h"
 #include "pattern.h"
 #include "weft/cloth_asset.h"
+#include "weft/cook.h"
 
 using namespace weft;
 using namespace weft::bake;

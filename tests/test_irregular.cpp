@@ -15,6 +15,7 @@
 
 #include "metrics.h"
 #include "seed_scenes.h"
+#include "weft/cook.h"
 
 using namespace weft;
 

@@ -12,6 +12,7 @@
 
 #include "bake.h"
 #include "body_mesh.h"
+#include "weft/cook.h"
 
 using namespace weft;
 

@@ -22,6 +22,7 @@
 #include "mannequin.h"
 #include "weft/body.h"
 #include "weft/weft.h"
+#include "weft/cook.h"
 
 using namespace weft;
 

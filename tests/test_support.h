@@ -13,6 +13,7 @@
 #include "metrics.h"
 #include "seed_scenes.h"
 #include "weft/weft.h"
+#include "weft/cook.h"
 
 namespace weft::test {
 

@@ -447,7 +447,7 @@ TEST_CASE("corrupt asset: tether batch reaching past the slots") {
 // An extra tether batch longer than the particle arrays: particle0 + lane_count > slot_count. The
 // bounds check `particle0 > slot_count - lane_count` wraps around when lane_count > slot_count, so
 // the batch passes validation and the tether kernel then reads and writes past every particle
-// array (see the report: runtime/src/cook/validate.cpp, check_tethers).
+// array (see the report: runtime/src/asset/validate.cpp, check_tethers).
 TEST_CASE("corrupt asset: tether batch longer than all the slots") {
     expect_corrupt([](AssetCopy& c) {
         TetherBatch t;

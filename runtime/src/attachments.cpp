@@ -5,7 +5,7 @@
 #include <cmath>
 
 #include "constraints/attachments.h"
-#include "cook/garment.h"
+#include "asset/garment_checks.h"
 #include "world_internal.h"
 
 namespace weft {

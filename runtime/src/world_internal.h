@@ -2,6 +2,7 @@
 #pragma once
 
 #include "collide/body.h"
+#include "error.h"
 #include "kernels.h"
 #include "memory/arena.h"
 #include "weft/attachments.h"
@@ -81,8 +82,5 @@ SolverSplit resolve_split(const ClothDesc& desc, const ClothAsset& asset);
 
 // Creation-time validation that uses the world's scratch instead of allocating.
 Result validate_asset_with_scratch(const ClothAsset& asset, uint32_t* scratch, uint32_t scratch_count);
-
-// Formats a Result (printf-style, truncated to fit).
-Result make_error(ErrorCode code, const char* format, ...) __attribute__((format(printf, 2, 3)));
 
 }  // namespace weft

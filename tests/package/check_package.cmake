@@ -1,6 +1,7 @@
 # The installable package end to end (cmake -P): installs BUILD_DIR into a fresh prefix, configures
 # the out-of-tree consumer (tests/package/consumer) against it with find_package(Weft), builds it
-# and runs it (with ASSET, a baked .weft, when given): it must print OK.
+# and runs it (with ASSET, a baked .weft, when given) and the C++ cooker (Weft::cook): each must
+# print OK.
 #   cmake -DBUILD_DIR=... -DCONSUMER_DIR=... -DWORK_DIR=... -DGENERATOR=... [-DMAKE_PROGRAM=...]
 #         [-DC_COMPILER=... -DCXX_COMPILER=...] [-DASSET=...] -P check_package.cmake
 foreach(var BUILD_DIR CONSUMER_DIR WORK_DIR GENERATOR)
@@ -22,7 +23,8 @@ set(prefix ${WORK_DIR}/prefix)
 set(consumer_build ${WORK_DIR}/consumer-build)
 file(REMOVE_RECURSE ${WORK_DIR})
 run(${CMAKE_COMMAND} --install ${BUILD_DIR} --prefix ${prefix})
-foreach(file include/weft/weft_c.h include/weft/world.h lib/libweft.a lib/cmake/Weft/WeftConfig.cmake
+foreach(file include/weft/weft_c.h include/weft/world.h include/weft/cook.h lib/libweft.a lib/libweft_cook.a
+             lib/cmake/Weft/WeftConfig.cmake
              lib/cmake/Weft/WeftConfigVersion.cmake lib/cmake/Weft/WeftTargets.cmake)
   if(NOT EXISTS ${prefix}/${file})
     message(FATAL_ERROR "the install did not write ${file}")
@@ -45,4 +47,8 @@ run(${consumer_build}/consumer ${ASSET})
 if(NOT run_output MATCHES "^OK\n$")
   message(FATAL_ERROR "the consumer printed '${run_output}', not OK")
 endif()
-message(STATUS "installed into ${prefix}; the consumer built against it and printed OK")
+run(${consumer_build}/cooker)
+if(NOT run_output MATCHES "^OK\n$")
+  message(FATAL_ERROR "the cooker printed '${run_output}', not OK")
+endif()
+message(STATUS "installed into ${prefix}; the consumer and the cooker built against it and printed OK")

@@ -16,6 +16,7 @@
 #include "pattern.h"
 #include "sew.h"
 #include "weft/weft.h"
+#include "weft/cook.h"
 
 namespace weft::bake {
 

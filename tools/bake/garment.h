@@ -5,7 +5,7 @@
 // Per panel the outline is sampled at equal arc length, every seam's edges with the same count
 // (seed 4.1.1-4.1.2), the interior is a regular grid and the strip around it a CGAL mesh
 // (mesh_panel.h). The panels' grids share one lattice coordinate space so that the runtime's
-// parity planes hold all of them (runtime/src/cook/cook.cpp, assign_slots).
+// parity planes hold all of them (cook/cook.cpp, assign_slots).
 #pragma once
 
 #include <cstdint>
@@ -14,6 +14,7 @@
 
 #include "pattern.h"
 #include "weft/cloth_asset.h"
+#include "weft/cook.h"
 
 namespace weft::bake {
 

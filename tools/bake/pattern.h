@@ -10,6 +10,7 @@
 #include <string>
 #include <string_view>
 #include <vector>
+#include "weft/cook.h"
 
 namespace weft::bake {
 

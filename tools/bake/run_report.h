@@ -9,6 +9,7 @@
 
 #include "garment.h"
 #include "weft/cloth_asset.h"
+#include "weft/cook.h"
 
 namespace weft::bake {
 

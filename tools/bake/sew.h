@@ -33,6 +33,7 @@
 #include "weft/attachments.h"
 #include "weft/body.h"
 #include "weft/world.h"
+#include "weft/cook.h"
 
 namespace weft::bake {
 

@@ -21,6 +21,7 @@
 #include "asset_writer.h"
 #include "bake.h"
 #include "bench_run.h"
+#include "weft/cook.h"
 
 namespace weft::bench {
 namespace {

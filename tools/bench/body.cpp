@@ -22,6 +22,7 @@
 
 #include "body_mesh.h"
 #include "weft/weft.h"
+#include "weft/cook.h"
 
 namespace weft::bench {
 namespace {

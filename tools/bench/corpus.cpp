@@ -25,6 +25,7 @@
 #include "metrics.h"
 #include "progress.h"
 #include "scene.h"
+#include "weft/cook.h"
 
 namespace weft::bench {
 namespace {

@@ -13,6 +13,7 @@
 #include "mannequin.h"
 #include "skin_binding.h"
 #include "weft/weft.h"
+#include "weft/cook.h"
 
 namespace weft::scenes {
 

@@ -8,6 +8,7 @@
 #include <vector>
 
 #include "scene.h"
+#include "weft/cook.h"
 
 namespace weft::scenes {
 

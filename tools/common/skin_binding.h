@@ -8,6 +8,7 @@
 
 #include "weft/attachments.h"
 #include "weft/weft.h"
+#include "weft/cook.h"
 
 namespace weft::scenes {
 

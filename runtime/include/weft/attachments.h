@@ -40,39 +40,4 @@ Result bind_asset_skin_constraints(World* world, ClothId cloth, BodyId body);
 // `count` 0 removes it. Nothing is moved at once: the next substep projects.
 Result bind_skin_constraints(World* world, ClothId cloth, BodyId body, const SkinConstraints& skin);
 
-// ---------------------------------------------------------------------------------------------
-// Cooking skin constraints (offline or at load: allocates). weft-bake --body runs it on the dressed
-// garment and stores the result in the asset; a tool may run it for an asset baked without them.
-
-struct SkinBindingOptions {
-    // Radius of the ball around the particle's skinned rest position, metres (NvCloth's max
-    // distance), before the particle's scale. docs/decisions/2026-11-26-body-collision-models.md.
-    float max_distance_m = 0.03f;
-    // Particles further than this off the hull at rest (a skirt's hem, a loose sleeve) hang free:
-    // no max distance (a ball around a point skinned to the thigh drags the hem with the leg).
-    float loose_offset_m = 0.02f;
-    // How far behind the offset hull a particle may go, metres; negative: that far in front. The
-    // backstop plane is tangent at the bound point only, and a particle sliding along it sinks into
-    // a concave hull, so it stands 1.5 mm in front.
-    float backstop_m = -0.0015f;
-};
-
-// The garment in its dressed pose on the body's rest pose, caller particle order.
-struct SkinBindingDesc {
-    uint32_t particle_count = 0;
-    const Vec3* positions = nullptr;        // [particle_count] the dressed pose, metres
-    const float* inverse_masses = nullptr;  // [particle_count] 0: pinned, not bound
-    // Optional [particle_count] factor on max_distance_m (the pattern's per-panel "skin"
-    // max_distance_scale); 0 gives that particle no max distance, only its backstop. Null: 1.
-    const float* max_distance_scale = nullptr;
-    SkinBindingOptions options;
-};
-
-// Binds every free particle to the closest triangle of `body`'s offset hull as it is now (its rest
-// pose: view_body), at the closest point's barycentric weights, and measures its signed distance
-// along the interpolated normal there (the rest offset) as the step will. An exact closest-triangle
-// search over a uniform grid of the triangles, in double precision: offline work. Deterministic:
-// the same input gives the same arrays (of equally close triangles, the lowest index).
-Result cook_skin_binding(const BodyView& body, const SkinBindingDesc& desc, SkinBinding* out);
-
 }  // namespace weft

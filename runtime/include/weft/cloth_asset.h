@@ -6,11 +6,9 @@
 //   cloth state  - per instance, inside the world's memory block (positions, previous positions).
 //   step scratch - none: every pass works in place.
 //
-// An asset comes from `cook_cloth` (an in-memory triangle mesh, below) or from a baked file loaded
-// in place (weft/asset_file.h). Both give the same plain struct of pointers into memory the caller owns.
+// An asset comes from a baked file loaded in place (weft/asset_file.h) or from `cook_cloth` (an
+// in-memory triangle mesh, weft/cook.h: the cooking library). Both give the same plain struct of pointers into memory the caller owns.
 #pragma once
-
-#include <vector>
 
 #include "weft/types.h"
 
@@ -117,17 +115,6 @@ struct SkinConstraints {
 // A max distance this large limits nothing: the particle is held by its backstop alone (a hem
 // hanging off the body, a panel the pattern lets swing: docs/pattern-format.md, "skin").
 inline constexpr float kSkinNoMaxDistance_m = 1e3f;
-
-// Owns the arrays a SkinConstraints points into (cooked: weft/attachments.h, cook_skin_binding).
-struct SkinBinding {
-    std::vector<uint32_t> particle, triangle;
-    std::vector<float> weight, rest_offset_m, max_distance_m, backstop_m;
-    SkinConstraints constraints() const {
-        if (particle.empty()) return {};
-        return {uint32_t(particle.size()), particle.data(),      triangle.data(), weight.data(),
-                rest_offset_m.data(),      max_distance_m.data(), backstop_m.data()};
-    }
-};
 
 // The asset proper. Every array is indexed by internal particle slot unless said otherwise; slots
 // are the order chosen at cook time so that constraint batches become contiguous runs.
@@ -265,164 +252,9 @@ inline uint32_t tether_anchor(const ClothAsset& a, const TetherBatch& t, uint32_
     return t.anchor[0] == kTetherLaneAnchors ? a.tether_anchor[side][t.first_lane + k] : t.anchor[side];
 }
 
-// ---------------------------------------------------------------------------------------------
-// Cooking: an in-memory triangle mesh -> a ClothAsset. Allocates (it is creation-time work, the
-// in-memory twin of weft-bake); the result owns its arrays.
-
-struct ClothMeshDesc {
-    uint32_t particle_count = 0;
-    const Vec3* positions = nullptr;  // [particle_count] start pose, metres
-    uint32_t triangle_count = 0;
-    const uint32_t* triangles = nullptr;  // [3 * triangle_count] caller particle indices
-
-    // Exactly one of these: kg per particle, or 1/kg per particle. Mass 0 / inverse mass 0 pins.
-    const float* masses = nullptr;
-    const float* inverse_masses = nullptr;
-
-    // Optional rest pose (e.g. the flat 2-D panel, z = 0); rest lengths are measured on it.
-    const Vec3* rest_positions = nullptr;
-
-    // Optional integer lattice coordinates (i, j) per particle, 2 ints each; (-1, -1) for none.
-    // Particles on a lattice are ordered in four parity planes so that every spring family of the
-    // lattice becomes contiguous runs (docs/architecture.md). Without it the caller order is kept.
-    const int32_t* lattice = nullptr;
-    // Optional slot stride of a parity plane's rows (lattice rows 2r and 2r + 1 share plane row r):
-    // plane node (r, c) goes to slot r * stride + c of its plane. 0: the lattice's own width in
-    // plane columns (a box). A narrower stride lets each plane row run on into the next (a helix):
-    // weft-bake packs garment panels for one so that slanted sides leave no holes at row ends
-    // (docs/pattern-format.md). Coordinates that meet at one slot go last, like duplicates.
-    uint32_t lattice_plane_stride = 0;
-
-    // Optional garment data, copied into the asset as given (ClothAsset documents each).
-    const float* uv = nullptr;  // [2 * particle_count]
-    uint32_t seam_point_count = 0;
-    const uint32_t* seam_first = nullptr;   // [seam_point_count + 1], seam_first[0] = 0, 2..8 apart
-    const uint32_t* seam_source = nullptr;  // [seam_first[seam_point_count]] caller particles
-    uint32_t panel_count = 0;
-    const uint16_t* panel = nullptr;  // [particle_count], each < panel_count
-    const Fabric* fabric = nullptr;   // null: the defaults
-    uint32_t sewn_point_count = 0;    // sewn seams, copied as given (ClothAsset documents them)
-    const uint32_t* sewn_particle = nullptr;
-    const uint32_t* sewn_uv_first = nullptr;
-    const float* sewn_uv = nullptr;
-    uint32_t attachment_count = 0;    // body attachments, copied as given (ClothAsset documents them)
-    const uint32_t* attached_particle = nullptr;
-    const uint32_t* attached_triangle = nullptr;
-    const float* attached_weight = nullptr;
-    SkinConstraints skin;             // skin constraints, copied as given (ClothAsset documents them)
-
-    // Optional rest shape per triangle: its three corners on the flat panels, [3 * triangle_count]
-    // (a sewn garment's particle on a seam has one flat position per panel). When given, a
-    // stretch/shear spring's rest length is its edge's length in its triangles (their mean), a bend
-    // spring's the distance of the two opposite corners with both triangles unfolded flat about
-    // their edge; rest_positions (or positions) then serve only tethers and the coarse level.
-    const Vec3* rest_corners = nullptr;
-};
-
-struct CookOptions {
-    // Tethers per free particle: 1 = to its nearest pinned particle, 2 = also to its farthest (two
-    // anchors far apart bound it in two directions); straight-line lengths on the rest mesh, or
-    // with rest_corners (a sewn garment) lengths along the flat panels, never shorter than the
-    // straight line in any pose. 0 = no tethers in the asset.
-    uint32_t tethers_per_particle = 2;
-    // Allow runs to bridge gaps of up to this many missing constraints with padding lanes.
-    uint32_t max_run_gap = 4;
-    // Shortest run worth a SIMD batch; shorter sequences go to the indexed path.
-    uint32_t min_run_lanes = 2 * kSimdWidth;
-    // Spacing of the coarse level's nodes along the mesh, metres; 0 = no coarse level.
-    float coarse_spacing_m = 0.13f;
-    // Lanes every run and padded count is a multiple of: kSimdWidth (8), or 16 for a 16-wide target.
-    uint32_t simd_width = kSimdWidth;
-};
-
-// Owns the arrays a cooked ClothAsset points into. Move-only.
-class CookedCloth {
-public:
-    CookedCloth() = default;
-    CookedCloth(const CookedCloth&) = delete;
-    CookedCloth& operator=(const CookedCloth&) = delete;
-    // Moving a vector keeps its buffer, so the moved asset's pointers stay valid.
-    CookedCloth(CookedCloth&&) noexcept = default;
-    CookedCloth& operator=(CookedCloth&&) noexcept = default;
-
-    const ClothAsset& asset() const { return asset_; }
-
-    // Storage; filled by cook_cloth. Public so tools can serialise it.
-    std::vector<uint32_t> slot_of_particle, particle_of_slot;
-    std::vector<float> start_x, start_y, start_z, inverse_mass;
-    std::vector<float> rest_length, lane_weight;
-    std::vector<uint32_t> index_a, index_b;
-    std::vector<ConstraintBatch> batches;
-    std::vector<float> tether_rest[2];
-    std::vector<TetherBatch> tether_batches;
-    std::vector<uint32_t> tether_anchor[2];
-    std::vector<uint32_t> triangles;
-    std::vector<TriangleRun> wind_runs;
-    std::vector<float> wind_lane_weight, wind_rest_area;
-    uint32_t wind_run_triangles = 0;
-    std::vector<uint32_t> coarse_node_slot, coarse_slot_of_node, coarse_node_of_slot;
-    std::vector<float> coarse_inverse_mass;
-    std::vector<float> coarse_rest_length, coarse_lane_weight;
-    std::vector<uint32_t> coarse_index_a, coarse_index_b;
-    std::vector<ConstraintBatch> coarse_batches;
-    uint32_t coarse_colour_count = 0, coarse_constraint_count = 0;
-    std::vector<uint32_t> coarse_weight_node[kCoarseWeights];
-    std::vector<float> coarse_weight[kCoarseWeights];
-    uint32_t coarse_lattice_cols = 0, lattice_plane_rows = 0, lattice_plane_cols = 0;
-    std::vector<uint32_t> coarse_row_node[2], coarse_col_node[2];
-    std::vector<float> coarse_row_frac[2], coarse_col_frac[2];
-    uint32_t simd_width = kSimdWidth;
-    std::vector<float> uv;
-    std::vector<uint32_t> seam_first, seam_source;
-    std::vector<uint16_t> panel;
-    uint32_t panel_count = 0;
-    bool has_fabric = false;
-    Fabric fabric;
-    std::vector<uint32_t> sewn_particle, sewn_uv_first;
-    std::vector<float> sewn_uv;
-    std::vector<uint32_t> attached_particle, attached_triangle;
-    std::vector<float> attached_weight;
-    SkinBinding skin;
-
-    // Points asset() at the vectors; call after changing them.
-    void refresh_asset(uint32_t particle_count, uint32_t colour_count, const uint32_t counts[3],
-                       uint32_t on_runs, uint32_t tethered_particles);
-    void refresh_asset() {
-        const ClothAsset a = asset_;
-        refresh_asset(a.particle_count, a.colour_count, a.constraint_count, a.constraints_on_runs,
-                      a.tethered_particles);
-    }
-
-private:
-    ClothAsset asset_;
-};
-
-// Derives stretch/shear springs on every edge and a bend spring across every interior edge (seed
-// section 1.1), orders particles for contiguous runs, colours the constraints into batches and
-// computes tethers. Fails with a message on malformed meshes (bad indices, NaN, negative mass).
-Result cook_cloth(const ClothMeshDesc& mesh, const CookOptions& options, CookedCloth* out);
-
 // Checks every invariant the solver relies on (indices in range, runs really contiguous and
 // particle-disjoint, finite rest lengths, ...). The world calls it before it uses an asset.
 Result validate_asset(const ClothAsset& asset);
 
-// Padding: SIMD lanes that do nothing, there so that every run is a whole number of SIMD groups.
-// padding_ratio = padding lanes / all lanes executed, over one sweep of every batched pass the step
-// runs for this asset (docs/asset-format.md): the constraint batches (lane_count lanes: run lanes,
-// padding included, and indexed lanes; padding = weight 0), the coarse level (coarse_lane_count,
-// weight 0), the tethers (tether_lane_count, both lengths +inf) and the wind (its run lanes plus
-// the triangles it gathers or takes one at a time; padding = weight-0 run lanes). Padding slots
-// are not lanes. A step of k iterations runs the constraint lanes k times per substep and the other
-// passes once: `constraints` alone is the ratio for large k.
-struct LanePadding {
-    struct Pass {
-        uint64_t padding_lanes = 0, all_lanes = 0;
-        double ratio() const { return all_lanes > 0 ? double(padding_lanes) / double(all_lanes) : 0.0; }
-    };
-    Pass constraints, coarse, tethers, wind;
-    uint64_t padding_lanes = 0, all_lanes = 0;  // the four passes together
-    double ratio() const { return all_lanes > 0 ? double(padding_lanes) / double(all_lanes) : 0.0; }
-};
-LanePadding lane_padding(const ClothAsset& asset);
 
 }  // namespace weft

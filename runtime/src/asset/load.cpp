@@ -8,6 +8,7 @@
 //   4. the section table: each section inside the file, aligned, overlapping nothing; each known
 //      kind at most once, with the element size and count the header implies; none missing
 //   5. (load only) the sections mapped into a ClothAsset, then validate_asset on it
+#include <algorithm>
 #include <bit>
 #include <cstddef>
 #include <cstring>

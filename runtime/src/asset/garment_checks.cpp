@@ -1,10 +1,10 @@
-// The garment data's invariants (cook/garment.h).
-#include "cook/garment.h"
+// The garment data's invariants (asset/garment_checks.h).
+#include "asset/garment_checks.h"
 
 #include <cmath>
 #include <cstring>
 
-#include "world_internal.h"
+#include "error.h"
 
 namespace weft {
 

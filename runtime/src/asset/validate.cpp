@@ -5,7 +5,7 @@
 #include <cmath>
 #include <vector>
 
-#include "cook/garment.h"
+#include "asset/garment_checks.h"
 #include "world_internal.h"
 
 namespace weft {
@@ -317,7 +317,7 @@ Result check_coarse(const ClothAsset& a, uint32_t* scratch) {
     return {};
 }
 
-// The garment data (cook/garment.h), every failure reported as a corrupt asset.
+// The garment data (asset/garment_checks.h), every failure reported as a corrupt asset.
 Result check_garment(const ClothAsset& a, uint32_t* scratch) {
     Result r = check_uv(a.uv, a.particle_count);
     if (r.ok()) r = check_seam_offsets(a.seam_point_count, a.seam_first);

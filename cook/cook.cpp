@@ -18,9 +18,10 @@
 #include <utility>
 
 #include "cook/coarse.h"
-#include "cook/garment.h"
 #include "cook/lanes.h"
-#include "world_internal.h"
+#include "asset/garment_checks.h"
+#include "error.h"
+#include "weft/cook.h"
 
 namespace weft {
 

@@ -1,4 +1,4 @@
-// Cooking skin constraints (weft/attachments.h: cook_skin_binding): every free particle of a
+// Cooking skin constraints (weft/cook.h: cook_skin_binding): every free particle of a
 // dressed garment bound to the closest triangle of the body's offset hull, the way weft-bake binds
 // a waistband's attachments (barycentric weights of the closest point), plus its signed distance
 // along the interpolated normal there at rest. weft-bake stores the result in the asset; the
@@ -7,8 +7,8 @@
 #include <cmath>
 #include <limits>
 
-#include "weft/attachments.h"
-#include "world_internal.h"
+#include "error.h"
+#include "weft/cook.h"
 
 namespace weft {
 namespace {

@@ -4,7 +4,7 @@
 
 #include <vector>
 
-#include "weft/cloth_asset.h"
+#include "weft/cook.h"
 
 namespace weft {
 
