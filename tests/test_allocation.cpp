@@ -28,6 +28,7 @@
 #include "weft/weft.h"
 #include "weft/weft_c.h"
 #include "weft/cook.h"
+#include "weft/debug.h"
 
 #if defined(__SANITIZE_ADDRESS__)
 #define WEFT_TEST_COUNT_MALLOC 0

@@ -13,6 +13,7 @@
 
 #include "asset/xxh64.h"
 #include "asset_writer.h"
+#include "weft/asset_format.h"
 
 using namespace weft;
 using namespace weft::test;

@@ -142,6 +142,9 @@ TEST_CASE("C API: normals of a flat square point along its winding's normal, are
     REQUIRE_WEFT_OK(weft_asset_triangles(c->asset, triangles.data(), uint32_t(triangles.size())));
     REQUIRE(triangles.size() == cpp->mesh.triangles.size());
     for (uint32_t v : triangles) REQUIRE(v < c->info.particle_count);  // caller order
+    std::vector<Vec3> start(p.size());  // the start pose: where the cloth is before its first step
+    REQUIRE_WEFT_OK(weft_asset_start_positions(c->asset, reinterpret_cast<WeftVec3*>(start.data()), uint32_t(start.size())));
+    CHECK(same_bits(start, p));
     for (const Vec3& v : n) {
         CHECK(std::fabs(v.x) < 1e-6f);
         CHECK(std::fabs(std::fabs(v.y) - 1.0f) < 1e-6f);
@@ -171,6 +174,10 @@ TEST_CASE("C API: null pointers, small blocks and bad descriptions are refused w
     CHECK_WEFT_ERROR(weft_asset_triangles(c->asset, nullptr, 3), WEFT_INVALID_ARGUMENT);
     uint32_t three[3];
     CHECK_WEFT_ERROR(weft_asset_triangles(c->asset, three, 3), WEFT_OUT_OF_RANGE);
+    WeftVec3 one[1];
+    CHECK_WEFT_ERROR(weft_asset_start_positions(nullptr, one, 1), WEFT_INVALID_ARGUMENT);
+    CHECK_WEFT_ERROR(weft_asset_start_positions(c->asset, nullptr, c->info.particle_count), WEFT_INVALID_ARGUMENT);
+    CHECK_WEFT_ERROR(weft_asset_start_positions(c->asset, one, 1), WEFT_OUT_OF_RANGE);
 
     // The world: a description without a cloth, null pointers, a block one byte short or misaligned.
     WeftWorldDesc desc = weft_default_world_desc();

@@ -2,6 +2,7 @@
 #include "test_support.h"
 
 #include <algorithm>
+#include <array>
 #include <map>
 #include <set>
 #include <utility>
@@ -332,4 +333,34 @@ TEST_CASE("tethers: a mesh with rest corners (sewn) measures them along its flat
         }
     }
     CHECK(checked == pose.size() - 2);
+}
+
+TEST_CASE("an asset's start pose and triangles read back in the caller's particle order") {
+    auto w = make_scene(scenes::SeedScene::drape, scene_options(25));
+    const ClothAsset& a = w->asset();
+    REQUIRE(a.slot_of_particle[1] != 1);  // the lattice's parity planes reorder the particles
+    std::vector<Vec3> start(a.particle_count);
+    REQUIRE(read_start_positions(a, start.data(), a.particle_count).ok());
+    for (uint32_t p = 0; p < a.particle_count; ++p) CHECK(same_bits({start[p]}, {w->mesh.positions[p]}));
+    // The same triangles as the cooked mesh, each wound the same way (a rotation of its corners),
+    // in any order.
+    std::vector<uint32_t> read(3 * size_t(a.triangle_count));
+    REQUIRE(read_triangles(a, read.data(), uint32_t(read.size())).ok());
+    REQUIRE(read.size() == w->mesh.triangles.size());
+    const auto canonical = [](const std::vector<uint32_t>& t) {
+        std::vector<std::array<uint32_t, 3>> out;
+        for (size_t k = 0; k + 2 < t.size(); k += 3) {
+            std::array<uint32_t, 3> c{t[k], t[k + 1], t[k + 2]};
+            std::rotate(c.begin(), std::min_element(c.begin(), c.end()), c.end());
+            out.push_back(c);
+        }
+        std::sort(out.begin(), out.end());
+        return out;
+    };
+    CHECK(canonical(read) == canonical(w->mesh.triangles));
+    // Wrong counts and null outputs are refused.
+    CHECK(read_start_positions(a, start.data(), a.particle_count - 1).code == ErrorCode::out_of_range);
+    CHECK(read_start_positions(a, nullptr, a.particle_count).code == ErrorCode::invalid_argument);
+    CHECK(read_triangles(a, read.data(), uint32_t(read.size()) + 3).code == ErrorCode::out_of_range);
+    CHECK(read_triangles(a, nullptr, uint32_t(read.size())).code == ErrorCode::invalid_argument);
 }

@@ -16,6 +16,7 @@
 #include "metrics.h"
 #include "seed_scenes.h"
 #include "weft/cook.h"
+#include "weft/debug.h"
 
 using namespace weft;
 

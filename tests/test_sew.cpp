@@ -23,6 +23,7 @@
 #include "weft/body.h"
 #include "weft/weft.h"
 #include "weft/cook.h"
+#include "weft/debug.h"
 
 using namespace weft;
 

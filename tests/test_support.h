@@ -14,6 +14,7 @@
 #include "seed_scenes.h"
 #include "weft/weft.h"
 #include "weft/cook.h"
+#include "weft/debug.h"
 
 namespace weft::test {
 

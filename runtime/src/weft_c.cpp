@@ -156,13 +156,12 @@ WeftResult weft_asset_info(const WeftAsset* asset, WeftAssetInfo* out) {
 
 WeftResult weft_asset_triangles(const WeftAsset* asset, uint32_t* out_indices, uint32_t index_count) {
     if (Result r = live_asset(asset); !r.ok()) return to_c(r);
-    const ClothAsset& a = asset->asset;
-    if (out_indices == nullptr) return to_c(make_error(ErrorCode::invalid_argument, "out_indices is null"));
-    if (uint64_t(index_count) != 3 * uint64_t(a.triangle_count))
-        return to_c(make_error(ErrorCode::out_of_range, "index_count %u, the asset has %u triangles", index_count,
-                               a.triangle_count));
-    for (uint32_t i = 0; i < index_count; ++i) out_indices[i] = a.particle_of_slot[a.triangles[i]];
-    return {};
+    return to_c(read_triangles(asset->asset, out_indices, index_count));
+}
+
+WeftResult weft_asset_start_positions(const WeftAsset* asset, WeftVec3* out, uint32_t count) {
+    if (Result r = live_asset(asset); !r.ok()) return to_c(r);
+    return to_c(read_start_positions(asset->asset, to_cpp(out), count));
 }
 
 // --- the world --------------------------------------------------------------------------------------

@@ -6,6 +6,7 @@
 #include "kernels.h"
 #include "memory/arena.h"
 #include "weft/attachments.h"
+#include "weft/debug.h"
 #include "weft/world.h"
 
 namespace weft {

@@ -9,6 +9,7 @@
 
 #include "renderer.h"
 #include "scene.h"
+#include "weft/debug.h"
 
 namespace weft::viewer {
 

@@ -14,6 +14,7 @@
 #include <vector>
 
 #include "asset/xxh64.h"
+#include "weft/asset_format.h"
 #include "weft/weft.h"
 
 namespace {

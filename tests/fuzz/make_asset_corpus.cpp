@@ -10,6 +10,7 @@
 
 #include "asset_writer.h"
 #include "seed_scenes.h"
+#include "weft/asset_format.h"
 #include "weft/cook.h"
 
 using namespace weft;

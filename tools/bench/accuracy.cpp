@@ -5,6 +5,7 @@
 #include <chrono>
 #include <cmath>
 #include <limits>
+#include "weft/debug.h"
 
 namespace weft::bench {
 

@@ -23,6 +23,7 @@
 #include "body_mesh.h"
 #include "weft/weft.h"
 #include "weft/cook.h"
+#include "weft/debug.h"
 
 namespace weft::bench {
 namespace {

@@ -26,6 +26,7 @@
 #include "progress.h"
 #include "scene.h"
 #include "weft/cook.h"
+#include "weft/debug.h"
 
 namespace weft::bench {
 namespace {

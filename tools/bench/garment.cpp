@@ -30,6 +30,7 @@
 #include "metrics.h"
 #include "scene.h"
 #include "scene_json.h"
+#include "weft/debug.h"
 
 namespace weft::bench {
 namespace {

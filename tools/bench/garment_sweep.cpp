@@ -5,6 +5,7 @@
 #include <cmath>
 
 #include "garment.h"
+#include "weft/debug.h"
 
 namespace weft::bench {
 

@@ -11,6 +11,7 @@
 
 #include <cmath>
 #include <memory>
+#include "weft/debug.h"
 
 namespace weft::bench {
 

@@ -5,6 +5,7 @@
 
 #include "weft/body.h"
 #include "weft/weft.h"
+#include "weft/debug.h"
 
 namespace weft::metrics {
 

@@ -27,6 +27,7 @@
 #include "pictures.h"
 #include "progress.h"
 #include "scene_json.h"
+#include "weft/debug.h"
 
 namespace {
 

@@ -6,7 +6,7 @@
 
 #include <vector>
 
-#include "weft/body.h"
+#include "weft/debug.h"
 #include "weft/cloth_asset.h"
 
 namespace weft {

@@ -106,19 +106,5 @@ struct BodyContact {
 // `reach_m` > 0 looks that far instead (a metric's depth of particles deeper than the step reaches).
 Result query_body(const World* world, BodyId body, Vec3 point, BodyContact* out, float reach_m = 0.0f);
 
-// The offset hull as the step sees it, for tests, debugging views and brute-force references.
-struct BodyView {
-    uint32_t vertex_count = 0, triangle_count = 0;
-    const float* hull = nullptr;     // [4 * vertex_count]: x, y, z, the vertex's motion this step (m)
-    const float* normals = nullptr;  // [3 * vertex_count]: unit area-weighted vertex normals
-    const uint32_t* triangles = nullptr;
-    float thickness_m = 0, margin_m = 0;
-};
-Result view_body(const World* world, BodyId body, BodyView* out);
-
-// Diagnostics: called with `entering` true just before and false just after every rtcCommitScene
-// the world makes (creation and steps), so a test can tell Embree's allocations from Weft's.
-using EmbreeCommitHook = void (*)(void* user, bool entering);
-Result set_embree_commit_hook(World* world, EmbreeCommitHook hook, void* user);
 
 }  // namespace weft

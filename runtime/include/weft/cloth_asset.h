@@ -256,5 +256,16 @@ inline uint32_t tether_anchor(const ClothAsset& a, const TetherBatch& t, uint32_
 // particle-disjoint, finite rest lengths, ...). The world calls it before it uses an asset.
 Result validate_asset(const ClothAsset& asset);
 
+// ---------------------------------------------------------------------------------------------
+// What a renderer reads of an asset to build its mesh, in the caller's particle order (the order
+// of read_positions and read_normals), so it needs none of the solver's layout above: the particle
+// and triangle counts, these two, and the texture coordinates in `uv` ([2 * particle_count],
+// caller order; null when the asset has none).
+
+// The start pose, metres: count = particle_count.
+Result read_start_positions(const ClothAsset& asset, Vec3* out, uint32_t count);
+// The triangles as caller particle indices, wound as the mesh that was cooked (their order may
+// differ: the wind pass's runs come first): count = 3 * triangle_count.
+Result read_triangles(const ClothAsset& asset, uint32_t* out, uint32_t count);
 
 }  // namespace weft

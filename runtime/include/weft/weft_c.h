@@ -88,6 +88,8 @@ WeftResult weft_asset_info(const WeftAsset* asset, WeftAssetInfo* out);
 
 /* The triangles as particle indices (caller order, the asset's winding): 3 * triangle_count values. */
 WeftResult weft_asset_triangles(const WeftAsset* asset, uint32_t* out_indices, uint32_t index_count);
+/* The start pose, metres, caller order: particle_count values. */
+WeftResult weft_asset_start_positions(const WeftAsset* asset, WeftVec3* out, uint32_t count);
 
 /* --- the world ----------------------------------------------------------------------------------- */
 

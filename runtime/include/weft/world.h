@@ -60,7 +60,7 @@ struct WorldDesc {
     float air_density_kg_m3 = 1.2f;  // rho in equations (2) and (3)
 
     SimdPath simd = SimdPath::automatic;
-    bool profile = false;  // time every pass into WorldStats (one clock read per pass)
+    bool profile = false;  // time every pass (weft/debug.h: world_stats; one clock read per pass)
 };
 
 // How a spring's length correction is evaluated (runtime/src/constraints/distance.h).
@@ -89,8 +89,8 @@ enum class BudgetPolicy : uint8_t {
 };
 
 // Whether an explicit split runs the asset's coarse level. automatic: as the automatic policy
-// would for this cloth, off for a cloth its tethers hold (on the pinned n = 100 drape at 1 x 3 the
-// coarse level with tethers left 13% max strain against 3.0% without), on for one held by colliders.
+// would for this cloth: off for a cloth its tethers hold (the two fight: docs/solver.md), on for
+// one held by colliders.
 enum class CoarseLevel : uint8_t { automatic, off, on };
 
 // Per-instance solver settings. Defaults reproduce the seed experiments at the paper's budget
@@ -119,16 +119,14 @@ struct ClothDesc {
 
     bool tethers = true;          // use the asset's long-range attachments (either policy)
     // Also project the tethers before the sweeps, not only after them: the springs then start from
-    // positions within reach of the pins. Measured on the n = 100 drape: max strain 0.02% instead
-    // of 3.0%, for one more tether pass (about 1.2x the step time; docs/solver.md).
+    // positions within reach of the pins (less strain for one more tether pass; docs/solver.md).
     bool tethers_before_sweeps = false;
     float tether_slack = 0.0f;    // allowed extension before a tether acts, fraction of its length
     // Contact tethers (wherever the coarse level runs: the automatic policy's collider-held cloths,
     // or an explicit split with coarse_level): every coarse node is kept within its rest distance,
     // along the coarse edges, of the nearest node that holds the cloth (in contact with a collider
-    // that has friction at the end of the last step, or pinned). They keep the irregular disc on the
-    // sphere dropped 0.25 m off-centre, where the converged model lets it slide, and halve the
-    // grid's worst strain there, for 3-10% of the step (docs/solver.md).
+    // that has friction at the end of the last step, or pinned): a cloth draped over a collider
+    // does not slide off it (docs/solver.md, "Contact tethers").
     bool contact_tethers = true;
 
     // Wind (only when the world has the wind feature): drag and lift coefficients of (2), (3).
@@ -141,40 +139,6 @@ struct ColliderId {
 };
 struct ClothId {
     uint32_t index = 0;
-};
-
-// The passes of a step (seed section 2.3), as WorldStats times them. They run in this order except
-// `coarse`, which runs before `integrate` on the nodes' own prediction (runtime/src/step.cpp).
-// `body`: the body colliders (refit of moved bodies, closest-point queries, tunnelling rays).
-// `normals`: the vertex normals the step ends with (WorldDesc::normals).
-enum class Pass : uint8_t { wind = 0, integrate, coarse, constraints, tethers, collide, body, normals, count };
-const char* pass_name(Pass pass);
-
-struct WorldStats {
-    uint64_t steps = 0;
-    // Nanoseconds spent in each pass over all steps (only with WorldDesc::profile).
-    uint64_t pass_ns[static_cast<int>(Pass::count)] = {};
-    // Projections the last step ran on runs and on the indexed path (padding lanes excluded).
-    uint64_t run_projections = 0;
-    uint64_t indexed_projections = 0;
-    // Colliders skipped for a cloth in a substep because their box missed the cloth's, last step.
-    uint64_t colliders_skipped = 0;
-    // Body colliders, last step: particle contacts found, tunnelling rays cast, bodies refitted.
-    uint64_t body_contacts = 0;
-    uint64_t body_rays = 0;
-    uint64_t body_refits = 0;
-    // Last step: particles whose reach met a box of the body's hierarchy (needed triangle tests;
-    // with BodyDesc::reference_queries, every particle queried), and Embree refits (made only for
-    // the reference pass).
-    uint64_t body_queried = 0;
-    uint64_t body_embree_refits = 0;
-    // Nanoseconds (all steps, with WorldDesc::profile) of pass_ns[body] spent refitting moved
-    // bodies (Weft's hierarchy, or Embree's BVH for the reference pass).
-    uint64_t body_refit_ns = 0;
-    // Embree's heap as its memory monitor reports it (rtcSetDeviceMemoryMonitorFunction): bytes
-    // held now, and how many times it grew since creation.
-    int64_t embree_bytes = 0;
-    uint64_t embree_allocations = 0;
 };
 
 // --- creation -------------------------------------------------------------------------------
@@ -235,25 +199,6 @@ Result set_particle(World* world, ClothId cloth, uint32_t particle, Vec3 positio
 // Puts the cloth back at its start pose, at rest.
 Result reset_cloth(World* world, ClothId cloth);
 
-// Internal-order views for renderers and metrics that want no copy: slot arrays of the asset's
-// layout (x, y, z separately), valid until the next step.
-struct ClothView {
-    const ClothAsset* asset = nullptr;
-    const float* x = nullptr;
-    const float* y = nullptr;
-    const float* z = nullptr;
-    const float* previous_x = nullptr;
-    const float* previous_y = nullptr;
-    const float* previous_z = nullptr;
-    const float* inverse_mass = nullptr;
-    const float* normal_x = nullptr;  // unit vertex normals (null without WorldDesc::normals)
-    const float* normal_y = nullptr;
-    const float* normal_z = nullptr;
-    float last_substep_s = 0.0f;  // duration of the last substep (velocity = (x - previous) / it)
-};
-Result view_cloth(const World* world, ClothId cloth, ClothView* out);
-
-WorldStats world_stats(const World* world);
 SimdPath world_simd_path(const World* world);
 
 }  // namespace weft

@@ -15,7 +15,7 @@
 #include <type_traits>
 
 #include "asset/xxh64.h"
-#include "weft/asset_file.h"
+#include "weft/asset_format.h"
 #include "world_internal.h"
 
 namespace weft {

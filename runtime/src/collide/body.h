@@ -21,6 +21,7 @@
 
 #include "kernels.h"
 #include "weft/body.h"
+#include "weft/debug.h"
 
 namespace weft {
 

@@ -1,0 +1,84 @@
+// What a debugger, a profiler or a test reads: per-pass timings and counters, the cloth's and the
+// body's internal arrays without a copy, and a hook around Embree's commits. A game's frame needs
+// none of it (weft/weft.h does not include this header).
+#pragma once
+
+#include "weft/body.h"
+#include "weft/world.h"
+
+namespace weft {
+
+// --- the step's passes and counters -----------------------------------------------------------
+
+// The passes of a step (seed section 2.3), as WorldStats times them. They run in this order except
+// `coarse`, which runs before `integrate` on the nodes' own prediction (runtime/src/step.cpp).
+// `body`: the body colliders (refit of moved bodies, closest-point queries, tunnelling rays).
+// `normals`: the vertex normals the step ends with (WorldDesc::normals).
+enum class Pass : uint8_t { wind = 0, integrate, coarse, constraints, tethers, collide, body, normals, count };
+const char* pass_name(Pass pass);
+
+struct WorldStats {
+    uint64_t steps = 0;
+    // Nanoseconds spent in each pass over all steps (only with WorldDesc::profile).
+    uint64_t pass_ns[static_cast<int>(Pass::count)] = {};
+    // Projections the last step ran on runs and on the indexed path (padding lanes excluded).
+    uint64_t run_projections = 0;
+    uint64_t indexed_projections = 0;
+    // Colliders skipped for a cloth in a substep because their box missed the cloth's, last step.
+    uint64_t colliders_skipped = 0;
+    // Body colliders, last step: particle contacts found, tunnelling rays cast, bodies refitted.
+    uint64_t body_contacts = 0;
+    uint64_t body_rays = 0;
+    uint64_t body_refits = 0;
+    // Last step: particles whose reach met a box of the body's hierarchy (needed triangle tests;
+    // with BodyDesc::reference_queries, every particle queried), and Embree refits (made only for
+    // the reference pass).
+    uint64_t body_queried = 0;
+    uint64_t body_embree_refits = 0;
+    // Nanoseconds (all steps, with WorldDesc::profile) of pass_ns[body] spent refitting moved
+    // bodies (Weft's hierarchy, or Embree's BVH for the reference pass).
+    uint64_t body_refit_ns = 0;
+    // Embree's heap as its memory monitor reports it (rtcSetDeviceMemoryMonitorFunction): bytes
+    // held now, and how many times it grew since creation.
+    int64_t embree_bytes = 0;
+    uint64_t embree_allocations = 0;
+};
+
+WorldStats world_stats(const World* world);
+
+// --- internal arrays ----------------------------------------------------------------------------
+
+// The cloth's arrays in the asset's slot order (ClothAsset::particle_of_slot maps them to the
+// caller's particles), without a copy, for metrics and debug drawing; valid until the next step.
+struct ClothView {
+    const ClothAsset* asset = nullptr;
+    const float* x = nullptr;
+    const float* y = nullptr;
+    const float* z = nullptr;
+    const float* previous_x = nullptr;
+    const float* previous_y = nullptr;
+    const float* previous_z = nullptr;
+    const float* inverse_mass = nullptr;
+    const float* normal_x = nullptr;  // unit vertex normals (null without WorldDesc::normals)
+    const float* normal_y = nullptr;
+    const float* normal_z = nullptr;
+    float last_substep_s = 0.0f;  // duration of the last substep (velocity = (x - previous) / it)
+};
+Result view_cloth(const World* world, ClothId cloth, ClothView* out);
+
+// The offset hull as the step sees it, for tests, debugging views and brute-force references.
+struct BodyView {
+    uint32_t vertex_count = 0, triangle_count = 0;
+    const float* hull = nullptr;     // [4 * vertex_count]: x, y, z, the vertex's motion this step (m)
+    const float* normals = nullptr;  // [3 * vertex_count]: unit area-weighted vertex normals
+    const uint32_t* triangles = nullptr;
+    float thickness_m = 0, margin_m = 0;
+};
+Result view_body(const World* world, BodyId body, BodyView* out);
+
+// Diagnostics: called with `entering` true just before and false just after every rtcCommitScene
+// the world makes (creation and steps), so a test can tell Embree's allocations from Weft's.
+using EmbreeCommitHook = void (*)(void* user, bool entering);
+Result set_embree_commit_hook(World* world, EmbreeCommitHook hook, void* user);
+
+}  // namespace weft
