@@ -23,8 +23,8 @@
 #include <string>
 #include <vector>
 
-#include "asset_writer.h"
-#include "seed_scenes.h"
+#include "common/asset_writer.h"
+#include "common/seed_scenes.h"
 #include "weft/weft.h"
 #include "weft/weft_c.h"
 #include "weft/cook.h"
@@ -360,7 +360,7 @@ TEST_CASE("reset_cloth and set_cloth_settings between frames allocate nothing") 
 
 // --- bodies --------------------------------------------------------------------------------------
 
-#include "body_mesh.h"
+#include "body/body_mesh.h"
 
 namespace {
 

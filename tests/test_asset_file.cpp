@@ -12,7 +12,7 @@
 #include <random>
 
 #include "asset/xxh64.h"
-#include "asset_writer.h"
+#include "common/asset_writer.h"
 #include "weft/asset_format.h"
 
 using namespace weft;

@@ -12,11 +12,11 @@
 #include <string>
 #include <vector>
 
-#include "bake.h"
-#include "batch.h"
-#include "garment.h"
-#include "outline.h"
-#include "pattern.h"
+#include "bake/bake.h"
+#include "bake/batch.h"
+#include "bake/garment.h"
+#include "bake/outline.h"
+#include "bake/pattern.h"
 #include "weft/cloth_asset.h"
 #include "weft/cook.h"
 

@@ -6,8 +6,8 @@
 #include <string>
 #include <vector>
 
-#include "garment.h"
-#include "pattern.h"
+#include "bake/garment.h"
+#include "bake/pattern.h"
 
 using namespace weft::bake;
 

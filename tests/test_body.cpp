@@ -9,7 +9,7 @@
 #include <fstream>
 #include <random>
 
-#include "body_mesh.h"
+#include "body/body_mesh.h"
 
 using namespace weft;
 using namespace weft::test;

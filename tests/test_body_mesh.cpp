@@ -7,8 +7,8 @@
 
 #include <tiny_gltf.h>
 
-#include "body_mesh.h"
-#include "mannequin.h"
+#include "body/body_mesh.h"
+#include "body/mannequin.h"
 
 namespace weft {
 namespace {

@@ -1,7 +1,7 @@
 // The C interface (weft/weft_c.h): the seed drape and sphere driven through it step to the same bits
 // as through world.h, and bad input (null pointers, small blocks, corrupt files, dead handles) gives
 // an error code and a message, never a crash.
-#include "asset_writer.h"
+#include "common/asset_writer.h"
 #include "test_support.h"
 #include "weft/weft_c.h"
 

@@ -10,8 +10,8 @@
 
 #include <tiny_gltf.h>
 
-#include "scene.h"
-#include "scene_json.h"
+#include "common/scene.h"
+#include "common/scene_json.h"
 
 using namespace weft;
 

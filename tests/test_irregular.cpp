@@ -13,8 +13,8 @@
 #include <random>
 #include <vector>
 
-#include "metrics.h"
-#include "seed_scenes.h"
+#include "common/metrics.h"
+#include "common/seed_scenes.h"
 #include "weft/cook.h"
 #include "weft/debug.h"
 

@@ -7,7 +7,7 @@
 #include <map>
 #include <utility>
 
-#include "mannequin.h"
+#include "body/mannequin.h"
 
 namespace weft {
 namespace {

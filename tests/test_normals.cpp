@@ -1,6 +1,6 @@
 // The step's render output (WorldDesc::normals): unit, area-weighted vertex normals in the caller's
 // particle order, the same bits on every SIMD path.
-#include "scene.h"
+#include "common/scene.h"
 #include "test_support.h"
 
 namespace weft {

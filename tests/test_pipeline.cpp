@@ -12,10 +12,10 @@
 #include <utility>
 #include <vector>
 
-#include "bake.h"
-#include "metrics.h"
-#include "scene_json.h"
-#include "seed_scenes.h"
+#include "bake/bake.h"
+#include "common/metrics.h"
+#include "common/scene_json.h"
+#include "common/seed_scenes.h"
 #include "test_support.h"
 
 namespace weft {

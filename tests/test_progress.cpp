@@ -3,7 +3,7 @@
 // progress.* CTest tests run them on a pseudo-terminal, with --json and through a pipe.)
 #include <doctest/doctest.h>
 
-#include "progress.h"
+#include "common/progress.h"
 
 using namespace weft;
 

@@ -10,8 +10,8 @@
 #include <iterator>
 #include <string>
 
-#include "bake.h"
-#include "body_mesh.h"
+#include "bake/bake.h"
+#include "body/body_mesh.h"
 #include "weft/cook.h"
 
 using namespace weft;

@@ -11,7 +11,7 @@
 
 #include "headless.h"
 #include "renderer.h"
-#include "scene_json.h"
+#include "common/scene_json.h"
 #include "scene_snapshot.h"
 
 using namespace weft;

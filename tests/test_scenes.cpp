@@ -5,7 +5,7 @@
 #include <cstring>
 #include <string>
 
-#include "scene_json.h"
+#include "common/scene_json.h"
 #include "test_support.h"
 
 namespace weft {

@@ -14,12 +14,12 @@
 #include <optional>
 #include <sstream>
 
-#include "asset_writer.h"
-#include "body_mesh.h"
-#include "metrics.h"
-#include "scene_json.h"
-#include "bake.h"
-#include "mannequin.h"
+#include "common/asset_writer.h"
+#include "body/body_mesh.h"
+#include "common/metrics.h"
+#include "common/scene_json.h"
+#include "bake/bake.h"
+#include "body/mannequin.h"
 #include "weft/body.h"
 #include "weft/weft.h"
 #include "weft/cook.h"

@@ -10,8 +10,8 @@
 #include <string>
 #include <vector>
 
-#include "metrics.h"
-#include "seed_scenes.h"
+#include "common/metrics.h"
+#include "common/seed_scenes.h"
 #include "weft/weft.h"
 #include "weft/cook.h"
 #include "weft/debug.h"

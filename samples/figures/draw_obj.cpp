@@ -13,9 +13,9 @@
 
 #include <CLI/CLI.hpp>
 
-#include "body_mesh.h"
+#include "body/body_mesh.h"
 #include "headless.h"
-#include "pictures.h"
+#include "sim/pictures.h"
 #include "renderer.h"
 
 namespace {

@@ -2,7 +2,7 @@
 #pragma once
 
 #include "renderer.h"
-#include "scene.h"
+#include "common/scene.h"
 
 namespace weft::render {
 

@@ -4,8 +4,8 @@
 #include <cmath>
 #include <filesystem>
 
-#include "metrics.h"
-#include "scene_json.h"
+#include "common/metrics.h"
+#include "common/scene_json.h"
 #include "scene_snapshot.h"
 
 namespace weft::viewer {

@@ -8,7 +8,7 @@
 #include <vector>
 
 #include "renderer.h"
-#include "scene.h"
+#include "common/scene.h"
 #include "weft/debug.h"
 
 namespace weft::viewer {

@@ -5,8 +5,8 @@
 #include <cstdint>
 #include <string_view>
 
-#include "garment.h"
-#include "pattern.h"
+#include "bake/garment.h"
+#include "bake/pattern.h"
 
 extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
     using namespace weft::bake;

@@ -8,8 +8,8 @@
 #include <string>
 #include <vector>
 
-#include "asset_writer.h"
-#include "seed_scenes.h"
+#include "common/asset_writer.h"
+#include "common/seed_scenes.h"
 #include "weft/asset_format.h"
 #include "weft/cook.h"
 

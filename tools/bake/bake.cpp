@@ -1,4 +1,4 @@
-#include "bake.h"
+#include "bake/bake.h"
 
 #include <algorithm>
 #include <cmath>
@@ -6,7 +6,7 @@
 #include <filesystem>
 #include <optional>
 
-#include "asset_writer.h"
+#include "common/asset_writer.h"
 
 namespace weft::bake {
 namespace {

@@ -12,9 +12,9 @@
 #include <string_view>
 #include <vector>
 
-#include "garment.h"
-#include "pattern.h"
-#include "sew.h"
+#include "bake/garment.h"
+#include "bake/pattern.h"
+#include "bake/sew.h"
 #include "weft/weft.h"
 #include "weft/cook.h"
 

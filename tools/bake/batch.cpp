@@ -1,11 +1,11 @@
-#include "batch.h"
+#include "bake/batch.h"
 
 #include <filesystem>
 #include <set>
 
 #include <nlohmann/json.hpp>
 
-#include "bake.h"
+#include "bake/bake.h"
 
 namespace weft::bake {
 namespace {

@@ -1,6 +1,6 @@
 // mesh_garment: seam-consistent outline sampling, panel meshing with remeshing rounds, lattice
 // packing, seams, pins, masses and the quality report. See garment.h.
-#include "garment.h"
+#include "bake/garment.h"
 
 #include <algorithm>
 #include <array>
@@ -10,8 +10,8 @@
 #include <numeric>
 #include <stdexcept>
 
-#include "mesh_panel.h"
-#include "outline.h"
+#include "bake/mesh_panel.h"
+#include "bake/outline.h"
 
 namespace weft::bake {
 

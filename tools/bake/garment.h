@@ -12,7 +12,7 @@
 #include <string>
 #include <vector>
 
-#include "pattern.h"
+#include "bake/pattern.h"
 #include "weft/cloth_asset.h"
 #include "weft/cook.h"
 

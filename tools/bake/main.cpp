@@ -23,15 +23,15 @@
 #include <CLI/CLI.hpp>
 #include <nlohmann/json.hpp>
 
-#include "asset_writer.h"
-#include "bake.h"
-#include "batch.h"
-#include "body_mesh.h"
-#include "child_jobs.h"
-#include "mannequin.h"
-#include "metrics.h"
-#include "progress.h"
-#include "run_report.h"
+#include "common/asset_writer.h"
+#include "bake/bake.h"
+#include "bake/batch.h"
+#include "body/body_mesh.h"
+#include "common/child_jobs.h"
+#include "body/mannequin.h"
+#include "common/metrics.h"
+#include "common/progress.h"
+#include "bake/run_report.h"
 
 namespace {
 

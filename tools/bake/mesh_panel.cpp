@@ -1,6 +1,6 @@
 // Panel meshing: the grid (no CGAL) and the strip around it (CGAL's constrained Delaunay
 // triangulation and Delaunay mesher). See mesh_panel.h.
-#include "mesh_panel.h"
+#include "bake/mesh_panel.h"
 
 #include <CGAL/Constrained_Delaunay_triangulation_2.h>
 #include <CGAL/Delaunay_mesh_face_base_2.h>
@@ -15,7 +15,7 @@
 #include <numeric>
 #include <stdexcept>
 
-#include "outline.h"
+#include "bake/outline.h"
 
 namespace weft::bake {
 

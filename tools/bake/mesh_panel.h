@@ -11,7 +11,7 @@
 #include <cstdint>
 #include <vector>
 
-#include "pattern.h"
+#include "bake/pattern.h"
 
 namespace weft::bake {
 

@@ -1,4 +1,4 @@
-#include "outline.h"
+#include "bake/outline.h"
 
 #include <algorithm>
 #include <cmath>

@@ -1,7 +1,7 @@
 // Reading patterns: Weft's own JSON format and GarmentCode's (docs/pattern-format.md), both into
 // one Pattern. Every read names its place in the file, so a malformed pattern gets a message that
 // points at the fault; exceptions stay inside this file.
-#include "pattern.h"
+#include "bake/pattern.h"
 
 #include <algorithm>
 #include <cmath>
@@ -12,7 +12,7 @@
 #include <set>
 #include <stdexcept>
 
-#include "outline.h"
+#include "bake/outline.h"
 
 namespace weft::bake {
 

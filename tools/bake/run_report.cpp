@@ -1,4 +1,4 @@
-#include "run_report.h"
+#include "bake/run_report.h"
 
 #include <algorithm>
 #include <cmath>

@@ -7,7 +7,7 @@
 #include <map>
 #include <string>
 
-#include "garment.h"
+#include "bake/garment.h"
 #include "weft/cloth_asset.h"
 #include "weft/cook.h"
 

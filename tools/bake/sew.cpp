@@ -1,5 +1,5 @@
 // Virtual sewing (sew.h): sew, merge, drape, all stepped by the runtime in a world with the body.
-#include "sew.h"
+#include "bake/sew.h"
 
 #include <algorithm>
 #include <chrono>

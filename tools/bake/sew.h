@@ -29,7 +29,7 @@
 #include <memory>
 #include <vector>
 
-#include "pattern.h"
+#include "bake/pattern.h"
 #include "weft/attachments.h"
 #include "weft/body.h"
 #include "weft/world.h"

@@ -1,4 +1,4 @@
-#include "accuracy.h"
+#include "bench/accuracy.h"
 
 #include <time.h>
 

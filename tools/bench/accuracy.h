@@ -7,8 +7,8 @@
 #include <string>
 #include <vector>
 
-#include "metrics.h"
-#include "seed_scenes.h"
+#include "common/metrics.h"
+#include "common/seed_scenes.h"
 
 namespace weft::bench {
 

@@ -5,7 +5,7 @@
 // dominates; WorldDesc::profile times it. The figure is the constraint pass's median per-step time
 // divided by the projections it ran (padding lanes excluded): ns per constraint projection. The
 // variants take turns within each repeat, and the repeat with the lowest median is kept.
-#include "baked.h"
+#include "bench/baked.h"
 
 #include <nlohmann/json.hpp>
 
@@ -18,9 +18,9 @@
 #include <string>
 #include <vector>
 
-#include "asset_writer.h"
-#include "bake.h"
-#include "bench_run.h"
+#include "common/asset_writer.h"
+#include "bake/bake.h"
+#include "bench/bench_run.h"
 #include "weft/cook.h"
 
 namespace weft::bench {

@@ -1,4 +1,4 @@
-#include "bench_run.h"
+#include "bench/bench_run.h"
 
 #include <algorithm>
 #include <chrono>

@@ -14,8 +14,8 @@
 #include <string>
 #include <vector>
 
-#include "metrics.h"
-#include "seed_scenes.h"
+#include "common/metrics.h"
+#include "common/seed_scenes.h"
 #include "weft/debug.h"
 
 namespace weft::bench {

@@ -8,7 +8,7 @@
 // the skin of the torso, hips and upper arms, re-placed on the new pose before every step (a
 // garment-like load). The points are ordered as a garment's slots are: neighbours next to each other
 // (Morton order of their places on the A-pose), unless --random-order.
-#include "body.h"
+#include "bench/body.h"
 
 #include <algorithm>
 #include <chrono>
@@ -20,7 +20,7 @@
 
 #include <meshoptimizer.h>
 
-#include "body_mesh.h"
+#include "body/body_mesh.h"
 #include "weft/weft.h"
 #include "weft/cook.h"
 #include "weft/debug.h"

@@ -2,7 +2,7 @@
 // sewn, with the figures issue 21 judges a garment by. Each garment bakes in a child process of its
 // own (tools/common/child_jobs.h; the result, one JSON line, through a pipe), so a crash, a hang or
 // an allocation failure in one garment is that garment's error and the batch goes on.
-#include "corpus.h"
+#include "bench/corpus.h"
 
 #include <unistd.h>
 
@@ -18,13 +18,13 @@
 
 #include <nlohmann/json.hpp>
 
-#include "bake.h"
-#include "body_mesh.h"
-#include "child_jobs.h"
-#include "garment.h"
-#include "metrics.h"
-#include "progress.h"
-#include "scene.h"
+#include "bake/bake.h"
+#include "body/body_mesh.h"
+#include "common/child_jobs.h"
+#include "bench/garment.h"
+#include "common/metrics.h"
+#include "common/progress.h"
+#include "common/scene.h"
 #include "weft/cook.h"
 #include "weft/debug.h"
 

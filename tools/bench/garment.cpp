@@ -7,7 +7,7 @@
 // One world per body collision model (--collision), stepped in turn every frame; every row gives
 // the deepest particle by the exact hull query and the cloth's strain over the measured frames.
 //   weft-bench garment [--steps N] [--collision exact,cached_planes] [--json]
-#include "garment.h"
+#include "bench/garment.h"
 
 #include <embree3/rtcore.h>
 #include <unistd.h>
@@ -24,12 +24,12 @@
 
 #include <nlohmann/json.hpp>
 
-#include "bake.h"
-#include "body_mesh.h"
-#include "mannequin.h"
-#include "metrics.h"
-#include "scene.h"
-#include "scene_json.h"
+#include "bake/bake.h"
+#include "body/body_mesh.h"
+#include "body/mannequin.h"
+#include "common/metrics.h"
+#include "common/scene.h"
+#include "common/scene_json.h"
 #include "weft/debug.h"
 
 namespace weft::bench {

@@ -6,8 +6,8 @@
 #include <string>
 #include <vector>
 
-#include "bake.h"
-#include "scene.h"
+#include "bake/bake.h"
+#include "common/scene.h"
 
 namespace weft::bench {
 

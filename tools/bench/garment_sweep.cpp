@@ -1,10 +1,10 @@
-#include "garment_sweep.h"
+#include "bench/garment_sweep.h"
 
 #include <unistd.h>
 
 #include <cmath>
 
-#include "garment.h"
+#include "bench/garment.h"
 #include "weft/debug.h"
 
 namespace weft::bench {

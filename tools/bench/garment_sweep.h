@@ -8,8 +8,8 @@
 #include <memory>
 #include <string>
 
-#include "accuracy.h"
-#include "scene.h"
+#include "bench/accuracy.h"
+#include "common/scene.h"
 
 namespace weft::bench {
 

@@ -1,4 +1,4 @@
-#include "levers.h"
+#include "bench/levers.h"
 
 #include <cmath>
 #include <cstdio>

@@ -6,7 +6,7 @@
 #include <string>
 #include <vector>
 
-#include "bench_run.h"
+#include "bench/bench_run.h"
 
 namespace weft::bench {
 

@@ -27,14 +27,14 @@
 #include <string>
 #include <vector>
 
-#include "bench_run.h"
-#include "baked.h"
-#include "body.h"
-#include "corpus.h"
-#include "garment.h"
-#include "levers.h"
-#include "reference_double.h"
-#include "sweep.h"
+#include "bench/bench_run.h"
+#include "bench/baked.h"
+#include "bench/body.h"
+#include "bench/corpus.h"
+#include "bench/garment.h"
+#include "bench/levers.h"
+#include "bench/reference_double.h"
+#include "bench/sweep.h"
 
 namespace {
 

@@ -1,4 +1,4 @@
-#include "peer_bullet.h"
+#include "bench/peer_bullet.h"
 
 #ifdef WEFT_HAVE_BULLET
 

@@ -6,8 +6,8 @@
 
 #include <string>
 
-#include "accuracy.h"
-#include "garment_sweep.h"
+#include "bench/accuracy.h"
+#include "bench/garment_sweep.h"
 
 namespace weft::bench {
 

@@ -1,4 +1,4 @@
-#include "reference_double.h"
+#include "bench/reference_double.h"
 
 #include <chrono>
 #include <cstdint>

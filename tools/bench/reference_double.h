@@ -12,7 +12,7 @@
 #include <string>
 #include <vector>
 
-#include "accuracy.h"
+#include "bench/accuracy.h"
 
 namespace weft::bench {
 

@@ -1,4 +1,4 @@
-#include "sweep.h"
+#include "bench/sweep.h"
 
 #include <nlohmann/json.hpp>
 
@@ -7,10 +7,10 @@
 #include <cstdio>
 #include <limits>
 
-#include "bench_run.h"
-#include "garment_sweep.h"
-#include "peer_bullet.h"
-#include "progress.h"
+#include "bench/bench_run.h"
+#include "bench/garment_sweep.h"
+#include "bench/peer_bullet.h"
+#include "common/progress.h"
 
 namespace weft::bench {
 namespace {

@@ -14,7 +14,7 @@
 #include <string>
 #include <vector>
 
-#include "accuracy.h"
+#include "bench/accuracy.h"
 
 namespace weft::bench {
 

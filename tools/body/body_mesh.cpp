@@ -1,4 +1,4 @@
-#include "body_mesh.h"
+#include "body/body_mesh.h"
 
 #include <algorithm>
 #include <array>

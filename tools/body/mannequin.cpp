@@ -2,7 +2,7 @@
 // girths, tapered capsules for neck, limbs, hands and feet, an ellipsoid head), meshed by CGAL's
 // surface mesher (make_surface_mesh with the manifold tag: closed, manifold, oriented), then
 // skinned to a skeleton of bone segments. The only CGAL translation unit of tools/body.
-#include "mannequin.h"
+#include "body/mannequin.h"
 
 #include <algorithm>
 #include <cmath>

@@ -1,5 +1,5 @@
 // Asset files: the writer side of docs/asset-format.md.
-#include "asset_writer.h"
+#include "common/asset_writer.h"
 #include "weft/asset_format.h"
 
 #include <xxhash.h>

@@ -1,4 +1,4 @@
-#include "child_jobs.h"
+#include "common/child_jobs.h"
 
 #include <poll.h>
 #include <signal.h>

@@ -1,4 +1,4 @@
-#include "scene.h"
+#include "common/scene.h"
 
 #include <algorithm>
 #include <cmath>
@@ -8,8 +8,8 @@
 #include <iterator>
 #include <utility>
 
-#include "body_mesh.h"
-#include "mannequin.h"
+#include "body/body_mesh.h"
+#include "body/mannequin.h"
 
 namespace weft::scenes {
 

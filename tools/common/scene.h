@@ -9,9 +9,9 @@
 #include <string>
 #include <vector>
 
-#include "asset_writer.h"
-#include "mannequin.h"
-#include "skin_binding.h"
+#include "common/asset_writer.h"
+#include "body/mannequin.h"
+#include "common/skin_binding.h"
 #include "weft/weft.h"
 #include "weft/cook.h"
 

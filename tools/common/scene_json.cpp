@@ -1,6 +1,6 @@
 // Scene files: strict JSON reading. Every key is known, every number finite and in range, so a typo
 // in a scene file is an error with the key's path, never a silently ignored setting.
-#include "scene_json.h"
+#include "common/scene_json.h"
 
 #include <cmath>
 #include <filesystem>

@@ -4,7 +4,7 @@
 #include <string>
 #include <string_view>
 
-#include "scene.h"
+#include "common/scene.h"
 
 namespace weft::scenes {
 

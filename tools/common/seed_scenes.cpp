@@ -1,4 +1,4 @@
-#include "seed_scenes.h"
+#include "common/seed_scenes.h"
 
 #include <cmath>
 #include <cstdlib>

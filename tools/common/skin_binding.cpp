@@ -1,4 +1,4 @@
-#include "skin_binding.h"
+#include "common/skin_binding.h"
 
 #include <vector>
 

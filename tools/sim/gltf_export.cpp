@@ -1,4 +1,4 @@
-#include "gltf_export.h"
+#include "sim/gltf_export.h"
 
 #include <algorithm>
 #include <cstring>

@@ -23,10 +23,10 @@
 #include <CLI/CLI.hpp>
 #include <nlohmann/json.hpp>
 
-#include "metrics.h"
-#include "pictures.h"
-#include "progress.h"
-#include "scene_json.h"
+#include "common/metrics.h"
+#include "sim/pictures.h"
+#include "common/progress.h"
+#include "common/scene_json.h"
 #include "weft/debug.h"
 
 namespace {

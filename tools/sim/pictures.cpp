@@ -1,4 +1,4 @@
-#include "pictures.h"
+#include "sim/pictures.h"
 
 #include <cstdio>
 

@@ -7,7 +7,7 @@
 #include <string>
 #include <vector>
 
-#include "scene.h"
+#include "common/scene.h"
 
 namespace weft::sim {
 

@@ -1,5 +1,5 @@
 // weft-sim built without samples/render (libepoxy or stb missing): no pictures.
-#include "pictures.h"
+#include "sim/pictures.h"
 
 namespace weft::sim {
 

@@ -1,9 +1,9 @@
 // weft-sim's pictures drawn by samples/render on a headless OpenGL context, and the glTF export
 // built from the same geometry (cloth surfaces, texture coordinates, collider meshes).
-#include "gltf_export.h"
+#include "sim/gltf_export.h"
 #include "headless.h"
-#include "pictures.h"
-#include "progress.h"
+#include "sim/pictures.h"
+#include "common/progress.h"
 #include "renderer.h"
 #include "scene_snapshot.h"
 
