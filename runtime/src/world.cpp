@@ -6,6 +6,7 @@
 #include <initializer_list>
 #include <limits>
 #include <new>
+#include <type_traits>
 
 #include "world_internal.h"
 
@@ -58,9 +59,63 @@ bool is_finite(Vec3 v) { return std::isfinite(v.x) && std::isfinite(v.y) && std:
 
 namespace {
 
-// Particle arrays per cloth: x, y, z, previous x, y, z, inverse mass, (wind) 3 accelerations and
-// (normals) 3 normal components.
-uint32_t arrays_per_cloth(const WorldDesc& desc) { return 7u + (desc.wind ? 3u : 0u) + (desc.normals ? 3u : 0u); }
+// A cloth's arrays in the world's block, each starting on a cache line. One description serves
+// both uses: add_cloth carves one cloth's (cloth_array_counts), size_world sizes the block for the
+// capacities (capacity_array_counts: the counts summed over max_cloths cloths, bounded).
+struct ClothArrayCounts {
+    size_t slots = 0;          // per particle slot (positions, previous, inverse mass, wind, normals)
+    size_t node_lanes = 0;     // the coarse solve's per-node arrays, padded (kCoarseNodePadding)
+    size_t nodes = 0;          // per coarse node slot: its particle slot, anchor, anchor's rest, holds
+    size_t column_floats = 0;  // the coarse level's interpolated rows (CoarseState::column_rows)
+    size_t body_order = 0;     // the body pass's slot order (a world with bodies)
+    size_t plane_floats = 0;   // contact planes, per cached_planes body (a world with them)
+};
+
+ClothArrayCounts cloth_array_counts(const WorldDesc& desc, const ClothAsset& asset) {
+    ClothArrayCounts n;
+    n.slots = asset.slot_count;
+    n.node_lanes = size_t(asset.coarse_slot_count) + kCoarseNodePadding;
+    n.nodes = asset.coarse_slot_count;
+    n.column_floats = size_t(kCoarseColumnRows) * coarse_column_stride(asset.lattice_plane_cols);
+    n.body_order = desc.max_bodies > 0 ? asset.slot_count : 0;
+    n.plane_floats = size_t(kContactPlaneArrays) * desc.max_cached_plane_bodies * asset.slot_count;
+    return n;
+}
+
+// A lattice's plane holds at most a quarter of the slots, so a cloth's column stride is at most
+// slot_count / 4 + 2 * kSimdWidth (coarse_column_stride).
+ClothArrayCounts capacity_array_counts(const WorldDesc& desc) {
+    ClothArrayCounts n;
+    const size_t cloths = desc.max_cloths;
+    n.slots = desc.max_particles;
+    n.node_lanes = size_t(desc.max_coarse_nodes) + kCoarseNodePadding * cloths;
+    n.nodes = desc.max_coarse_nodes;
+    n.column_floats = kCoarseColumnRows * (size_t(desc.max_particles) / 4 + 2 * kSimdWidth * cloths);
+    n.body_order = desc.max_bodies > 0 ? desc.max_particles : 0;
+    n.plane_floats = size_t(kContactPlaneArrays) * desc.max_cached_plane_bodies * desc.max_particles;
+    return n;
+}
+
+// Calls visit(array, count) for every array of `cloth` in carving order (`array` a reference to the
+// cloth's pointer). Arrays of count 0 are visited too (they cost the sizer a cache line).
+template <class Visit>
+void visit_cloth_arrays(const WorldDesc& desc, const ClothArrayCounts& n, ClothInstance& cloth, Visit&& visit) {
+    Particles& p = cloth.particles;
+    for (float** a : {&p.x, &p.y, &p.z, &p.previous_x, &p.previous_y, &p.previous_z, &p.inverse_mass}) visit(*a, n.slots);
+    if (desc.wind)
+        for (float** a : {&p.wind_x, &p.wind_y, &p.wind_z}) visit(*a, n.slots);
+    if (desc.normals)
+        for (float** a : {&p.normal_x, &p.normal_y, &p.normal_z}) visit(*a, n.slots);
+    CoarseState& c = cloth.coarse;
+    for (float** a : {&c.x, &c.y, &c.z, &c.dx, &c.dy, &c.dz}) visit(*a, n.node_lanes);
+    visit(c.column_rows, n.column_floats);
+    visit(c.particle_slot, n.nodes);
+    visit(c.anchor, n.nodes);
+    visit(c.anchor_rest, n.nodes);
+    visit(c.holds, n.nodes);
+    if (n.body_order > 0) visit(cloth.body_order, n.body_order);
+    if (n.plane_floats > 0) visit(cloth.contact_planes, n.plane_floats);
+}
 
 // Asset validation stamps every particle slot and every coarse node slot.
 uint32_t validation_scratch_count(const WorldDesc& desc) {
@@ -81,28 +136,17 @@ ArenaSizer size_world(const WorldDesc& desc) {
     sizer.add(sizeof(ClothInstance) * desc.max_cloths);
     sizer.add(sizeof(ColliderState) * desc.max_colliders);
     sizer.add(sizeof(uint32_t) * validation_scratch_count(desc));
-    // Each cloth's arrays start on a cache line; every cloth may waste up to one line per array.
-    const size_t arrays = arrays_per_cloth(desc);
-    sizer.add(arrays * (sizeof(float) * size_t(desc.max_particles) + kCacheLine * desc.max_cloths));
-    // Coarse level: 6 node arrays (padded), kCoarseColumnRows interpolated rows of at most a quarter of the slots.
-    sizer.add(6 * (sizeof(float) * (size_t(desc.max_coarse_nodes) + kCoarseNodePadding * desc.max_cloths) +
-                   kCacheLine * desc.max_cloths));
-    sizer.add(kCoarseColumnRows * (sizeof(float) * (size_t(desc.max_particles) / 4 + 2 * kSimdWidth * desc.max_cloths)) +
-              kCacheLine * desc.max_cloths);
-    sizer.add(sizeof(uint32_t) * size_t(desc.max_coarse_nodes) + kCacheLine * desc.max_cloths);  // particle_slot
-    sizer.add(3 * (sizeof(uint32_t) * size_t(desc.max_coarse_nodes) + kCacheLine * desc.max_cloths));  // anchors
+    // The cloths' arrays: each cloth's start on a cache line, so each may waste up to one per array.
+    ClothInstance shape;
+    visit_cloth_arrays(desc, capacity_array_counts(desc), shape, [&](auto*& array, size_t count) {
+        sizer.add(sizeof(*array) * count + kCacheLine * desc.max_cloths);
+    });
     // Bodies: hull and previous hull (4 floats a vertex), normals (3), triangles (3 indices); each
     // array may waste a cache line per body, and Embree reads its buffers 16 bytes past the end.
     sizer.add(sizeof(BodyState) * desc.max_bodies);
     sizer.add(sizeof(float) * 11 * size_t(desc.max_body_vertices) + sizeof(uint32_t) * 3 * size_t(desc.max_body_triangles) +
               4 * (kCacheLine + 16) * size_t(desc.max_bodies));
     sizer.add(body_hierarchy_bytes(desc.max_body_triangles, desc.max_bodies));
-    if (desc.max_bodies > 0)  // each cloth's slot order for the body pass
-        sizer.add(sizeof(uint32_t) * size_t(desc.max_particles) + kCacheLine * desc.max_cloths);
-    if (desc.max_cached_plane_bodies > 0)  // each cloth's contact planes per cached_planes body
-        sizer.add(sizeof(float) * kContactPlaneArrays * size_t(desc.max_cached_plane_bodies) *
-                      size_t(desc.max_particles) +
-                  kCacheLine * desc.max_cloths);
     sizer.add(skin_pool_bytes(desc));
     sizer.bytes += kCacheLine;  // the caller's block may start anywhere on a cache line
     return sizer;
@@ -366,83 +410,31 @@ Result add_cloth(World* world, const ClothDesc& desc, ClothId* out_cloth) {
         !r.ok())
         return r;
 
-    // Carve the particle arrays; on failure restore the arena so nothing changes.
-    const Arena saved = world->arena;
-    float* arrays[22] = {};
-    const uint32_t count = arrays_per_cloth(world->desc);
-    const uint32_t column_stride = coarse_column_stride(asset.lattice_plane_cols);
-    for (uint32_t i = 0; i < count + 7; ++i) {
-        const uint32_t length = i < count       ? asset.slot_count
-                                : i < count + 6 ? asset.coarse_slot_count + kCoarseNodePadding
-                                                : kCoarseColumnRows * column_stride;
-        arrays[i] = world->arena.allocate_array<float>(length);
-        if (arrays[i] == nullptr) {
-            world->arena = saved;
-            return make_error(ErrorCode::capacity_exceeded, "world memory exhausted");
-        }
-    }
-    uint32_t* const node_particle_slot = world->arena.allocate_array<uint32_t>(asset.coarse_slot_count);
-    uint32_t* const node_anchor = world->arena.allocate_array<uint32_t>(asset.coarse_slot_count);
-    float* const node_anchor_rest = world->arena.allocate_array<float>(asset.coarse_slot_count);
-    uint32_t* const node_holds = world->arena.allocate_array<uint32_t>(asset.coarse_slot_count);
-    if ((node_particle_slot == nullptr || node_anchor == nullptr || node_anchor_rest == nullptr ||
-         node_holds == nullptr) &&
-        asset.coarse_slot_count > 0) {
-        world->arena = saved;
-        return make_error(ErrorCode::capacity_exceeded, "world memory exhausted");
-    }
-    uint32_t* const body_order = world->desc.max_bodies > 0 ? world->arena.allocate_array<uint32_t>(asset.slot_count) : nullptr;
-    const size_t plane_floats = size_t(kContactPlaneArrays) * world->desc.max_cached_plane_bodies * asset.slot_count;
-    float* const contact_planes = plane_floats > 0 ? world->arena.allocate_array<float>(plane_floats) : nullptr;
-    if (((body_order == nullptr && world->desc.max_bodies > 0) || (contact_planes == nullptr && plane_floats > 0)) &&
-        asset.slot_count > 0) {
-        world->arena = saved;
-        return make_error(ErrorCode::capacity_exceeded, "world memory exhausted");
-    }
-    for (size_t f = 0; f < plane_floats; ++f) contact_planes[f] = 0.0f;  // found at each step's first substep
-    if (body_order != nullptr) order_for_body_pass(asset, world->validation_scratch, body_order);
+    // Carve the cloth's arrays; on failure restore the arena so nothing changes.
     ClothInstance& cloth = world->cloths[world->cloth_count];
     cloth = ClothInstance();
+    const Arena saved = world->arena;
+    bool carved = true;
+    visit_cloth_arrays(world->desc, cloth_array_counts(world->desc, asset), cloth, [&](auto*& array, size_t count) {
+        array = world->arena.allocate_array<std::remove_reference_t<decltype(*array)>>(count);
+        carved = carved && array != nullptr;
+    });
+    if (!carved) {
+        world->arena = saved;
+        cloth = ClothInstance();
+        return make_error(ErrorCode::capacity_exceeded, "world memory exhausted");
+    }
     cloth.asset = &asset;
-    cloth.body_order = body_order;
-    cloth.contact_planes = contact_planes;
     cloth.settings = desc;
     cloth.split = resolve_split(desc, asset);
-    Particles& p = cloth.particles;
-    p.slot_count = asset.slot_count;
-    p.x = arrays[0];
-    p.y = arrays[1];
-    p.z = arrays[2];
-    p.previous_x = arrays[3];
-    p.previous_y = arrays[4];
-    p.previous_z = arrays[5];
-    p.inverse_mass = arrays[6];
-    uint32_t next_array = 7;
-    if (world->desc.wind) {
-        p.wind_x = arrays[next_array++];
-        p.wind_y = arrays[next_array++];
-        p.wind_z = arrays[next_array++];
-    }
-    if (world->desc.normals) {
-        p.normal_x = arrays[next_array++];
-        p.normal_y = arrays[next_array++];
-        p.normal_z = arrays[next_array++];
-    }
+    cloth.particles.slot_count = asset.slot_count;
+    if (cloth.body_order != nullptr) order_for_body_pass(asset, world->validation_scratch, cloth.body_order);
+    for (size_t f = 0; f < cloth_array_counts(world->desc, asset).plane_floats; ++f)
+        cloth.contact_planes[f] = 0.0f;  // found at each step's first substep
     CoarseState& c = cloth.coarse;
-    c.x = arrays[count + 0];
-    c.y = arrays[count + 1];
-    c.z = arrays[count + 2];
-    c.dx = arrays[count + 3];
-    c.dy = arrays[count + 4];
-    c.dz = arrays[count + 5];
-    c.particle_slot = node_particle_slot;
-    c.anchor = node_anchor;
-    c.anchor_rest = node_anchor_rest;
-    c.holds = node_holds;
     for (uint32_t k = 0; k < asset.coarse_slot_count; ++k)
-        node_particle_slot[k] = asset.coarse_node_slot[asset.coarse_node_of_slot[k]];
-    c.column_rows = arrays[count + 6];
-    c.column_stride = column_stride;
+        c.particle_slot[k] = asset.coarse_node_slot[asset.coarse_node_of_slot[k]];
+    c.column_stride = coarse_column_stride(asset.lattice_plane_cols);
     for (float* node_array : {c.x, c.y, c.z, c.dx, c.dy, c.dz})  // the padding is read, never used
         for (uint32_t i = 0; i < asset.coarse_slot_count + kCoarseNodePadding; ++i) node_array[i] = 0.0f;
     place_at_start(*world->kernels, cloth);
