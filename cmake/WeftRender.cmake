@@ -1,4 +1,4 @@
-# Finds the renderer's libraries (samples/render): libepoxy (OpenGL and EGL loader) and stb
+# Finds the renderer's libraries (tools/render): libepoxy (OpenGL and EGL loader) and stb
 # (PNG writing). Sets WEFT_HAVE_RENDER when WEFT_RENDER is on and both are there; without them
 # weft-sim builds without --png, --gif and --mp4 (ffmpeg is only needed at run time).
 option(WEFT_RENDER "Build the renderer (weft-sim --png/--gif/--mp4, the figures) when its libraries are found" ON)

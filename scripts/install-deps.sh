@@ -13,7 +13,7 @@ packages=(
   libbullet-dev gnuplot-nox                     # weft-bench sweep: the Bullet peer, the Pareto plot
   libtinyobjloader-dev libtinygltf-dev          # tools/body: body meshes from OBJ and glTF
   libmeshoptimizer-dev                          # weft-bench body --simplify: simplified collision hulls
-  libepoxy-dev libegl-dev libegl-mesa0          # samples/render: OpenGL loader, EGL (surfaceless)
+  libepoxy-dev libegl-dev libegl-mesa0          # tools/render: OpenGL loader, EGL (surfaceless)
   libgl1-mesa-dri libstb-dev ffmpeg             # llvmpipe, PNG writing, weft-sim --gif/--mp4, figures
   libglfw3-dev libimgui-dev fonts-dejavu-core   # samples/viewer: window, panel, the panel's font
   xvfb xauth                                    # the viewer's test: a real window on a virtual display

@@ -47,7 +47,7 @@ echo "== the sample skirt dressed on the mannequin (weft-bake --body mannequin),
 "$build_dir/tools/bake/weft-bake" samples/patterns/skirt.json --body mannequin -o "$out_dir/skirt-dressed.weft"
 "${sim[@]}" samples/scenes/skirt-walk.json --assets "$out_dir"
 echo
-echo "== pictures (weft-sim --png: samples/render on Mesa's llvmpipe, headless)"
+echo "== pictures (weft-sim --png: tools/render on Mesa's llvmpipe, headless)"
 sim_tool="$build_dir/tools/sim/weft-sim"
 if "$sim_tool" samples/scenes/drape-baked.json --assets "$build_dir/samples/assets" --png "$out_dir/drape-baked.png" >/dev/null &&
   "$sim_tool" samples/scenes/sphere.json --png "$out_dir/sphere.png" >/dev/null &&

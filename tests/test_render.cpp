@@ -1,4 +1,4 @@
-// The renderer (samples/render) on the headless context: the sphere scene's picture is not blank,
+// The renderer (tools/render) on the headless context: the sphere scene's picture is not blank,
 // and the cloth's pixels are where the cloth's projected bounding box says they must be; the dressed
 // skirt in wind (figure 14) shows the body around the garment. Runs on
 // Mesa's llvmpipe through EGL's surfaceless platform: no display, no GPU.
@@ -9,10 +9,10 @@
 #include <memory>
 #include <set>
 
-#include "headless.h"
-#include "renderer.h"
+#include "render/headless.h"
+#include "render/renderer.h"
 #include "common/scene_json.h"
-#include "scene_snapshot.h"
+#include "render/scene_snapshot.h"
 
 using namespace weft;
 

@@ -1,4 +1,4 @@
-// weft-draw-obj: draws OBJ files with the renderer (samples/render) into a PNG, headless. The figure
+// weft-draw-obj: draws OBJ files with the renderer (tools/render) into a PNG, headless. The figure
 // of the sewing (make-figures' figure 13) draws the frames weft-bake --sewing-frames writes: the
 // garment as a cloth (checker from its vt, metres on the flat panel) and the body beside it.
 //
@@ -14,9 +14,9 @@
 #include <CLI/CLI.hpp>
 
 #include "body/body_mesh.h"
-#include "headless.h"
+#include "render/headless.h"
 #include "sim/pictures.h"
-#include "renderer.h"
+#include "render/renderer.h"
 
 namespace {
 

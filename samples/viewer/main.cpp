@@ -1,5 +1,5 @@
 // weft-viewer: a window onto any scene file or baked asset (GLFW + OpenGL 3.3 + Dear ImGui, drawn
-// by samples/render's Renderer, the same one as weft-sim's pictures).
+// by tools/render's Renderer, the same one as weft-sim's pictures).
 //
 //   weft-viewer SCENE.json|ASSET.weft [--assets DIR] [--size WxH] [--paused]
 //               [--frames N --screenshot FILE.png]
@@ -25,9 +25,9 @@
 #include <backends/imgui_impl_opengl3.h>
 #include <imgui.h>
 
-#include "image.h"
+#include "render/image.h"
 #include "orbit.h"
-#include "renderer.h"
+#include "render/renderer.h"
 #include "session.h"
 
 namespace {

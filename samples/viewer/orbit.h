@@ -1,5 +1,5 @@
 // The viewer's camera: orbits a target point (azimuth, elevation, distance), pans by moving the
-// target, zooms by changing the distance. Built on samples/render's frame_box, so the first view is
+// target, zooms by changing the distance. Built on tools/render's frame_box, so the first view is
 // exactly the framing weft-sim's pictures use (the viewer test relies on that).
 #pragma once
 
@@ -8,7 +8,7 @@
 
 #include <glm/gtc/matrix_transform.hpp>
 
-#include "camera.h"
+#include "render/camera.h"
 
 namespace weft::viewer {
 

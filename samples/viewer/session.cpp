@@ -6,7 +6,7 @@
 
 #include "common/metrics.h"
 #include "common/scene_json.h"
-#include "scene_snapshot.h"
+#include "render/scene_snapshot.h"
 
 namespace weft::viewer {
 

@@ -7,7 +7,7 @@
 #include <string>
 #include <vector>
 
-#include "renderer.h"
+#include "render/renderer.h"
 #include "common/scene.h"
 #include "weft/debug.h"
 

@@ -1,4 +1,4 @@
-#include "headless.h"
+#include "render/headless.h"
 
 #include <algorithm>
 

@@ -7,7 +7,7 @@
 #include <memory>
 #include <string>
 
-#include "image.h"
+#include "render/image.h"
 
 namespace weft::render {
 

@@ -9,7 +9,7 @@
 #include <string>
 #include <vector>
 
-#include "camera.h"
+#include "render/camera.h"
 #include "weft/weft.h"
 
 namespace weft::render {

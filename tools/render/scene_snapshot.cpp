@@ -1,4 +1,4 @@
-#include "scene_snapshot.h"
+#include "render/scene_snapshot.h"
 
 namespace weft::render {
 

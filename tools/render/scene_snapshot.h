@@ -1,7 +1,7 @@
 // From a running scene (tools/common/scene.h) to what the renderer draws.
 #pragma once
 
-#include "renderer.h"
+#include "render/renderer.h"
 #include "common/scene.h"
 
 namespace weft::render {

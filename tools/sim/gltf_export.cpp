@@ -6,7 +6,7 @@
 #include <stb_image_write.h>  // the implementation is in Debian's libstb
 #include <tiny_gltf.h>
 
-#include "renderer.h"  // smooth_normals: the same normals the pictures are lit with
+#include "render/renderer.h"  // smooth_normals: the same normals the pictures are lit with
 
 namespace weft::sim {
 
@@ -72,7 +72,7 @@ int add_indices(tinygltf::Model* model, const std::vector<uint32_t>& indices) {
     return int(model->accessors.size() - 1);
 }
 
-// The renderer's checker (samples/render: 10 cm squares, the darker ones at 0.75) as a texture:
+// The renderer's checker (tools/render: 10 cm squares, the darker ones at 0.75) as a texture:
 // texture coordinates are metres on the flat cloth, so one repeat of this 1 m tile holds 10 x 10
 // squares. White and 0.75 grey, tinted by the material's base colour.
 int add_checker_texture(tinygltf::Model* model) {
@@ -149,7 +149,7 @@ std::string write_gltf(const std::string& path, const GltfRun& run,
     model.buffers.resize(1);
     model.scenes.resize(1);
     model.defaultScene = 0;
-    // The renderer's colours (samples/render): brick-red cloth, grey colliders.
+    // The renderer's colours (tools/render): brick-red cloth, grey colliders.
     const int cloth_material = add_material(&model, "cloth", {0.85, 0.36, 0.22, 1.0}, true);
     const bool has_body = std::any_of(run.cloths.begin(), run.cloths.end(), [](const GltfSurface& c) { return c.is_body; });
     const int collider_material =

@@ -1,6 +1,6 @@
 // weft-sim's pictures and exports: --png (one frame), --gif / --mp4 (the animation), --gltf (the
 // run as one glTF binary, gltf_export.h). While the scene runs the recorder keeps the positions of
-// the frames it needs; at the end it renders or exports them with samples/render's geometry.
+// the frames it needs; at the end it renders or exports them with tools/render's geometry.
 // Built without the renderer (its libraries missing), `write` only says so.
 #pragma once
 

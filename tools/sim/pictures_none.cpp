@@ -1,4 +1,4 @@
-// weft-sim built without samples/render (libepoxy or stb missing): no pictures.
+// weft-sim built without tools/render (libepoxy or stb missing): no pictures.
 #include "sim/pictures.h"
 
 namespace weft::sim {

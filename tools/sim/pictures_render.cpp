@@ -1,11 +1,11 @@
-// weft-sim's pictures drawn by samples/render on a headless OpenGL context, and the glTF export
+// weft-sim's pictures drawn by tools/render on a headless OpenGL context, and the glTF export
 // built from the same geometry (cloth surfaces, texture coordinates, collider meshes).
 #include "sim/gltf_export.h"
-#include "headless.h"
+#include "render/headless.h"
 #include "sim/pictures.h"
 #include "common/progress.h"
-#include "renderer.h"
-#include "scene_snapshot.h"
+#include "render/renderer.h"
+#include "render/scene_snapshot.h"
 
 namespace weft::sim {
 
