@@ -1,11 +1,13 @@
 #!/usr/bin/env bash
 # Builds and tests Weft twice: Release (build/), then AddressSanitizer + UBSan, RelWithDebInfo
-# (build-asan/); then, where clang is installed, fuzzes briefly (scripts/fuzz.sh, build-fuzz/).
+# (build-asan/); then, where clang is installed, checks the determinism hashes with a Clang build
+# (build-clang/) and fuzzes briefly (scripts/fuzz.sh, build-fuzz/).
 # Every configuration runs even when an earlier one fails, so one report shows them all.
 #   bash scripts/test.sh
 # Environment: WEFT_BUILD_DIR, WEFT_ASAN_BUILD_DIR, WEFT_FUZZ_BUILD_DIR (build directories, relative
 # to the repository), WEFT_SKIP_ASAN=1 (Release only), WEFT_SKIP_FUZZ=1, WEFT_FUZZ_SECONDS (per
-# harness, default 30), WEFT_CTEST_ARGS (extra ctest arguments, e.g. "-LE slow").
+# harness, default 30), WEFT_CTEST_ARGS (extra ctest arguments, e.g. "-LE slow"), WEFT_SKIP_CLANG=1
+# (no Clang determinism check), WEFT_CLANG_BUILD_DIR (default build-clang).
 # Exits non-zero when anything failed; the last line is always a one-line summary.
 set -euo pipefail
 
@@ -60,6 +62,27 @@ if [[ -z "${WEFT_SKIP_ASAN:-}" ]]; then
   export ASAN_OPTIONS=${ASAN_OPTIONS:-abort_on_error=0:halt_on_error=1:detect_stack_use_after_return=1}
   export UBSAN_OPTIONS=${UBSAN_OPTIONS:-print_stacktrace=1:halt_on_error=1}
   run_config asan "$asan_dir" -DCMAKE_BUILD_TYPE=RelWithDebInfo -DWEFT_SANITIZE=ON || failed=1
+fi
+
+# Clang, Release: the determinism hashes (tests/determinism.txt) from a second compiler. Only what
+# that test needs is built (the runtime, cook, the tools that bake the sample skirt).
+if [[ -z "${WEFT_SKIP_CLANG:-}" ]]; then
+  if command -v clang++ >/dev/null; then
+    clang_dir=${WEFT_CLANG_BUILD_DIR:-build-clang}
+    mkdir -p "$clang_dir"
+    echo "== clang: configure, build and run the determinism hashes ($clang_dir)"
+    if CC=clang CXX=clang++ cmake -S "$root" -B "$clang_dir" -G Ninja -DCMAKE_BUILD_TYPE=Release >"$clang_dir/configure.log" 2>&1 &&
+       ninja -C "$clang_dir" -j "$jobs" weft_determinism_tests >"$clang_dir/build.log" 2>&1 &&
+       (cd "$clang_dir" && ctest --output-on-failure --no-tests=error -R 'committed value'); then
+      results+=("clang: determinism hashes as committed")
+    else
+      grep -E -A5 'error|FAILED' "$clang_dir/configure.log" "$clang_dir/build.log" 2>/dev/null | head -n 40 || true
+      results+=("clang: determinism FAILED")
+      failed=1
+    fi
+  else
+    results+=("clang: skipped (no clang++)")
+  fi
 fi
 
 if [[ -z "${WEFT_SKIP_FUZZ:-}" ]]; then

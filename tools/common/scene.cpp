@@ -339,8 +339,8 @@ std::string build_scene(const Scene& scene, SceneWorld* out, const std::vector<s
 }
 
 std::vector<uint32_t> caller_triangles(const ClothAsset& asset) {
-    std::vector<uint32_t> t(asset.triangles, asset.triangles + 3 * size_t(asset.triangle_count));
-    for (uint32_t& v : t) v = asset.particle_of_slot[v];
+    std::vector<uint32_t> t(3 * size_t(asset.triangle_count));
+    read_triangles(asset, t.data(), uint32_t(t.size()));  // the count is the asset's: it cannot fail
     return t;
 }
 
