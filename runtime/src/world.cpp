@@ -414,8 +414,9 @@ Result add_cloth(World* world, const ClothDesc& desc, ClothId* out_cloth) {
     ClothInstance& cloth = world->cloths[world->cloth_count];
     cloth = ClothInstance();
     const Arena saved = world->arena;
+    const ClothArrayCounts counts = cloth_array_counts(world->desc, asset);
     bool carved = true;
-    visit_cloth_arrays(world->desc, cloth_array_counts(world->desc, asset), cloth, [&](auto*& array, size_t count) {
+    visit_cloth_arrays(world->desc, counts, cloth, [&](auto*& array, size_t count) {
         array = world->arena.allocate_array<std::remove_reference_t<decltype(*array)>>(count);
         carved = carved && array != nullptr;
     });
@@ -429,8 +430,7 @@ Result add_cloth(World* world, const ClothDesc& desc, ClothId* out_cloth) {
     cloth.split = resolve_split(desc, asset);
     cloth.particles.slot_count = asset.slot_count;
     if (cloth.body_order != nullptr) order_for_body_pass(asset, world->validation_scratch, cloth.body_order);
-    for (size_t f = 0; f < cloth_array_counts(world->desc, asset).plane_floats; ++f)
-        cloth.contact_planes[f] = 0.0f;  // found at each step's first substep
+    for (size_t f = 0; f < counts.plane_floats; ++f) cloth.contact_planes[f] = 0.0f;  // found at each step's first substep
     CoarseState& c = cloth.coarse;
     for (uint32_t k = 0; k < asset.coarse_slot_count; ++k)
         c.particle_slot[k] = asset.coarse_node_slot[asset.coarse_node_of_slot[k]];
