@@ -25,6 +25,7 @@
 
 #include "common/asset_writer.h"
 #include "common/seed_scenes.h"
+#include "common/thread_pool.h"
 #include "weft/weft.h"
 #include "weft/weft_c.h"
 #include "weft/cook.h"
@@ -290,6 +291,52 @@ TEST_CASE("stepping the sphere with friction 0.5 1000 times allocates nothing") 
 }
 TEST_CASE("stepping the sphere with contact tethers 1000 times allocates nothing") {
     check_no_allocation(SeedScene::sphere, true);
+}
+
+TEST_CASE("stepping four cloths on a thread pool of three allocates nothing, on any thread") {
+    // The pool hands the cloths stage to its workers (tools/common/thread_pool.h): the counter is
+    // global, so an allocation on a worker counts as one on the stepping thread.
+    auto seed = make_scene(SeedScene::sphere, SimdPath::automatic, true, 25);
+    const ClothAsset& asset = seed->asset();
+    weft::tools::ThreadPool pool(3);
+    WorldDesc wd;
+    wd.max_cloths = 0;
+    for (int k = 0; k < 4; ++k) reserve_cloth(wd, asset);
+    wd.max_colliders = 1;
+    wd.profile = true;
+    wd.scheduler = pool.scheduler();
+    const MemoryRequirements need = world_memory_requirements(wd);
+    std::unique_ptr<unsigned char[], void (*)(void*)> memory{
+        static_cast<unsigned char*>(std::aligned_alloc(need.alignment, (need.bytes + need.alignment - 1) / need.alignment * need.alignment)),
+        std::free};
+    World* world = nullptr;
+    REQUIRE(create_world(wd, memory.get(), need.bytes, &world).ok());
+    for (int k = 0; k < 4; ++k) {
+        ClothDesc cd;
+        cd.asset = &asset;
+        cd.translation_m = {3.0f * float(k), 0.0f, 0.0f};
+        ClothId id;
+        REQUIRE(add_cloth(world, cd, &id).ok());
+    }
+    ColliderDesc ground;
+    ground.shape = ColliderShape::plane;
+    ground.p0 = {0.0f, -0.5f, 0.0f};
+    ColliderId ground_id;
+    REQUIRE(add_collider(world, ground, &ground_id).ok());
+    uint64_t allocations = 0, deallocations = 0;
+    uint32_t failed = 0;
+    {
+        CountingScope counting;
+        for (int i = 0; i < 300; ++i)
+            if (!step(world, seed->dt_s).ok()) ++failed;
+        allocations = counting.allocations();
+        deallocations = counting.deallocations();
+    }
+    CHECK(failed == 0);
+    CHECK(allocations == 0);
+    CHECK(deallocations == 0);
+    CHECK(world_stats(world).steps == 300);
+    destroy_world(world);
 }
 
 TEST_CASE("a frame's calls allocate nothing: set_wind, set_collider, step, read_positions, read_normals, view_cloth") {

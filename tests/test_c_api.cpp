@@ -107,7 +107,14 @@ void check_same_bits_as_cpp(SeedScene scene) {
         REQUIRE(c->info.particle_count == cpp->asset().particle_count);
         for (uint32_t i = 1; i <= kSteps; ++i) {
             REQUIRE(step(cpp->world, cpp->dt_s).ok());
-            REQUIRE_WEFT_OK(weft_step(c->world, cpp->dt_s));
+            if (i % 2 == 1) {
+                REQUIRE_WEFT_OK(weft_step(c->world, cpp->dt_s));
+            } else {  // every other step stage by stage, as an engine's job system would run it
+                REQUIRE_WEFT_OK(weft_begin_step(c->world, cpp->dt_s));
+                for (WeftStepStage stage : {WEFT_STAGE_BODIES, WEFT_STAGE_CLOTHS})
+                    REQUIRE_WEFT_OK(weft_run_step_items(c->world, stage, 0, weft_step_stage_items(c->world, stage)));
+                REQUIRE_WEFT_OK(weft_end_step(c->world));
+            }
             if (i % 20 == 0) {
                 CAPTURE(i);
                 REQUIRE(same_bits(read_all(*cpp), read_c(*c)));
@@ -284,12 +291,19 @@ TEST_CASE("C API: stale ids and a destroyed world give an error, not a crash") {
     REQUIRE_WEFT_OK(weft_set_collider(c->world, 0, &collider));
     CHECK(weft_set_body_vertices(c->world, 0, body.positions, 3).code != WEFT_OK);  // no body 0
     CHECK(weft_attach_cloth_to_body(c->world, 0, 0).code != WEFT_OK);
+    CHECK_WEFT_ERROR(weft_set_cloth_body(c->world, 0, 0), WEFT_OUT_OF_RANGE);  // no body 0
+    CHECK_WEFT_ERROR(weft_run_step_items(c->world, WEFT_STAGE_CLOTHS, 0, 1), WEFT_INVALID_ARGUMENT);  // no step open
+    CHECK_WEFT_ERROR(weft_end_step(c->world), WEFT_INVALID_ARGUMENT);
+    CHECK(weft_step_stage_items(c->world, WEFT_STAGE_CLOTHS) == 1);
+    CHECK(weft_step_stage_items(nullptr, WEFT_STAGE_CLOTHS) == 0);
 
     // Destroyed: every call refuses the handle; destroying again does nothing.
     WeftWorld* world = c->world;
     weft_destroy_world(world);
     c->world = nullptr;
     CHECK_WEFT_ERROR(weft_step(world, 0.01f), WEFT_INVALID_ARGUMENT);
+    CHECK_WEFT_ERROR(weft_begin_step(world, 0.01f), WEFT_INVALID_ARGUMENT);
+    CHECK(weft_step_stage_items(world, WEFT_STAGE_CLOTHS) == 0);
     CHECK_WEFT_ERROR(weft_read_positions(world, 0, positions.data(), c->info.particle_count), WEFT_INVALID_ARGUMENT);
     CHECK_WEFT_ERROR(weft_set_collider(world, 0, &collider), WEFT_INVALID_ARGUMENT);
     CHECK_WEFT_ERROR(weft_set_wind(world, {0.0f, 0.0f, 0.0f}), WEFT_INVALID_ARGUMENT);

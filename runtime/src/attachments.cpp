@@ -13,6 +13,7 @@ namespace {
 
 Result find_cloth_and_body(const World* world, ClothId cloth, BodyId body) {
     if (world == nullptr) return make_error(ErrorCode::invalid_argument, "world is null");
+    if (Result r = refuse_while_stepping(world); !r.ok()) return r;
     if (cloth.index >= world->cloth_count)
         return make_error(ErrorCode::out_of_range, "cloth %u of %u", cloth.index, world->cloth_count);
     if (body.index >= world->body_count)

@@ -12,6 +12,7 @@ constexpr float kMaxCoordinate_m = 1e5f;  // beyond this a millimetre contact no
 
 Result find_body(const World* world, BodyId id) {
     if (world == nullptr) return make_error(ErrorCode::invalid_argument, "world is null");
+    if (Result r = refuse_while_stepping(world); !r.ok()) return r;
     if (id.index >= world->body_count)
         return make_error(ErrorCode::out_of_range, "body %u does not exist (%u bodies)", id.index, world->body_count);
     return {};
@@ -77,7 +78,7 @@ void refit_embree(World& world, BodyState& body) {
     rtcUpdateGeometryBuffer(body.geometry, RTC_BUFFER_TYPE_VERTEX, 0);
     rtcCommitGeometry(body.geometry);
     commit_body(world, body);
-    world.stats.body_embree_refits += 1;
+    body.embree_refits += 1;
 }
 
 namespace {
@@ -112,6 +113,7 @@ Result build_embree_scene(World& world, BodyState& body) {
 Result add_body(World* world, const BodyDesc& desc, BodyId* out_body) {
     if (world == nullptr || out_body == nullptr)
         return make_error(ErrorCode::invalid_argument, "world or out_body is null");
+    if (Result r = refuse_while_stepping(world); !r.ok()) return r;
     if (Result r = check_body_desc(*world, desc); !r.ok()) return r;
 
     // Carve the arrays; on failure restore the arena so nothing changes. The +4 pads let Embree
@@ -176,6 +178,14 @@ Result set_body_vertices(World* world, BodyId id, const Vec3* positions, uint32_
     if (!body.refit_pending) std::memcpy(body.previous_hull, body.hull, sizeof(float) * 4 * size_t(count));
     compute_offset_hull(body, positions, body.previous_hull);  // with each vertex's motion
     body.refit_pending = true;
+    return {};
+}
+
+Result set_cloth_body(World* world, ClothId cloth, BodyId body) {
+    if (Result r = find_cloth(world, cloth); !r.ok()) return r;
+    if (body.index != kEveryBody.index)
+        if (Result r = find_body(world, body); !r.ok()) return r;
+    world->cloths[cloth.index].own_body = body.index;
     return {};
 }
 

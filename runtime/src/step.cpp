@@ -17,6 +17,11 @@
 // Which of these passes exist is decided by what the world and the cloth have (no wind feature,
 // no wind pass; no colliders, no collision pass; no tethers, no tether pass), not per particle.
 // Nothing here allocates, throws, locks or reads global state.
+//
+// The step runs in stages of independent work items (weft/world.h, StepStage): the bodies (each
+// moved body's refit), then the cloths (all of the above for one cloth, which writes only its own
+// particles and counters and reads the bodies and colliders); end_step then adds the counters up
+// in a fixed order. So any split of the items over threads gives the same bits.
 #include <chrono>
 #include <cmath>
 #include <cstring>
@@ -32,28 +37,29 @@
 namespace weft {
 namespace {
 
-// Times one pass into WorldStats when the world was created with `profile`.
+// Times one pass of one cloth (or body) into its own counter when the world was created with
+// `profile`; end_step adds the counters into WorldStats.
 class PassTimer {
 public:
-    PassTimer(World& world, Pass pass) : world_(world), pass_(pass) {
-        if (world_.desc.profile) start_ = std::chrono::steady_clock::now();
+    PassTimer(const World& world, uint64_t& ns) : ns_(world.desc.profile ? &ns : nullptr) {
+        if (ns_ != nullptr) start_ = std::chrono::steady_clock::now();
     }
+    PassTimer(const World& world, ClothInstance& cloth, Pass pass)
+        : PassTimer(world, cloth.counts.pass_ns[static_cast<int>(pass)]) {}
     ~PassTimer() {
-        if (!world_.desc.profile) return;
+        if (ns_ == nullptr) return;
         const auto elapsed = std::chrono::steady_clock::now() - start_;
-        world_.stats.pass_ns[static_cast<int>(pass_)] +=
-            uint64_t(std::chrono::duration_cast<std::chrono::nanoseconds>(elapsed).count());
+        *ns_ += uint64_t(std::chrono::duration_cast<std::chrono::nanoseconds>(elapsed).count());
     }
 
 private:
-    World& world_;
-    Pass pass_;
+    uint64_t* ns_;
     std::chrono::steady_clock::time_point start_{};
 };
 
 void apply_external_forces(World& world, ClothInstance& cloth, float h) {
     if (!world.desc.wind) return;  // gravity and damping are applied inside Verlet
-    PassTimer timer(world, Pass::wind);
+    PassTimer timer(world, cloth, Pass::wind);
     const WindArgs args{world.wind_m_s, world.desc.air_density_kg_m3, cloth.settings.drag_coefficient,
                         cloth.settings.lift_coefficient, cloth.previous_substep_s, h};
     world.kernels->apply_wind(cloth.particles, *cloth.asset, args);
@@ -81,7 +87,7 @@ bool has_contact_tethers(const ClothInstance& cloth) {
 // resulting displacement to every particle.
 void correct_coarse_level(World& world, ClothInstance& cloth, float h) {
     if (!has_coarse_level(cloth)) return;
-    PassTimer timer(world, Pass::coarse);
+    PassTimer timer(world, cloth, Pass::coarse);
     CoarseState state = cloth.coarse;
     if (!has_contact_tethers(cloth)) state.anchor = nullptr;  // the solve then skips them
     world.kernels->solve_coarse_level(cloth.particles, integrate_args(world, cloth, h), *cloth.asset, state,
@@ -89,7 +95,7 @@ void correct_coarse_level(World& world, ClothInstance& cloth, float h) {
 }
 
 void integrate(World& world, ClothInstance& cloth, float h) {
-    PassTimer timer(world, Pass::integrate);
+    PassTimer timer(world, cloth, Pass::integrate);
     Particles& p = cloth.particles;
     world.kernels->integrate(p, integrate_args(world, cloth, h), *cloth.asset,
                              has_coarse_level(cloth) ? &cloth.coarse : nullptr);
@@ -100,7 +106,7 @@ void integrate(World& world, ClothInstance& cloth, float h) {
 }
 
 void correct_springs(World& world, ClothInstance& cloth, float h) {
-    PassTimer timer(world, Pass::constraints);
+    PassTimer timer(world, cloth, Pass::constraints);
     const ClothAsset& asset = *cloth.asset;
     DistanceArgs args[kConstraintKindCount];
     for (uint32_t kind = 0; kind < kConstraintKindCount; ++kind)
@@ -123,7 +129,7 @@ void correct_springs(World& world, ClothInstance& cloth, float h) {
 
 void apply_tethers(World& world, ClothInstance& cloth) {
     if (!cloth.split.tethers) return;
-    PassTimer timer(world, Pass::tethers);
+    PassTimer timer(world, cloth, Pass::tethers);
     const ClothAsset& asset = *cloth.asset;
     for (uint32_t b = 0; b < asset.tether_batch_count; ++b)
         world.kernels->project_tethers(cloth.particles, asset, asset.tether_batches[b],
@@ -132,7 +138,7 @@ void apply_tethers(World& world, ClothInstance& cloth) {
 
 void collide(World& world, ClothInstance& cloth, uint32_t substeps) {
     if (world.collider_count == 0) return;
-    PassTimer timer(world, Pass::collide);
+    PassTimer timer(world, cloth, Pass::collide);
     const float share = 1.0f / float(substeps);
     // A collider whose box misses the cloth's is skipped (a skirt's thigh capsules cost its
     // character's tee nothing).
@@ -150,7 +156,7 @@ void collide(World& world, ClothInstance& cloth, uint32_t substeps) {
         args.friction = c.desc.friction;
         args.motion = {c.motion_m.x * share, c.motion_m.y * share, c.motion_m.z * share};
         if (!collider_may_touch(box, args)) {
-            world.stats.colliders_skipped += 1;
+            cloth.counts.colliders_skipped += 1;
             continue;
         }
         world.kernels->collide(cloth.particles, args);
@@ -162,7 +168,7 @@ void collide(World& world, ClothInstance& cloth, uint32_t substeps) {
 // step's coarse solves (constraints/contact_tethers.h). Timed with the coarse level.
 void find_contact_anchors(World& world, ClothInstance& cloth) {
     if (!has_contact_tethers(cloth)) return;
-    PassTimer timer(world, Pass::coarse);
+    PassTimer timer(world, cloth, Pass::coarse);
     const ClothAsset& asset = *cloth.asset;
     begin_holding_nodes(cloth.particles, asset, cloth.coarse);
     for (uint32_t i = 0; i < world.collider_count; ++i)
@@ -171,44 +177,50 @@ void find_contact_anchors(World& world, ClothInstance& cloth) {
     update_contact_anchors(asset, cloth.coarse, (world.stats.steps & 1u) == 0);
 }
 
-// Bodies the game moved since the last step: refit Weft's hierarchy (or, for the plain reference
-// pass, BodyDesc::reference_queries, Embree's BVH) over the new offset hull (computed by
-// set_body_vertices). A body that stopped gets its previous hull equal to its hull again, so the
-// surface velocity friction sees is zero; a body that stays still costs nothing.
-void move_bodies(World& world) {
-    if (world.body_count == 0) return;
-    PassTimer timer(world, Pass::body);
+// Does `cloth` search `body`'s hull: every body, or its own (set_cloth_body), except the one its
+// skin constraints bind under skin_constraints (their backstop is its collision with that body).
+bool searches(const ClothInstance& cloth, const BodyState& body, uint32_t index) {
+    if (cloth.own_body != ~0u && cloth.own_body != index) return false;
+    return !(body.desc.collision == BodyCollision::skin_constraints && cloth.skin_body == index);
+}
+
+bool searched_by_a_cloth(const World& world, uint32_t body) {
+    for (uint32_t i = 0; i < world.cloth_count; ++i)
+        if (searches(world.cloths[i], world.bodies[body], body)) return true;
+    return false;
+}
+
+// The bodies stage, one body: if the game moved it since the last step, refit Weft's hierarchy
+// over the new offset hull (computed by set_body_vertices; the plain reference pass's Embree BVH
+// was refitted by begin_step). A body that stopped gets its previous hull equal to its hull again,
+// so the surface velocity friction sees is zero; a body that stays still costs nothing. A
+// skin_constraints body is refitted only when a cloth will search it (query_body refits on demand).
+void move_body(World& world, uint32_t index) {
+    BodyState& body = world.bodies[index];
+    PassTimer timer(world, body.pass_ns);
     const auto start = world.desc.profile ? std::chrono::steady_clock::now() : std::chrono::steady_clock::time_point{};
-    world.stats.body_refits = 0;
-    world.stats.body_embree_refits = 0;
-    for (uint32_t i = 0; i < world.body_count; ++i) {
-        BodyState& body = world.bodies[i];
-        // A skin_constraints body refits its hierarchy only when a search needs it (an unbound
-        // cloth in collide_bodies, query_body): its bound cloths never search.
-        const bool lazy = body.desc.collision == BodyCollision::skin_constraints && !body.desc.reference_queries;
-        if (body.refit_pending) {
-            if (body.desc.reference_queries) {
-                refit_embree(world, body);
-            } else if (lazy) {
-                body.hierarchy_stale = true;
-            } else {
-                refit_body_hierarchy(body, world.kernels->path);
-            }
-            body.refit_pending = false;
-            body.moving = true;
-            world.stats.body_refits += 1;
-        } else if (body.moving) {
-            for (uint32_t v = 0; v < body.vertex_count; ++v) body.hull[4 * v + 3] = 0.0f;  // no motion
-            std::memcpy(body.previous_hull, body.hull, sizeof(float) * 4 * size_t(body.vertex_count));
-            if (lazy)
-                body.hierarchy_stale = true;
-            else if (!body.desc.reference_queries)
-                refit_body_hierarchy(body, world.kernels->path);  // boxes no longer widened by the motion
-            body.moving = false;
+    const bool lazy = body.desc.collision == BodyCollision::skin_constraints && !body.desc.reference_queries;
+    if (body.refit_pending) {
+        if (lazy) {
+            body.hierarchy_stale = true;
+        } else if (!body.desc.reference_queries) {
+            refit_body_hierarchy(body, world.kernels->path);
         }
+        body.refit_pending = false;
+        body.moving = true;
+        body.refits += 1;
+    } else if (body.moving) {
+        for (uint32_t v = 0; v < body.vertex_count; ++v) body.hull[4 * v + 3] = 0.0f;  // no motion
+        std::memcpy(body.previous_hull, body.hull, sizeof(float) * 4 * size_t(body.vertex_count));
+        if (lazy)
+            body.hierarchy_stale = true;
+        else if (!body.desc.reference_queries)
+            refit_body_hierarchy(body, world.kernels->path);  // boxes no longer widened by the motion
+        body.moving = false;
     }
+    if (body.hierarchy_stale && searched_by_a_cloth(world, index)) refresh_body_hierarchy(body, world.kernels->path);
     if (world.desc.profile)
-        world.stats.body_refit_ns += uint64_t(
+        body.refit_ns += uint64_t(
             std::chrono::duration_cast<std::chrono::nanoseconds>(std::chrono::steady_clock::now() - start).count());
 }
 
@@ -217,7 +229,7 @@ void move_bodies(World& world) {
 // on the body's previous and current hull and its normal; every substep, the projection.
 void find_skin_frames(World& world, ClothInstance& cloth) {
     if (cloth.skin_body == ~0u) return;
-    PassTimer timer(world, Pass::body);
+    PassTimer timer(world, cloth, Pass::body);
     const BodyState& body = world.bodies[cloth.skin_body];
     // The last step's P is P on this step's previous hull (a byte copy of the hull it used).
     SkinState& s = cloth.skin_state;
@@ -230,20 +242,18 @@ void find_skin_frames(World& world, ClothInstance& cloth) {
 
 void project_skin_constraints(World& world, ClothInstance& cloth, uint32_t substep, uint32_t substeps) {
     if (cloth.skin_body == ~0u) return;
-    PassTimer timer(world, Pass::body);
+    PassTimer timer(world, cloth, Pass::body);
     world.kernels->project_skin(cloth.particles, cloth.skin_state, float(substep + 1) / float(substeps));
 }
 
 void collide_bodies(World& world, ClothInstance& cloth, uint32_t substep, uint32_t substeps) {
     if (world.body_count == 0) return;
-    PassTimer timer(world, Pass::body);
-    BodyPassCounts counts;
+    PassTimer timer(world, cloth, Pass::body);
+    BodyPassCounts& counts = cloth.counts.body;
     const uint32_t slots = cloth.particles.slot_count;
     for (uint32_t i = 0; i < world.body_count; ++i) {
-        BodyState& body = world.bodies[i];
-        if (body.desc.collision == BodyCollision::skin_constraints && cloth.skin_body == i)
-            continue;  // the skin constraints' backstop is this cloth's collision with the body
-        refresh_body_hierarchy(body, world.kernels->path);
+        const BodyState& body = world.bodies[i];
+        if (!searches(cloth, body, i)) continue;
         ContactPlanes planes{};
         if (body.plane_index != ~0u)  // a cached_planes body (add_body gave it its place)
             planes = contact_planes_in(cloth.contact_planes + size_t(body.plane_index) * kContactPlaneArrays * slots,
@@ -251,14 +261,11 @@ void collide_bodies(World& world, ClothInstance& cloth, uint32_t substep, uint32
         collide_body(cloth.particles, cloth.body_order, body, substep, substeps,
                      body.plane_index != ~0u ? &planes : nullptr, world.kernels->path, counts);
     }
-    world.stats.body_contacts += counts.contacts;
-    world.stats.body_rays += counts.rays;
-    world.stats.body_queried += counts.queried;
 }
 
 void find_vertex_normals(World& world, ClothInstance& cloth) {
     if (!world.desc.normals) return;
-    PassTimer timer(world, Pass::normals);
+    PassTimer timer(world, cloth, Pass::normals);
     world.kernels->vertex_normals(cloth.particles, *cloth.asset);
 }
 
@@ -298,24 +305,123 @@ uint64_t count_projections(const World& world, BatchLayout layout) {
     return lanes;
 }
 
+// The stages' work items: run_step_items and the scheduler's tasks.
+void run_items(World& world, StepStage stage, uint32_t begin, uint32_t end) {
+    for (uint32_t i = begin; i < end; ++i) {
+        if (stage == StepStage::bodies)
+            move_body(world, i);
+        else
+            step_cloth(world, world.cloths[i], world.step_dt_s);
+    }
+}
+
+struct StageTask {
+    World* world;
+    StepStage stage;
+};
+
+void run_stage_task(uint32_t begin, uint32_t end, void* context) {
+    const StageTask& task = *static_cast<const StageTask*>(context);
+    run_items(*task.world, task.stage, begin, end);
+}
+
+// One stage through the game's scheduler, or on this thread without one.
+void run_stage(World& world, StepStage stage) {
+    const uint32_t items = step_stage_items(&world, stage);
+    if (items == 0) return;
+    const StepScheduler& scheduler = world.desc.scheduler;
+    StageTask task{&world, stage};
+    if (scheduler.enqueue_task == nullptr) {
+        run_items(world, stage, 0, items);
+        return;
+    }
+    if (void* handle = scheduler.enqueue_task(run_stage_task, items, 1, &task, scheduler.user_context))
+        scheduler.finish_task(handle, scheduler.user_context);
+}
+
+Result check_step_range(const World* world, StepStage stage, uint32_t begin, uint32_t end) {
+    if (world == nullptr) return make_error(ErrorCode::invalid_argument, "world is null");
+    if (!world->step_open) return make_error(ErrorCode::invalid_argument, "no step is open: call begin_step first");
+    if (stage != StepStage::bodies && stage != StepStage::cloths)
+        return make_error(ErrorCode::invalid_argument, "unknown step stage %u", unsigned(stage));
+    const uint32_t items = step_stage_items(world, stage);
+    if (begin > end || end > items)
+        return make_error(ErrorCode::out_of_range, "items [%u, %u) outside the stage's %u", begin, end, items);
+    return {};
+}
+
 }  // namespace
 
-Result step(World* world, float dt_s) {
+Result refuse_while_stepping(const World* world) {
+    if (world != nullptr && world->step_open)
+        return make_error(ErrorCode::invalid_argument, "a step is open (begin_step without end_step)");
+    return {};
+}
+
+Result begin_step(World* world, float dt_s) {
     if (world == nullptr) return make_error(ErrorCode::invalid_argument, "world is null");
+    if (Result r = refuse_while_stepping(world); !r.ok()) return r;
     if (std::isnan(dt_s) || std::isinf(dt_s)) return make_error(ErrorCode::non_finite, "dt is not finite");
     if (!(dt_s > 0.0f) || dt_s > 1.0f)
         return make_error(ErrorCode::out_of_range, "dt %g s outside (0, 1]", double(dt_s));
-    world->stats.colliders_skipped = 0;
-    world->stats.body_contacts = 0;
-    world->stats.body_rays = 0;
-    world->stats.body_queried = 0;
-    move_bodies(*world);                                       // 0. the game's new body pose
-    for (uint32_t i = 0; i < world->cloth_count; ++i) step_cloth(*world, world->cloths[i], dt_s);
-    for (uint32_t i = 0; i < world->collider_count; ++i) world->colliders[i].motion_m = {};
-    world->stats.steps += 1;
-    world->stats.run_projections = count_projections(*world, BatchLayout::run);
-    world->stats.indexed_projections = count_projections(*world, BatchLayout::indexed);
+    for (uint32_t i = 0; i < world->cloth_count; ++i) world->cloths[i].counts = {};
+    for (uint32_t i = 0; i < world->body_count; ++i) {
+        BodyState& body = world->bodies[i];
+        body.refits = body.embree_refits = 0;
+        body.refit_ns = body.pass_ns = 0;
+        // The plain reference pass (a diagnostic) commits Embree scenes: here, on this thread.
+        if (body.desc.reference_queries && body.refit_pending) refit_embree(*world, body);
+    }
+    world->step_dt_s = dt_s;
+    world->step_open = true;
     return {};
+}
+
+uint32_t step_stage_items(const World* world, StepStage stage) {
+    if (world == nullptr) return 0;
+    return stage == StepStage::bodies ? world->body_count : stage == StepStage::cloths ? world->cloth_count : 0;
+}
+
+Result run_step_items(World* world, StepStage stage, uint32_t begin, uint32_t end) {
+    if (Result r = check_step_range(world, stage, begin, end); !r.ok()) return r;
+    run_items(*world, stage, begin, end);
+    return {};
+}
+
+Result end_step(World* world) {
+    if (world == nullptr) return make_error(ErrorCode::invalid_argument, "world is null");
+    if (!world->step_open) return make_error(ErrorCode::invalid_argument, "no step is open: call begin_step first");
+    WorldStats& stats = world->stats;
+    stats.colliders_skipped = stats.body_contacts = stats.body_rays = stats.body_queried = 0;
+    stats.body_refits = stats.body_embree_refits = 0;
+    for (uint32_t i = 0; i < world->body_count; ++i) {  // in body order, then cloth order
+        const BodyState& body = world->bodies[i];
+        stats.body_refits += body.refits;
+        stats.body_embree_refits += body.embree_refits;
+        stats.body_refit_ns += body.refit_ns;
+        stats.pass_ns[static_cast<int>(Pass::body)] += body.pass_ns;
+    }
+    for (uint32_t i = 0; i < world->cloth_count; ++i) {
+        const ClothStepCounts& c = world->cloths[i].counts;
+        for (int pass = 0; pass < static_cast<int>(Pass::count); ++pass) stats.pass_ns[pass] += c.pass_ns[pass];
+        stats.colliders_skipped += c.colliders_skipped;
+        stats.body_contacts += c.body.contacts;
+        stats.body_rays += c.body.rays;
+        stats.body_queried += c.body.queried;
+    }
+    for (uint32_t i = 0; i < world->collider_count; ++i) world->colliders[i].motion_m = {};
+    stats.steps += 1;
+    stats.run_projections = count_projections(*world, BatchLayout::run);
+    stats.indexed_projections = count_projections(*world, BatchLayout::indexed);
+    world->step_open = false;
+    return {};
+}
+
+Result step(World* world, float dt_s) {
+    if (Result r = begin_step(world, dt_s); !r.ok()) return r;
+    run_stage(*world, StepStage::bodies);  // 0. the game's new body poses
+    run_stage(*world, StepStage::cloths);  // 1-5 for every cloth
+    return end_step(world);
 }
 
 }  // namespace weft

@@ -342,6 +342,31 @@ WeftResult weft_step(WeftWorld* world, float dt_s) {
     return to_c(step(world->world, dt_s));
 }
 
+WeftResult weft_begin_step(WeftWorld* world, float dt_s) {
+    if (Result r = live_world(world); !r.ok()) return to_c(r);
+    return to_c(begin_step(world->world, dt_s));
+}
+
+uint32_t weft_step_stage_items(const WeftWorld* world, WeftStepStage stage) {
+    if (!live_world(world).ok()) return 0;
+    return step_stage_items(world->world, static_cast<StepStage>(stage));
+}
+
+WeftResult weft_run_step_items(WeftWorld* world, WeftStepStage stage, uint32_t begin, uint32_t end) {
+    if (Result r = live_world(world); !r.ok()) return to_c(r);
+    return to_c(run_step_items(world->world, static_cast<StepStage>(stage), begin, end));
+}
+
+WeftResult weft_end_step(WeftWorld* world) {
+    if (Result r = live_world(world); !r.ok()) return to_c(r);
+    return to_c(end_step(world->world));
+}
+
+WeftResult weft_set_cloth_body(WeftWorld* world, WeftClothId cloth, WeftBodyId body) {
+    if (Result r = live_world(world); !r.ok()) return to_c(r);
+    return to_c(set_cloth_body(world->world, ClothId{cloth}, BodyId{body}));
+}
+
 WeftResult weft_read_positions(const WeftWorld* world, WeftClothId cloth, WeftVec3* out, uint32_t count) {
     if (Result r = live_world(world); !r.ok()) return to_c(r);
     return to_c(read_positions(world->world, ClothId{cloth}, to_cpp(out), count));

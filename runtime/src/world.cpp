@@ -1,4 +1,5 @@
 // World creation, the things added to it, and particle access. The step itself is in step.cpp.
+#include <atomic>
 #include <cmath>
 #include <cstdarg>
 #include <cstdio>
@@ -315,21 +316,24 @@ SolverSplit resolve_split(const ClothDesc& desc, const ClothAsset& asset) {
 namespace {
 
 bool count_embree_memory(void* user, ssize_t bytes, bool /*post*/) {
+    // Embree may call this from any thread that commits (bodies refit on the game's workers).
     WorldStats& stats = static_cast<World*>(user)->stats;
-    stats.embree_bytes += int64_t(bytes);
-    if (bytes > 0) stats.embree_allocations += 1;
+    std::atomic_ref<int64_t>(stats.embree_bytes).fetch_add(int64_t(bytes), std::memory_order_relaxed);
+    if (bytes > 0) std::atomic_ref<uint64_t>(stats.embree_allocations).fetch_add(1, std::memory_order_relaxed);
     return true;  // never refuse: the budget was fixed at creation
 }
 
+
+}  // namespace
+
 Result find_cloth(const World* world, ClothId id) {
     if (world == nullptr) return make_error(ErrorCode::invalid_argument, "world is null");
+    if (Result r = refuse_while_stepping(world); !r.ok()) return r;
     if (id.index >= world->cloth_count)
         return make_error(ErrorCode::out_of_range, "cloth %u does not exist (%u cloths)", id.index,
                           world->cloth_count);
     return {};
 }
-
-}  // namespace
 
 void reserve_cloth(WorldDesc& desc, const ClothAsset& asset) {
     desc.max_cloths += 1;
@@ -393,6 +397,7 @@ Result create_world(const WorldDesc& desc, void* memory, size_t bytes, World** o
 Result add_cloth(World* world, const ClothDesc& desc, ClothId* out_cloth) {
     if (world == nullptr || out_cloth == nullptr)
         return make_error(ErrorCode::invalid_argument, "world or out_cloth is null");
+    if (Result r = refuse_while_stepping(world); !r.ok()) return r;
     if (Result r = check_cloth_settings(desc); !r.ok()) return r;
     const ClothAsset& asset = *desc.asset;
     if (world->cloth_count >= world->desc.max_cloths)
@@ -448,6 +453,7 @@ Result add_cloth(World* world, const ClothDesc& desc, ClothId* out_cloth) {
 Result add_collider(World* world, const ColliderDesc& desc, ColliderId* out_collider) {
     if (world == nullptr || out_collider == nullptr)
         return make_error(ErrorCode::invalid_argument, "world or out_collider is null");
+    if (Result r = refuse_while_stepping(world); !r.ok()) return r;
     if (Result r = check_collider(desc); !r.ok()) return r;
     if (world->collider_count >= world->desc.max_colliders)
         return make_error(ErrorCode::capacity_exceeded, "world holds at most %u colliders",
@@ -461,6 +467,7 @@ Result add_collider(World* world, const ColliderDesc& desc, ColliderId* out_coll
 
 Result set_collider(World* world, ColliderId collider, const ColliderDesc& desc) {
     if (world == nullptr) return make_error(ErrorCode::invalid_argument, "world is null");
+    if (Result r = refuse_while_stepping(world); !r.ok()) return r;
     if (collider.index >= world->collider_count)
         return make_error(ErrorCode::out_of_range, "collider %u does not exist", collider.index);
     if (Result r = check_collider(desc); !r.ok()) return r;
@@ -474,6 +481,7 @@ Result set_collider(World* world, ColliderId collider, const ColliderDesc& desc)
 
 Result set_wind(World* world, Vec3 velocity_m_s) {
     if (world == nullptr) return make_error(ErrorCode::invalid_argument, "world is null");
+    if (Result r = refuse_while_stepping(world); !r.ok()) return r;
     if (!world->desc.wind)
         return make_error(ErrorCode::invalid_argument, "world was created without the wind feature");
     if (!is_finite(velocity_m_s)) return make_error(ErrorCode::non_finite, "wind velocity is not finite");
@@ -487,6 +495,7 @@ Result set_wind(World* world, Vec3 velocity_m_s) {
 
 Result set_gravity(World* world, Vec3 gravity_m_s2) {
     if (world == nullptr) return make_error(ErrorCode::invalid_argument, "world is null");
+    if (Result r = refuse_while_stepping(world); !r.ok()) return r;
     if (!is_finite(gravity_m_s2)) return make_error(ErrorCode::non_finite, "gravity is not finite");
     const float g2 = gravity_m_s2.x * gravity_m_s2.x + gravity_m_s2.y * gravity_m_s2.y +
                      gravity_m_s2.z * gravity_m_s2.z;

@@ -11,6 +11,14 @@
 
 namespace weft {
 
+// A cloth's counters for the step it runs (its own, so cloths can step on different threads);
+// end_step adds them into WorldStats in cloth order.
+struct ClothStepCounts {
+    uint64_t pass_ns[static_cast<int>(Pass::count)] = {};
+    uint64_t colliders_skipped = 0;
+    BodyPassCounts body;
+};
+
 struct ClothInstance {
     const ClothAsset* asset = nullptr;
     ClothDesc settings;
@@ -18,6 +26,7 @@ struct ClothInstance {
     Particles particles;
     CoarseState coarse;
     float previous_substep_s = 0.0f;  // h_prev of time-corrected Verlet; 0 before the first step
+    uint32_t own_body = ~0u;          // set_cloth_body: the one body it collides with (~0u: every body)
     uint32_t attached_body = ~0u;     // the body the asset's attachments follow (weft/attachments.h)
     // Skin constraints (bind_skin_constraints): the body they follow and their copy.
     uint32_t skin_body = ~0u;
@@ -33,6 +42,7 @@ struct ClothInstance {
     // Slots of the lattice planes with inverse mass 0 (pinned, or no particle there). While there
     // are none, the integration pass skips the per-lane pinned check (integrate/verlet.h).
     uint32_t held_plane_slots = 0;
+    ClothStepCounts counts;  // this step's
 };
 
 struct ColliderState {
@@ -68,7 +78,15 @@ struct World {
     Vec3 gravity_m_s2{};
     Vec3 wind_m_s{};
     WorldStats stats;
+    bool step_open = false;  // between begin_step and end_step
+    float step_dt_s = 0.0f;  // the open step's dt
 };
+
+// The cloth exists (and no step is open).
+Result find_cloth(const World* world, ClothId id);
+
+// Refused while a step is open (begin_step .. end_step): anything that changes the world.
+Result refuse_while_stepping(const World* world);
 
 // Commits a body's scene (a refit once built), telling the diagnostics hook.
 void commit_body(World& world, BodyState& body);

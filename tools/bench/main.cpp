@@ -30,6 +30,7 @@
 #include "bench/bench_run.h"
 #include "bench/baked.h"
 #include "bench/body.h"
+#include "bench/crowd.h"
 #include "bench/corpus.h"
 #include "bench/garment.h"
 #include "bench/levers.h"
@@ -588,6 +589,15 @@ int main(int argc, char** argv) {
     garment->add_option("--collision", garment_models, "body collision models, each a row (exact, cached_planes, skin_constraints; "
                         "+limb_capsules adds the mannequin's limb capsules: the scene's, or the thighs')")
         ->delimiter(',')->capture_default_str();
+    bench::CrowdBenchOptions crowd_o;
+    CLI::App* crowd = app.add_subcommand("crowd", "walking mannequins in skirt and tee, each its own body, on 1, 2, ... threads");
+    crowd->add_option("--characters", crowd_o.characters, "mannequins (two garments each)")->check(CLI::Range(1u, 1024u))
+        ->capture_default_str();
+    crowd->add_option("--threads", crowd_o.threads, "thread counts, each its own crowd (the first is the speedup's baseline)")
+        ->delimiter(',')->check(CLI::Range(1u, 256u))->capture_default_str();
+    crowd->add_option("--frames", crowd_o.frames, "frames measured after the walk's 1 s ramp")->check(CLI::Range(1u, 100000u))
+        ->capture_default_str();
+    crowd->add_flag("--json", crowd_o.json, "one JSON object per thread count");
     bench::CorpusOptions corpus_o;
     CLI::App* corpus = app.add_subcommand("corpus", "a folder of sewing patterns baked flat and sewn, one JSON line per garment and a summary");
     corpus->add_option("dir", corpus_o.dir, "folder of patterns (GarmentCode *_specification.json or Weft *.json)")->required();
@@ -653,6 +663,7 @@ int main(int argc, char** argv) {
                 return std::fprintf(stderr, "weft-bench garment: unknown --collision '%s'\n", garment_models[m].c_str()), 2;
         return bench::run_garment(garment_steps, garment_json, models);
     }
+    if (crowd->parsed()) return bench::run_crowd(crowd_o);
 
     if (baked->parsed()) return bench::run_baked();
     if (drape->parsed()) return run({SeedScene::drape}, drape_o, true);

@@ -160,14 +160,14 @@ std::string load_body(const BodySpec& spec, const Scene& scene, const std::vecto
     return {};
 }
 
-// How far into the walk at time t: the walk is entered from the rest pose (the garment was dressed
-// on it), by a smoothstep over ramp_s.
+}  // namespace
+
+// The walk is entered from the rest pose, on which the garment was dressed.
 float walk_entry(const BodySpec& spec, float t_s) {
     const float u = spec.ramp_s > 0.0f ? std::min(1.0f, t_s / spec.ramp_s) : 1.0f;
     return u * u * (3.0f - 2.0f * u);
 }
 
-// A limb capsule as a collider: inflated by the body's thickness, with the body's friction.
 ColliderDesc limb_collider(const BodySpec& spec, const body::LimbCapsule& c) {
     ColliderDesc d;
     d.shape = ColliderShape::capsule;
@@ -179,7 +179,15 @@ ColliderDesc limb_collider(const BodySpec& spec, const body::LimbCapsule& c) {
     return d;
 }
 
-}  // namespace
+std::string create_world_in_block(const WorldDesc& desc, WorldBlock* memory, World** out) {
+    const MemoryRequirements need = world_memory_requirements(desc);
+    if (need.bytes == 0) return "bad world description";
+    const size_t bytes = (need.bytes + need.alignment - 1) / need.alignment * need.alignment;
+    *memory = {static_cast<unsigned char*>(std::aligned_alloc(need.alignment, bytes)), std::free};
+    if (!*memory) return "out of memory";
+    if (Result r = create_world(desc, memory->get(), bytes, out); !r.ok()) return r.message;
+    return {};
+}
 
 SceneWorld& SceneWorld::operator=(SceneWorld&& other) noexcept {
     if (this == &other) return *this;
@@ -274,13 +282,9 @@ std::string build_scene(const Scene& scene, SceneWorld* out, const std::vector<s
     wd.simd = scene.simd;
     wd.profile = scene.profile;
     wd.normals = scene.normals;
-    const MemoryRequirements need = world_memory_requirements(wd);
-    if (need.bytes == 0) return "bad world description";
-    const size_t bytes = (need.bytes + need.alignment - 1) / need.alignment * need.alignment;
-    out->memory = {static_cast<unsigned char*>(std::aligned_alloc(need.alignment, bytes)), std::free};
-    if (!out->memory) return "out of memory";
-    out->memory_bytes = need.bytes;
-    if (Result r = create_world(wd, out->memory.get(), bytes, &out->world); !r.ok()) return r.message;
+    wd.scheduler = scene.scheduler;
+    if (std::string e = create_world_in_block(wd, &out->memory, &out->world); !e.empty()) return e;
+    out->memory_bytes = world_memory_requirements(wd).bytes;
 
     if (out->body) {
         const BodySpec& b = out->body->spec;

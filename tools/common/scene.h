@@ -99,10 +99,22 @@ struct Scene {
     SimdPath simd = SimdPath::automatic;
     bool profile = false;
     bool normals = false;  // the step ends with vertex normals (WorldDesc::normals): a renderer's cost
+    StepScheduler scheduler;  // not in scene files: the running tool's thread pool (WorldDesc::scheduler)
     std::vector<ClothSpec> cloths;
     std::vector<ColliderDesc> colliders;
     std::optional<BodySpec> body;
 };
+
+// How far into the walk at time t: 0 at rest, 1 walking (a smoothstep over spec.ramp_s).
+float walk_entry(const BodySpec& spec, float t_s);
+
+// A limb capsule as a collider: inflated by the body's thickness, with the body's friction.
+ColliderDesc limb_collider(const BodySpec& spec, const body::LimbCapsule& c);
+
+// A world's block, freed with std::free.
+using WorldBlock = std::unique_ptr<unsigned char[], void (*)(void*)>;
+// Allocates a block sized for `desc` and creates the world in it. Returns the failure message.
+std::string create_world_in_block(const WorldDesc& desc, WorldBlock* memory, World** out);
 
 // One cloth of a built scene: where its asset came from, and its instance.
 // The assets sit behind pointers: the world keeps a pointer to its asset, so moving a SceneCloth
@@ -139,7 +151,7 @@ struct SceneWorld {
 
     std::vector<SceneCloth> cloths;
     std::unique_ptr<SceneBody> body;
-    std::unique_ptr<unsigned char[], void (*)(void*)> memory{nullptr, nullptr};
+    WorldBlock memory{nullptr, nullptr};
     size_t memory_bytes = 0;  // world_memory_requirements of the scene's world
     World* world = nullptr;
     std::vector<ColliderId> colliders;

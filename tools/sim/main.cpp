@@ -1,6 +1,6 @@
 // weft-sim: runs a scene file headless and reports every frame.
 //
-//   weft-sim SCENE.json [--frames N] [--out DIR] [--json] [--simd automatic|scalar|avx2] [--assets DIR]
+//   weft-sim SCENE.json [--frames N] [--out DIR] [--json] [--simd automatic|scalar|avx2] [--assets DIR] [--threads N]
 //            [--png FILE [--frame N]] [--gif FILE | --mp4 FILE] [--gltf FILE.glb] [--every K]
 //            [--camera AZ,EL[,DIST]] [--size WxH] [--progress-label TEXT]
 //
@@ -27,6 +27,7 @@
 #include "sim/pictures.h"
 #include "common/progress.h"
 #include "common/scene_json.h"
+#include "common/thread_pool.h"
 #include "weft/debug.h"
 
 namespace {
@@ -102,6 +103,9 @@ int main(int argc, char** argv) {
     std::vector<std::string> asset_dirs;
     app.add_option("--assets", asset_dirs, "folders to look for the scene's relative asset paths in (after the scene's own)");
     app.add_flag("--json", json, "one JSON object per frame, then a summary object");
+    uint32_t threads = 1;
+    app.add_option("--threads", threads, "threads the step's work items run on (the built-in pool; same bits on any count)")
+        ->check(CLI::Range(1u, 256u))->capture_default_str();
     app.add_option("--simd", simd, "override the scene's SIMD path")
         ->check(CLI::IsMember({"automatic", "scalar", "avx2"}));
     sim::PictureOptions pictures;
@@ -147,6 +151,8 @@ int main(int argc, char** argv) {
     if (simd == "scalar") scene.simd = SimdPath::scalar;
     if (simd == "avx2") scene.simd = SimdPath::avx2;
     if (simd == "automatic") scene.simd = SimdPath::automatic;
+    tools::ThreadPool pool(threads);  // outlives the world (declared first)
+    scene.scheduler = pool.scheduler();
     scenes::SceneWorld sw;
     if (std::string e = scenes::build_scene(scene, &sw, asset_dirs); !e.empty()) {
         std::fprintf(stderr, "weft-sim: %s: %s\n", scene_path.c_str(), e.c_str());

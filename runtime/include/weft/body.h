@@ -28,6 +28,7 @@
 #pragma once
 
 #include "weft/types.h"
+#include "weft/world.h"  // ClothId
 
 namespace weft {
 
@@ -93,6 +94,12 @@ Result add_body(World* world, const BodyDesc& desc, BodyId* out_body);
 // step refits the BVH and uses (new - previous) hull positions as the surface velocity for
 // friction. Refuses non-finite or absurd positions without changing anything.
 Result set_body_vertices(World* world, BodyId body, const Vec3* positions, uint32_t count);
+
+// A cloth collides with every body of the world unless it is given its own: then with that one
+// only (its character's), so a crowd's cloths do not look at each other's bodies.
+// kEveryBody gives it every body again.
+inline constexpr BodyId kEveryBody{~0u};
+Result set_cloth_body(World* world, ClothId cloth, BodyId body);
 
 // The closest offset-hull point to `point` within thickness + margin (+ how far the nearby body
 // vertices moved at the last step): what the step's query sees.

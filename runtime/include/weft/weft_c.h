@@ -194,6 +194,19 @@ WeftResult weft_set_gravity(WeftWorld* world, WeftVec3 gravity_m_s2);
 /* Advances every cloth by dt seconds (0 < dt <= 1): a fixed amount of work, no allocation. */
 WeftResult weft_step(WeftWorld* world, float dt_s);
 
+/* The same step stage by stage, for an engine's job system (weft/world.h): weft_begin_step, then for
+ * each stage in order (WEFT_STAGE_BODIES, then WEFT_STAGE_CLOTHS) weft_run_step_items over
+ * [0, weft_step_stage_items) in any ranges on any threads, all before the next stage, then
+ * weft_end_step. Any split gives the same bits as weft_step. */
+typedef WEFT_ENUM(WeftStepStage) { WEFT_STAGE_BODIES = 0, WEFT_STAGE_CLOTHS = 1 } WeftStepStage;
+WeftResult weft_begin_step(WeftWorld* world, float dt_s);
+uint32_t weft_step_stage_items(const WeftWorld* world, WeftStepStage stage);
+WeftResult weft_run_step_items(WeftWorld* world, WeftStepStage stage, uint32_t begin, uint32_t end);
+WeftResult weft_end_step(WeftWorld* world);
+
+/* The cloth collides with this body only (its character's), not every body of the world. */
+WeftResult weft_set_cloth_body(WeftWorld* world, WeftClothId cloth, WeftBodyId body);
+
 /* The cloth's positions in the caller's particle order, metres; count = the asset's particle_count. */
 WeftResult weft_read_positions(const WeftWorld* world, WeftClothId cloth, WeftVec3* out, uint32_t count);
 

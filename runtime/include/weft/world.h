@@ -32,6 +32,29 @@ struct ColliderDesc {
     float friction = 0.0f;     // Coulomb coefficient; 0 = the seed's frictionless projection (7)/(8)
 };
 
+// --- the step on a game's job system ------------------------------------------------------
+//
+// A step runs in two stages of independent work items: the bodies (refit of the ones the game
+// moved), then the cloths (each cloth's whole step). Items of one stage touch disjoint memory, so
+// any thread may run any range of them, and the result is the same bits whatever the split.
+
+// Runs items [begin, end) of one stage; `task_context` is the step's own, passed back untouched.
+using StepTaskFn = void (*)(uint32_t begin, uint32_t end, void* task_context);
+
+// The game's job system, as Box2D v3's b2WorldDef::enqueueTask / finishTask: enqueue_task runs
+// `task` over items [0, item_count) in ranges of at least `min_range` items, on any threads, and
+// returns a handle that finish_task waits on; or it runs them all itself and returns null (then
+// finish_task is not called). The step calls finish_task before it enqueues the next stage.
+using EnqueueStepTaskFn = void* (*)(StepTaskFn task, uint32_t item_count, uint32_t min_range, void* task_context,
+                                    void* user_context);
+using FinishStepTaskFn = void (*)(void* user_task, void* user_context);
+
+struct StepScheduler {
+    EnqueueStepTaskFn enqueue_task = nullptr;  // null: step() runs every item on the calling thread
+    FinishStepTaskFn finish_task = nullptr;
+    void* user_context = nullptr;
+};
+
 // What a world must hold. Every count is a hard capacity checked when things are added.
 struct WorldDesc {
     uint32_t max_cloths = 1;
@@ -60,6 +83,7 @@ struct WorldDesc {
     float air_density_kg_m3 = 1.2f;  // rho in equations (2) and (3)
 
     SimdPath simd = SimdPath::automatic;
+    StepScheduler scheduler;  // how step() hands out its work items (above)
     bool profile = false;  // time every pass (weft/debug.h: world_stats; one clock read per pass)
 };
 
@@ -166,8 +190,21 @@ Result add_collider(World* world, const ColliderDesc& desc, ColliderId* out_coll
 // --- every frame ----------------------------------------------------------------------------
 
 // Advances every cloth by dt seconds (0 < dt <= 1). Runs a fixed amount of work: substeps x
-// iterations sweeps per cloth. Refuses bad input without changing anything.
+// iterations sweeps per cloth. Refuses bad input without changing anything. Its stages' items go
+// through WorldDesc::scheduler when it has one.
 Result step(World* world, float dt_s);
+
+// The same step, stage by stage, for a game that runs the work items itself:
+//   begin_step(world, dt);
+//   for each stage in order (bodies, then cloths): run_step_items(world, stage, begin, end) over
+//       [0, step_stage_items(world, stage)), in any ranges, on any threads, all before the next stage;
+//   end_step(world);   // sums the counters; the step is done
+// Nothing else may be called on the world between begin_step and end_step.
+enum class StepStage : uint8_t { bodies, cloths };
+Result begin_step(World* world, float dt_s);
+uint32_t step_stage_items(const World* world, StepStage stage);
+Result run_step_items(World* world, StepStage stage, uint32_t begin, uint32_t end);
+Result end_step(World* world);
 
 // Moves a collider; the next step sees it (its motion over the step drives friction).
 Result set_collider(World* world, ColliderId collider, const ColliderDesc& desc);

@@ -80,6 +80,9 @@ struct BodyState {
     uint32_t plane_index = ~0u;  // cached_planes: its planes' place in each cloth's contact_planes
     // skin_constraints: the hull moved but the hierarchy was not refitted (refresh_body_hierarchy).
     bool hierarchy_stale = false;
+    // This step's refits and their time (the bodies stage; end_step adds them into WorldStats).
+    uint32_t refits = 0, embree_refits = 0;
+    uint64_t refit_ns = 0, pass_ns = 0;
 };
 
 // Closest point on triangle (a, b, c) to p as barycentric weights (w0 + w1 + w2 = 1).

@@ -1,0 +1,148 @@
+#include "common/crowd.h"
+
+#include <cmath>
+
+#include "body/mannequin.h"
+#include "common/scene_json.h"
+
+namespace weft::scenes {
+
+namespace {
+
+std::string load_sample(const std::string& path, const CrowdOptions& options, SceneWorld* out) {
+    Scene scene;
+    if (std::string e = load_scene_file(path, &scene); !e.empty()) return path + ": " + e;
+    if (scene.cloths.size() != 1 || !scene.body || !scene.body->mannequin)
+        return path + ": a crowd's scene dresses the mannequin in one garment";
+    scene.profile = false;
+    if (std::string e = build_scene(scene, out, options.asset_dirs); !e.empty()) return path + ": " + e;
+    return {};
+}
+
+const body::Mannequin& mannequin(const Crowd& crowd) {
+    return *static_cast<const body::Mannequin*>(crowd.skirt.body->mannequin.get());
+}
+
+Vec3 plus(Vec3 a, Vec3 b) { return {a.x + b.x, a.y + b.y, a.z + b.z}; }
+
+// One garment of a character: the sample scene's cloth, moved to where the character stands, on
+// its body under the scene's body model.
+std::string add_garment(Crowd& c, const SceneWorld& sample, const CrowdCharacter& who, ClothId* out) {
+    const SceneCloth& garment = sample.cloths[0];
+    ClothDesc desc = garment.desc;
+    desc.translation_m = who.offset_m;
+    if (Result r = add_cloth(c.world, desc, out); !r.ok()) return r.message;
+    if (Result r = set_cloth_body(c.world, *out, who.body); !r.ok()) return r.message;
+    if (garment.asset->attachment_count > 0)
+        if (Result r = attach_cloth_to_body(c.world, *out, who.body); !r.ok()) return r.message;
+    if (sample.body->spec.collision == BodyCollision::skin_constraints) {
+        if (garment.asset->skin.count == 0) return "the crowd's garments carry their skin constraints (weft-bake --body)";
+        if (Result r = bind_asset_skin_constraints(c.world, *out, who.body); !r.ok()) return r.message;
+    }
+    return {};
+}
+
+}  // namespace
+
+Crowd::~Crowd() { destroy_world(world); }
+
+std::string build_crowd(const CrowdOptions& options, Crowd* out) {
+    Crowd& c = *out;
+    if (options.characters == 0) return "a crowd of no one";
+    if (std::string e = load_sample(options.skirt_scene, options, &c.skirt); !e.empty()) return e;
+    if (std::string e = load_sample(options.tee_scene, options, &c.tee); !e.empty()) return e;
+    const SceneBody& body = *c.skirt.body;
+    const BodySpec& spec = body.spec;  // the skirt scene's body (the tee's is the same mannequin)
+    if (c.tee.body->rest.size() != body.rest.size()) return "the two scenes dress different bodies";
+    c.dt_s = c.skirt.dt_s;
+
+    WorldDesc wd;
+    wd.max_cloths = 0;
+    for (uint32_t k = 0; k < options.characters; ++k) {
+        for (const SceneWorld* sample : {&c.skirt, &c.tee}) {
+            const ClothAsset& asset = *sample->cloths[0].asset;
+            reserve_cloth(wd, asset);
+            if (sample->body->spec.collision == BodyCollision::skin_constraints) wd.max_skin_constraints += asset.skin.count;
+            if (sample->body->spec.collision == BodyCollision::cached_planes) wd.max_cached_plane_bodies = options.characters;
+        }
+    }
+    if (spec.collision != c.tee.body->spec.collision) return "the two scenes name different body models";
+    if (spec.collision != BodyCollision::skin_constraints) wd.max_skin_constraints = 0;
+    wd.max_bodies = options.characters;
+    wd.max_body_vertices = options.characters * uint32_t(body.rest.size());
+    wd.max_body_triangles = options.characters * uint32_t(body.triangles.size() / 3);
+    wd.max_colliders = options.characters * uint32_t(body.limb_capsules.size());
+    wd.gravity_m_s2 = {0.0f, -9.81f, 0.0f};
+    wd.simd = options.simd;
+    wd.profile = options.profile;
+    wd.scheduler = options.scheduler;
+    if (std::string e = create_world_in_block(wd, &c.memory, &c.world); !e.empty()) return e;
+
+    // A square grid; each character its own phase in the stride and its own pace (0.8 to 1.2),
+    // from a fixed sequence so every run builds the same crowd.
+    const uint32_t side = uint32_t(std::ceil(std::sqrt(double(options.characters))));
+    std::vector<Vec3> rest(body.rest.size());
+    c.characters.resize(options.characters);
+    for (uint32_t k = 0; k < options.characters; ++k) {
+        CrowdCharacter& who = c.characters[k];
+        who.offset_m = {options.spacing_m * float(k % side), 0.0f, options.spacing_m * float(k / side)};
+        who.phase_s = 1.1f * float((k * 7) % 16) / 16.0f;  // the walk's stride is 1.1 s
+        who.pace = 0.8f + 0.4f * float((k * 5) % 9) / 8.0f;
+        for (size_t v = 0; v < rest.size(); ++v) rest[v] = plus(body.rest[v], who.offset_m);
+        BodyDesc bd;
+        bd.positions = rest.data();
+        bd.vertex_count = uint32_t(rest.size());
+        bd.triangles = body.triangles.data();
+        bd.triangle_count = uint32_t(body.triangles.size() / 3);
+        bd.thickness_m = spec.thickness_m;
+        bd.margin_m = spec.margin_m;
+        bd.friction = spec.friction;
+        bd.collision = spec.collision;
+        if (Result r = add_body(c.world, bd, &who.body); !r.ok()) return std::string("body: ") + r.message;
+        who.limb_colliders.resize(body.limb_capsules.size());
+        for (size_t i = 0; i < body.limb_capsules.size(); ++i) {
+            body::LimbCapsule capsule = body.limb_capsules[i];
+            capsule.p0 = plus(capsule.p0, who.offset_m), capsule.p1 = plus(capsule.p1, who.offset_m);
+            if (Result r = add_collider(c.world, limb_collider(spec, capsule), &who.limb_colliders[i]); !r.ok())
+                return std::string("limb capsule: ") + r.message;
+        }
+        if (std::string e = add_garment(c, c.skirt, who, &who.skirt); !e.empty()) return "skirt: " + e;
+        if (std::string e = add_garment(c, c.tee, who, &who.tee); !e.empty()) return "tee: " + e;
+        c.particles += c.skirt.cloths[0].asset->particle_count + c.tee.cloths[0].asset->particle_count;
+    }
+    return {};
+}
+
+std::string animate_crowd(Crowd& c, float t_s) {
+    const SceneBody& body = *c.skirt.body;
+    const body::Mannequin& m = mannequin(c);
+    const float entry = walk_entry(body.spec, t_s);  // every character enters the walk together
+    for (CrowdCharacter& who : c.characters) {
+        const float walk_t = who.phase_s + who.pace * t_s;
+        body::walk_pose(m, walk_t, &c.pose);
+        for (size_t v = 0; v < c.pose.size(); ++v) {
+            const Vec3 r = body.rest[v], w = c.pose[v];
+            c.pose[v] = plus({r.x + (w.x - r.x) * entry, r.y + (w.y - r.y) * entry, r.z + (w.z - r.z) * entry}, who.offset_m);
+        }
+        if (Result r = set_body_vertices(c.world, who.body, c.pose.data(), uint32_t(c.pose.size())); !r.ok())
+            return r.message;
+        if (body.limb_capsules.empty()) continue;
+        body::walk_capsules(m, body.limb_capsules, walk_t, &c.posed_capsules);
+        for (size_t i = 0; i < c.posed_capsules.size(); ++i) {
+            body::LimbCapsule p = c.posed_capsules[i];
+            const body::LimbCapsule& r = body.limb_capsules[i];
+            const auto enter = [entry, &who](Vec3 rest, Vec3 walk) {
+                return plus({rest.x + (walk.x - rest.x) * entry, rest.y + (walk.y - rest.y) * entry,
+                             rest.z + (walk.z - rest.z) * entry},
+                            who.offset_m);
+            };
+            p.p0 = enter(r.p0, p.p0);
+            p.p1 = enter(r.p1, p.p1);
+            if (Result res = set_collider(c.world, who.limb_colliders[i], limb_collider(body.spec, p)); !res.ok())
+                return res.message;
+        }
+    }
+    return {};
+}
+
+}  // namespace weft::scenes

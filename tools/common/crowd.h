@@ -1,0 +1,61 @@
+// A crowd: many walking mannequins, each its own body, each in the sample skirt and tee dressed by
+// weft-bake (skirt-dressed.weft, tee-dressed.weft), with the sample scenes' solver budgets and
+// collision models (samples/scenes/skirt-walk.json, tee-walk.json). What `weft-bench crowd` runs
+// and the threading tests step: every cloth collides with its own character's body only
+// (set_cloth_body) and the characters stand on a grid, so they never meet.
+#pragma once
+
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "common/scene.h"
+#include "weft/body.h"
+#include "weft/world.h"
+
+namespace weft::scenes {
+
+struct CrowdOptions {
+    uint32_t characters = 32;
+    float spacing_m = 1.5f;  // between neighbours on the grid
+    // The sample scenes (their garment, solver budget and body model); relative asset paths are
+    // looked up in asset_dirs.
+    std::string skirt_scene, tee_scene;
+    std::vector<std::string> asset_dirs;
+    StepScheduler scheduler;
+    SimdPath simd = SimdPath::automatic;
+    bool profile = false;
+};
+
+struct CrowdCharacter {
+    BodyId body;
+    ClothId skirt, tee;
+    Vec3 offset_m{};       // where it stands
+    float phase_s = 0.0f;  // how far into the walk cycle it starts
+    float pace = 1.0f;     // its walking speed relative to the mannequin's walk
+    std::vector<ColliderId> limb_colliders;  // the skirt scene's limb capsules, moved with its bones
+};
+
+struct Crowd {
+    World* world = nullptr;
+    WorldBlock memory{nullptr, nullptr};
+    SceneWorld skirt, tee;  // the sample scenes as built (their assets and mannequin; worlds unused)
+    std::vector<CrowdCharacter> characters;
+    std::vector<Vec3> pose;  // scratch for one character's skinned vertices
+    std::vector<body::LimbCapsule> posed_capsules;
+    float dt_s = 0.0f;
+    uint32_t particles = 0;  // summed over the cloths
+
+    Crowd() = default;
+    Crowd(Crowd&&) = delete;
+    ~Crowd();
+};
+
+// Builds the crowd's world. Returns the failure message (empty on success).
+std::string build_crowd(const CrowdOptions& options, Crowd* out);
+
+// Poses every character at time t (entering the walk from the rest pose over the first second, as
+// the sample scenes do) and moves its limb capsules.
+std::string animate_crowd(Crowd& crowd, float t_s);
+
+}  // namespace weft::scenes
