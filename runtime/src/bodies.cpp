@@ -181,6 +181,22 @@ Result set_body_vertices(World* world, BodyId id, const Vec3* positions, uint32_
     return {};
 }
 
+Result teleport_body(World* world, BodyId id, const Vec3* positions, uint32_t count) {
+    if (Result r = find_body(world, id); !r.ok()) return r;
+    BodyState& body = world->bodies[id.index];
+    if (positions == nullptr) return make_error(ErrorCode::invalid_argument, "positions is null");
+    if (count != body.vertex_count)
+        return make_error(ErrorCode::out_of_range, "count %u, body has %u vertices", count, body.vertex_count);
+    if (Result r = check_positions(positions, count); !r.ok()) return r;
+    compute_offset_hull(body, positions);  // no motion
+    std::memcpy(body.previous_hull, body.hull, sizeof(float) * 4 * size_t(count));
+    body.refit_pending = true;
+    // Skin constraints bound to it take their previous points from the new hull, not the old one.
+    for (uint32_t i = 0; i < world->cloth_count; ++i)
+        if (world->cloths[i].skin_body == id.index) world->cloths[i].skin_points_current = false;
+    return {};
+}
+
 Result set_cloth_body(World* world, ClothId cloth, BodyId body) {
     if (Result r = find_cloth(world, cloth); !r.ok()) return r;
     if (body.index != kEveryBody.index)

@@ -271,6 +271,7 @@ void find_vertex_normals(World& world, ClothInstance& cloth) {
 
 void step_cloth(World& world, ClothInstance& cloth, float dt) {
     const float h = dt / float(cloth.split.substeps);
+    follow_root(cloth, dt);                                    // carried by its character's root
     find_skin_frames(world, cloth);                            // the skinned frames of 3d
     for (uint32_t substep = 0; substep < cloth.split.substeps; ++substep) {
         if (cloth.attached_body != ~0u)                        // 0. attached particles ride the body

@@ -194,6 +194,13 @@ Result check_cloth_settings(const ClothDesc& desc) {
         !std::isfinite(desc.damping_per_s) || !std::isfinite(desc.tether_slack) ||
         !std::isfinite(desc.drag_coefficient) || !std::isfinite(desc.lift_coefficient))
         return make_error(ErrorCode::non_finite, "a cloth setting is not finite");
+    if (!(desc.linear_inertia >= 0.0f && desc.linear_inertia <= 1.0f) ||
+        !(desc.angular_inertia >= 0.0f && desc.angular_inertia <= 1.0f))
+        return make_error(ErrorCode::out_of_range, "inertia (linear %g, angular %g) outside 0..1",
+                          double(desc.linear_inertia), double(desc.angular_inertia));
+    if (!(desc.max_inertial_speed_m_s >= 0.0f && desc.max_inertial_speed_m_s <= 1e6f))
+        return make_error(ErrorCode::out_of_range, "max_inertial_speed_m_s %g outside 0..1e6",
+                          double(desc.max_inertial_speed_m_s));
     // Only what measured stable (docs/solver.md, "Splits the API refuses"; tests/test_stress.cpp):
     // over-relaxation jitters inside Verlet (1.3: 5-7 cm/s back and forth on the n = 16 drape and
     // sphere; 1.5: up to 16 m/s; 1.95 blew up with the coarse level), and below 0.5 the coarse level
@@ -479,6 +486,12 @@ Result set_collider(World* world, ColliderId collider, const ColliderDesc& desc)
     return {};
 }
 
+Result teleport_collider(World* world, ColliderId collider, const ColliderDesc& desc) {
+    if (Result r = set_collider(world, collider, desc); !r.ok()) return r;
+    world->colliders[collider.index].motion_m = {};
+    return {};
+}
+
 Result set_wind(World* world, Vec3 velocity_m_s) {
     if (world == nullptr) return make_error(ErrorCode::invalid_argument, "world is null");
     if (Result r = refuse_while_stepping(world); !r.ok()) return r;
@@ -578,6 +591,42 @@ Result set_particle(World* world, ClothId cloth, uint32_t particle, Vec3 positio
 Result reset_cloth(World* world, ClothId cloth) {
     if (Result r = find_cloth(world, cloth); !r.ok()) return r;
     place_at_start(*world->kernels, world->cloths[cloth.index]);
+    world->cloths[cloth.index].has_root = false;  // the next set_cloth_root starts afresh
+    return {};
+}
+
+namespace {
+
+Result check_root(const Transform& root) {
+    const Quat& q = root.rotation;
+    if (!is_finite(root.translation_m) || !std::isfinite(q.x) || !std::isfinite(q.y) || !std::isfinite(q.z) ||
+        !std::isfinite(q.w))
+        return make_error(ErrorCode::non_finite, "root transform is not finite");
+    const Vec3& t = root.translation_m;
+    if (std::fabs(t.x) > 1e6f || std::fabs(t.y) > 1e6f || std::fabs(t.z) > 1e6f)
+        return make_error(ErrorCode::out_of_range, "root lies beyond 1e6 m");
+    const float norm2 = q.x * q.x + q.y * q.y + q.z * q.z + q.w * q.w;
+    if (!(std::fabs(norm2 - 1.0f) < 1e-3f))
+        return make_error(ErrorCode::out_of_range, "root rotation is not a unit quaternion (|q|^2 = %g)", double(norm2));
+    return {};
+}
+
+}  // namespace
+
+Result set_cloth_root(World* world, ClothId cloth, const Transform& root) {
+    if (Result r = find_cloth(world, cloth); !r.ok()) return r;
+    if (Result r = check_root(root); !r.ok()) return r;
+    ClothInstance& c = world->cloths[cloth.index];
+    c.root = root;
+    if (!c.has_root) c.previous_root = root;  // the first root only says where the root is
+    c.has_root = true;
+    return {};
+}
+
+Result teleport_cloth(World* world, ClothId cloth, const Transform& root, bool drop_velocity) {
+    if (Result r = find_cloth(world, cloth); !r.ok()) return r;
+    if (Result r = check_root(root); !r.ok()) return r;
+    jump_to_root(world->cloths[cloth.index], root, drop_velocity);
     return {};
 }
 

@@ -43,7 +43,17 @@ struct ClothInstance {
     // are none, the integration pass skips the per-lane pinned check (integrate/verlet.h).
     uint32_t held_plane_slots = 0;
     ClothStepCounts counts;  // this step's
+    // Character motion: the root the game gave (set_cloth_root), the root of the last step, and
+    // whether a root was given yet.
+    Transform root, previous_root;
+    bool has_root = false;
 };
+
+// Character motion (runtime/src/character_motion.cpp). At a step's start: carries the cloth by the
+// share of its root's motion since the last step that its inertia leaves out.
+void follow_root(ClothInstance& cloth, float dt_s);
+// teleport_cloth: carries the cloth rigidly to `root`; with drop_velocity, at rest there.
+void jump_to_root(ClothInstance& cloth, const Transform& root, bool drop_velocity);
 
 struct ColliderState {
     ColliderDesc desc;

@@ -27,10 +27,11 @@ Vec3 plus(Vec3 a, Vec3 b) { return {a.x + b.x, a.y + b.y, a.z + b.z}; }
 
 // One garment of a character: the sample scene's cloth, moved to where the character stands, on
 // its body under the scene's body model.
-std::string add_garment(Crowd& c, const SceneWorld& sample, const CrowdCharacter& who, ClothId* out) {
+std::string add_garment(Crowd& c, const SceneWorld& sample, const CrowdCharacter& who, float inertia, ClothId* out) {
     const SceneCloth& garment = sample.cloths[0];
     ClothDesc desc = garment.desc;
     desc.translation_m = who.offset_m;
+    desc.linear_inertia = desc.angular_inertia = inertia;
     if (Result r = add_cloth(c.world, desc, out); !r.ok()) return r.message;
     if (Result r = set_cloth_body(c.world, *out, who.body); !r.ok()) return r.message;
     if (garment.asset->attachment_count > 0)
@@ -106,42 +107,80 @@ std::string build_crowd(const CrowdOptions& options, Crowd* out) {
             if (Result r = add_collider(c.world, limb_collider(spec, capsule), &who.limb_colliders[i]); !r.ok())
                 return std::string("limb capsule: ") + r.message;
         }
-        if (std::string e = add_garment(c, c.skirt, who, &who.skirt); !e.empty()) return "skirt: " + e;
-        if (std::string e = add_garment(c, c.tee, who, &who.tee); !e.empty()) return "tee: " + e;
+        if (std::string e = add_garment(c, c.skirt, who, options.inertia, &who.skirt); !e.empty()) return "skirt: " + e;
+        if (std::string e = add_garment(c, c.tee, who, options.inertia, &who.tee); !e.empty()) return "tee: " + e;
         c.particles += c.skirt.cloths[0].asset->particle_count + c.tee.cloths[0].asset->particle_count;
     }
     return {};
 }
 
-std::string animate_crowd(Crowd& c, float t_s) {
+namespace {
+
+// The character's root in the world: its own root, then its place on the grid.
+Transform world_root(const CrowdCharacter& who) {
+    return {plus(who.root.translation_m, who.offset_m), who.root.rotation};
+}
+
+Vec3 apply(const Transform& t, Vec3 v) {
+    const Quat& q = t.rotation;  // v + 2 w (u x v) + 2 u x (u x v), u the vector part
+    const Vec3 u{q.x, q.y, q.z};
+    const auto cross = [](Vec3 a, Vec3 b) { return Vec3{a.y * b.z - a.z * b.y, a.z * b.x - a.x * b.z, a.x * b.y - a.y * b.x}; };
+    const Vec3 c = cross(u, v), d = cross(u, c);
+    return {v.x + 2 * (q.w * c.x + d.x) + t.translation_m.x, v.y + 2 * (q.w * c.y + d.y) + t.translation_m.y,
+            v.z + 2 * (q.w * c.z + d.z) + t.translation_m.z};
+}
+
+// Poses character `who` at time t into c.pose and c.posed_capsules (world space).
+void pose_character(Crowd& c, const CrowdCharacter& who, float t_s) {
     const SceneBody& body = *c.skirt.body;
     const body::Mannequin& m = mannequin(c);
     const float entry = walk_entry(body.spec, t_s);  // every character enters the walk together
+    const float walk_t = who.phase_s + who.pace * t_s;
+    const Transform root = world_root(who);
+    const auto enter = [entry, &root](Vec3 rest, Vec3 walk) {  // from the rest pose, as the scenes do
+        return apply(root, {rest.x + (walk.x - rest.x) * entry, rest.y + (walk.y - rest.y) * entry,
+                            rest.z + (walk.z - rest.z) * entry});
+    };
+    body::walk_pose(m, walk_t, &c.pose);
+    for (size_t v = 0; v < c.pose.size(); ++v) c.pose[v] = enter(body.rest[v], c.pose[v]);
+    c.posed_capsules.clear();
+    if (body.limb_capsules.empty()) return;
+    body::walk_capsules(m, body.limb_capsules, walk_t, &c.posed_capsules);
+    for (size_t i = 0; i < c.posed_capsules.size(); ++i) {
+        c.posed_capsules[i].p0 = enter(body.limb_capsules[i].p0, c.posed_capsules[i].p0);
+        c.posed_capsules[i].p1 = enter(body.limb_capsules[i].p1, c.posed_capsules[i].p1);
+    }
+}
+
+}  // namespace
+
+std::string animate_crowd(Crowd& c, float t_s) {
+    const BodySpec& spec = c.skirt.body->spec;
     for (CrowdCharacter& who : c.characters) {
-        const float walk_t = who.phase_s + who.pace * t_s;
-        body::walk_pose(m, walk_t, &c.pose);
-        for (size_t v = 0; v < c.pose.size(); ++v) {
-            const Vec3 r = body.rest[v], w = c.pose[v];
-            c.pose[v] = plus({r.x + (w.x - r.x) * entry, r.y + (w.y - r.y) * entry, r.z + (w.z - r.z) * entry}, who.offset_m);
-        }
+        pose_character(c, who, t_s);
         if (Result r = set_body_vertices(c.world, who.body, c.pose.data(), uint32_t(c.pose.size())); !r.ok())
             return r.message;
-        if (body.limb_capsules.empty()) continue;
-        body::walk_capsules(m, body.limb_capsules, walk_t, &c.posed_capsules);
-        for (size_t i = 0; i < c.posed_capsules.size(); ++i) {
-            body::LimbCapsule p = c.posed_capsules[i];
-            const body::LimbCapsule& r = body.limb_capsules[i];
-            const auto enter = [entry, &who](Vec3 rest, Vec3 walk) {
-                return plus({rest.x + (walk.x - rest.x) * entry, rest.y + (walk.y - rest.y) * entry,
-                             rest.z + (walk.z - rest.z) * entry},
-                            who.offset_m);
-            };
-            p.p0 = enter(r.p0, p.p0);
-            p.p1 = enter(r.p1, p.p1);
-            if (Result res = set_collider(c.world, who.limb_colliders[i], limb_collider(body.spec, p)); !res.ok())
-                return res.message;
-        }
+        for (size_t i = 0; i < c.posed_capsules.size(); ++i)
+            if (Result r = set_collider(c.world, who.limb_colliders[i], limb_collider(spec, c.posed_capsules[i])); !r.ok())
+                return r.message;
+        for (ClothId cloth : {who.skirt, who.tee})
+            if (Result r = set_cloth_root(c.world, cloth, world_root(who)); !r.ok()) return r.message;
     }
+    return {};
+}
+
+std::string teleport_character(Crowd& c, uint32_t k, const Transform& root, float t_s, bool drop_velocity) {
+    if (k >= c.characters.size()) return "no such character";
+    CrowdCharacter& who = c.characters[k];
+    who.root = root;
+    pose_character(c, who, t_s);
+    if (Result r = teleport_body(c.world, who.body, c.pose.data(), uint32_t(c.pose.size())); !r.ok()) return r.message;
+    for (size_t i = 0; i < c.posed_capsules.size(); ++i)
+        if (Result r = teleport_collider(c.world, who.limb_colliders[i], limb_collider(c.skirt.body->spec, c.posed_capsules[i]));
+            !r.ok())
+            return r.message;
+    for (ClothId cloth : {who.skirt, who.tee})
+        if (Result r = teleport_cloth(c.world, cloth, world_root(who), drop_velocity); !r.ok()) return r.message;
     return {};
 }
 

@@ -23,6 +23,7 @@ struct CrowdOptions {
     std::string skirt_scene, tee_scene;
     std::vector<std::string> asset_dirs;
     StepScheduler scheduler;
+    float inertia = 1.0f;  // the cloths' linear and angular inertia (ClothDesc; 1: world space)
     SimdPath simd = SimdPath::automatic;
     bool profile = false;
 };
@@ -34,6 +35,9 @@ struct CrowdCharacter {
     float phase_s = 0.0f;  // how far into the walk cycle it starts
     float pace = 1.0f;     // its walking speed relative to the mannequin's walk
     std::vector<ColliderId> limb_colliders;  // the skirt scene's limb capsules, moved with its bones
+    // Where the character's root is (about its grid place): animate_crowd poses the body there and
+    // hands it to its cloths (set_cloth_root). Identity: walking in place.
+    Transform root;
 };
 
 struct Crowd {
@@ -57,5 +61,9 @@ std::string build_crowd(const CrowdOptions& options, Crowd* out);
 // Poses every character at time t (entering the walk from the rest pose over the first second, as
 // the sample scenes do) and moves its limb capsules.
 std::string animate_crowd(Crowd& crowd, float t_s);
+
+// Moves character `k`'s root to `root` at once (a camera cut), posed at time t: its body, capsules
+// and cloths teleport (teleport_body, teleport_collider, teleport_cloth).
+std::string teleport_character(Crowd& crowd, uint32_t k, const Transform& root, float t_s, bool drop_velocity = false);
 
 }  // namespace weft::scenes

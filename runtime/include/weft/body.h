@@ -94,6 +94,9 @@ Result add_body(World* world, const BodyDesc& desc, BodyId* out_body);
 // step refits the BVH and uses (new - previous) hull positions as the surface velocity for
 // friction. Refuses non-finite or absurd positions without changing anything.
 Result set_body_vertices(World* world, BodyId body, const Vec3* positions, uint32_t count);
+// The same, for a jump (a camera cut, a respawn): the body is at the new pose with no motion, so
+// friction and the search see a still surface there.
+Result teleport_body(World* world, BodyId body, const Vec3* positions, uint32_t count);
 
 // A cloth collides with every body of the world unless it is given its own: then with that one
 // only (its character's), so a crowd's cloths do not look at each other's bodies.

@@ -11,6 +11,17 @@ struct Vec3 {
     float x = 0.0f, y = 0.0f, z = 0.0f;
 };
 
+// A rotation as a unit quaternion (x, y, z: the vector part; w: the scalar part).
+struct Quat {
+    float x = 0.0f, y = 0.0f, z = 0.0f, w = 1.0f;
+};
+
+// A rigid transform: rotate, then translate (metres). A character's root each frame.
+struct Transform {
+    Vec3 translation_m{};
+    Quat rotation{};
+};
+
 // Every fallible call returns one of these; `ok` is zero so `if (code != ErrorCode::ok)` reads naturally.
 enum class ErrorCode : uint32_t {
     ok = 0,

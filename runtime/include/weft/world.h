@@ -156,6 +156,13 @@ struct ClothDesc {
     // Wind (only when the world has the wind feature): drag and lift coefficients of (2), (3).
     float drag_coefficient = 0.1f;
     float lift_coefficient = 0.1f;
+
+    // Character motion (set_cloth_root): the share of the root's motion the cloth feels as inertia,
+    // 0..1 (1: simulated in world space, it lags and swings; 0: carried rigidly with the root), and
+    // the fastest root motion it feels, m/s (beyond it the root carries the cloth rigidly).
+    float linear_inertia = 1.0f;
+    float angular_inertia = 1.0f;
+    float max_inertial_speed_m_s = 1000.0f;
 };
 
 struct ColliderId {
@@ -208,6 +215,8 @@ Result end_step(World* world);
 
 // Moves a collider; the next step sees it (its motion over the step drives friction).
 Result set_collider(World* world, ColliderId collider, const ColliderDesc& desc);
+// The same for a jump (a camera cut, a respawn): no motion, so friction carries nothing.
+Result teleport_collider(World* world, ColliderId collider, const ColliderDesc& desc);
 
 // Wind velocity u in equations (2) and (3), m/s. Needs the wind feature.
 Result set_wind(World* world, Vec3 velocity_m_s);
@@ -235,6 +244,16 @@ Result set_particle(World* world, ClothId cloth, uint32_t particle, Vec3 positio
                     float inverse_mass_per_kg);
 // Puts the cloth back at its start pose, at rest.
 Result reset_cloth(World* world, ClothId cloth);
+
+// The character that carries the cloth: its root transform this frame. The next step carries the
+// cloth by the share of the root's motion since the last root that ClothDesc's inertia leaves out
+// (particles and their velocities rotate with it); the first root only sets where the root is.
+Result set_cloth_root(World* world, ClothId cloth, const Transform& root);
+// A jump of the root (a camera cut, a respawn): the cloth is carried rigidly from its last root to
+// `root` now, keeping its shape; the jump adds no velocity. Its own motion goes on, turned with the
+// root (a cut in a running scene), or with `drop_velocity` it starts from rest (a respawn).
+// Teleport its body (teleport_body) and colliders (teleport_collider) too.
+Result teleport_cloth(World* world, ClothId cloth, const Transform& root, bool drop_velocity = false);
 
 SimdPath world_simd_path(const World* world);
 
