@@ -354,8 +354,9 @@ void collide_clusters(const Particles& particles, const uint32_t* order, const B
     const bool contacts_only = planes == nullptr;
     ColliderKernelArgs args{};
     args.friction = body.desc.friction;
-    Candidates candidates;  // on the stack (about 14 kB): nothing allocates
+    Candidates candidates;  // on the stack (about 16 kB): nothing allocates
     Cluster q;
+    q.share = share;  // the rays' frame: each triangle's motion this substep (intersect_leaf)
     for (uint32_t c0 = 0; c0 < p.slot_count; c0 += kClusterSlots) {
         const uint32_t n = p.slot_count - c0 < kClusterSlots ? p.slot_count - c0 : kClusterSlots;
         uint32_t slot[kClusterSlots];
@@ -416,7 +417,13 @@ void collide_clusters(const Particles& particles, const uint32_t* order, const B
                 w = {1.0f - hit.u - hit.v, hit.u, hit.v};
                 float unused[3], at[3], to_hit[3];
                 interpolate(body, hit.triangle, w, unused, normal);
-                for (int a = 0; a < 3; ++a) at[a] = q.origin[k][a] + hit.t * q.dir[k][a];
+                // On the ray in the hit triangle's frame (ray_in_body_frame: the kernel's segment).
+                const float inverse_t_far = 1.0f / q.t_far[k];
+                for (int a = 0; a < 3; ++a) {
+                    float dir;
+                    const float origin = ray_in_body_frame(q.origin[k][a], q.dir[k][a], hit.motion[a], inverse_t_far, &dir);
+                    at[a] = origin + hit.t * dir;
+                }
                 sub3(at, x, to_hit);
                 penetration = dot3(to_hit, normal);
                 if (penetration > 0.0f) triangle = hit.triangle;
@@ -711,7 +718,7 @@ bool build_body_hierarchy(BodyState& body, Arena& arena, SimdPath path) {
     // Triangles ordered by recursive median splits of their centroids along the longest axis, at
     // multiples of a group (then of a leaf) near the middle: each leaf is a compact patch and each
     // group a subtree (Morton order gave leaves 2-3 times larger, measured: 3.5 x 5 x 1.4 cm boxes).
-    // The centroids live in the corner array's memory until the first refit (13 floats a triangle >= 3).
+    // The centroids live in the corner array's memory until the first refit (16 floats a triangle >= 3).
     float* centroid = h.leaf_corners;
     for (uint32_t f = 0; f < body.triangle_count; ++f) {
         const uint32_t* t = body.triangles + 3 * f;
@@ -732,6 +739,8 @@ bool build_body_hierarchy(BodyState& body, Arena& arena, SimdPath path) {
     return true;
 }
 
-void refit_body_hierarchy(BodyState& body, SimdPath path) { path_for(path).refit(body.hierarchy, body.hull); }
+void refit_body_hierarchy(BodyState& body, SimdPath path) {
+    path_for(path).refit(body.hierarchy, body.hull, body.previous_hull);
+}
 
 }  // namespace weft

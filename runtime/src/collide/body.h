@@ -11,8 +11,10 @@
 // resolve_contact), with the surface's own motion, interpolated from the hull's per-vertex
 // displacement, as the collider motion.
 // Tunnelling: a particle that moved further than the thickness this substep is also traced by a
-// ray from its previous to its new position (rtcIntersect1; Embree's BVH is refitted at the first
-// such ray of a step after the body moved); entering the hull stops it there.
+// ray from its previous to its new position, entering the hull stops it there. Weft's hierarchy
+// traces it in each triangle's frame (the previous position moved with the triangle: the motion
+// relative to the surface is what crosses it); the plain reference pass, in world space
+// (rtcIntersect1; Embree's BVH is refitted at the first such ray of a step after the body moved).
 #pragma once
 
 #include <embree3/rtcore.h>
@@ -50,15 +52,16 @@ struct BodyHierarchy {
     uint32_t* leaf_triangle = nullptr;  // [kLeafTriangles * leaf_count]: body triangle per leaf lane
     uint32_t* leaf_vertex = nullptr;    // [3 * kLeafTriangles * leaf_count]: per leaf a[8], b[8], c[8] as 4 * vertex
     // [kLeafCorners * leaf_count]: per leaf the corner a, edges ab, ac, normal ab x ac (not
-    // normalised) and radius max(|ab|, |ac|) of its triangles, each component an array of
-    // kLeafTriangles floats (ax[8], ay[8], az[8], abx[8], ... nz[8], radius[8]).
+    // normalised), radius max(|ab|, |ac|) and motion this step (the mean of its corners' hull -
+    // previous_hull: the tunnelling rays' frame) of its triangles, each component an array of
+    // kLeafTriangles floats (ax[8], ay[8], az[8], abx[8], ... nz[8], radius[8], mx[8], my[8], mz[8]).
     float* leaf_corners = nullptr;
     float* leaf_sweep = nullptr;  // [leaf_count rounded up as `leaves`]: the largest motion of the leaf's vertices this step
     Boxes leaves;                 // [leaf_count rounded up to groups * kGroupLeaves]
     Boxes groups;                 // [root_count * kRootGroups]
     Boxes roots;                  // [root_count rounded up to 8]
 };
-inline constexpr uint32_t kLeafCorners = 13 * kLeafTriangles;
+inline constexpr uint32_t kLeafCorners = 16 * kLeafTriangles;
 
 struct BodyState {
     BodyDesc desc;  // thickness, margin, friction (the array pointers are not kept)
@@ -105,7 +108,8 @@ size_t body_hierarchy_bytes(uint32_t triangles, uint32_t bodies);
 // Carves the hierarchy from `arena` and orders the triangles (at add_body); false when out of memory.
 struct Arena;
 bool build_body_hierarchy(BodyState& body, Arena& arena, SimdPath path);
-// Refits the hierarchy to the current hull and its vertices' motion (every step after the body moved).
+// Refits the hierarchy to the current hull and its vertices' motion since previous_hull (every step
+// after the body moved).
 void refit_body_hierarchy(BodyState& body, SimdPath path);
 // Refits a skin_constraints body's hierarchy if the hull moved since its last refit.
 inline void refresh_body_hierarchy(BodyState& body, SimdPath path) {

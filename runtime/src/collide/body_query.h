@@ -200,13 +200,26 @@ struct Best {
 };
 
 // The first hull triangle a particle's tunnelling ray meets (any side), kNoTriangle when none.
+// The ray is traced in each triangle's frame (intersect_leaf): from its origin moved with the
+// triangle this substep (motion) to the particle's new position.
 inline constexpr uint32_t kNoTriangle = 0xffffffffu;
 struct RayHit {
     float t;  // along the ray's direction (the whole displacement) from its origin
     uint32_t triangle;
     float u, v;     // weights of the triangle's corners b and c at the hit
     bool entering;  // moving against the triangle's outward normal: a crossing into the hull
+    float motion[3];  // the hit triangle's motion this substep (ray_in_body_frame)
 };
+
+// A ray from `origin` along `dir` for t in [0, t_far] (the particle's whole displacement), seen
+// from a triangle that moved by `motion` this substep: from origin + motion to the same end,
+// origin + t_far dir. The particle's motion relative to the surface is what crosses it: a hull
+// swinging into a hem moving towards it crosses it by the sum of both motions while either alone
+// stays within reach. With motion 0 (a still body) it adds exact zeros: the world's ray.
+inline float ray_in_body_frame(float origin, float dir, float motion, float inverse_t_far, float* body_dir) {
+    *body_dir = dir - motion * inverse_t_far;
+    return origin + motion;
+}
 
 // One cluster's points (kClusterSlots slots consecutive in the pass's order): those to search (bits
 // of `active`) and those that also trace a ray (bits of `rays`) from origin[k] along dir[k] for t in
@@ -216,27 +229,35 @@ struct Cluster {
     float origin[kClusterSlots][3];
     float dir[kClusterSlots][3];
     float t_far[kClusterSlots];
+    float share = 1.0f;  // the substep's share of the step: of each triangle's motion, for the rays
     uint32_t active = 0, rays = 0;
     Best best[kClusterSlots];
     RayHit hit[kClusterSlots];
 };
 
-// Moeller-Trumbore against a leaf's eight triangles: the lanes the segment org + t dir,
-// t in [0, t_far], crosses, with t, u (weight of b), v (weight of c) and det > 0 when entering
-// (det = ab . (dir x ac) = -dir . (ab x ac), the outward normal).
+// Moeller-Trumbore against a leaf's eight triangles, each in its own frame (ray_in_body_frame: the
+// origin moved by the triangle's motion, `share` of its motion this step, the end kept): the lanes
+// the segment org' + t dir', t in [0, t_far], crosses, with t, u (weight of b), v (weight of c),
+// det > 0 when entering (det = ab . (dir' x ac) = -dir' . (ab x ac), the outward normal) and the
+// lane's motion.
 template <class F>
-inline uint32_t intersect_leaf(const float* corners, const float* org, const float* dir, float t_far, float* t_out,
-                               float* u_out, float* v_out, float* det_out) {
+inline uint32_t intersect_leaf(const float* corners, const float* org, const float* dir, float t_far, float share,
+                               float* t_out, float* u_out, float* v_out, float* det_out, float* motion_out) {
     using namespace simd;
     const F zero = splat(0.0f, F{}), one = splat(1.0f, F{});
-    const Vec3W<F> d{splat(dir[0], F{}), splat(dir[1], F{}), splat(dir[2], F{})};
+    const F portion = splat(share, F{}), inverse_t_far = splat(1.0f / t_far, F{});
     uint32_t hits = 0;
     for (uint32_t k = 0; k < kLeafTriangles; k += F::width) {
         const float* c = corners + k;
         const Vec3W<F> ab{load(c + 24, F{}), load(c + 32, F{}), load(c + 40, F{})};
         const Vec3W<F> ac{load(c + 48, F{}), load(c + 56, F{}), load(c + 64, F{})};
-        const Vec3W<F> to{splat(org[0], F{}) - load(c, F{}), splat(org[1], F{}) - load(c + 8, F{}),
-                          splat(org[2], F{}) - load(c + 16, F{})};
+        // The origin moved with the triangle and the direction to the same end (ray_in_body_frame,
+        // the same operations lane by lane).
+        const Vec3W<F> m{load(c + 104, F{}) * portion, load(c + 112, F{}) * portion, load(c + 120, F{}) * portion};
+        const Vec3W<F> d{splat(dir[0], F{}) - m.x * inverse_t_far, splat(dir[1], F{}) - m.y * inverse_t_far,
+                         splat(dir[2], F{}) - m.z * inverse_t_far};
+        const Vec3W<F> to{(splat(org[0], F{}) + m.x) - load(c, F{}), (splat(org[1], F{}) + m.y) - load(c + 8, F{}),
+                          (splat(org[2], F{}) + m.z) - load(c + 16, F{})};
         const Vec3W<F> p{d.y * ac.z - d.z * ac.y, d.z * ac.x - d.x * ac.z, d.x * ac.y - d.y * ac.x};
         const F det = dot(ab, p);
         const F inverse = one / det;
@@ -249,6 +270,9 @@ inline uint32_t intersect_leaf(const float* corners, const float* org, const flo
         store(u_out + k, u);
         store(v_out + k, v);
         store(det_out + k, det);
+        store(motion_out + k, m.x);
+        store(motion_out + kLeafTriangles + k, m.y);
+        store(motion_out + 2 * kLeafTriangles + k, m.z);
         hits |= lanes << k;
     }
     return hits;
@@ -262,36 +286,43 @@ struct Candidates {
     alignas(32) float min_x[kMaxCandidates + 8], min_y[kMaxCandidates + 8], min_z[kMaxCandidates + 8];
     alignas(32) float max_x[kMaxCandidates + 8], max_y[kMaxCandidates + 8], max_z[kMaxCandidates + 8];
     alignas(32) float reach2[kMaxCandidates + 8];  // (base reach + the leaf's sweep)^2
+    alignas(32) float sweep[kMaxCandidates + 8];   // the leaf's sweep (its rays' origins move up to that)
 };
 
 // Appends the leaves first + k of the set bits k of `bits` with their boxes and squared reaches
 // (lanes of one walk test) to `c`, branch-free as append_hits (the AVX2 form writes eight lanes: the
 // arrays' slack).
-inline void append_candidates(uint32_t bits, uint32_t first, const simd::Float1* box, simd::Float1 reach2, Candidates& c) {
+inline void append_candidates(uint32_t bits, uint32_t first, const simd::Float1* box, simd::Float1 reach2,
+                              simd::Float1 sweep, Candidates& c) {
     const uint32_t n = c.count;
     c.leaf[n] = first;
     c.min_x[n] = box[0].v, c.min_y[n] = box[1].v, c.min_z[n] = box[2].v;
     c.max_x[n] = box[3].v, c.max_y[n] = box[4].v, c.max_z[n] = box[5].v;
     c.reach2[n] = reach2.v;
+    c.sweep[n] = sweep.v;
     c.count = n + bits;
 }
 #if WEFT_HAVE_AVX2
-inline void append_candidates(uint32_t bits, uint32_t first, const simd::Float8* box, simd::Float8 reach2, Candidates& c) {
+inline void append_candidates(uint32_t bits, uint32_t first, const simd::Float8* box, simd::Float8 reach2,
+                              simd::Float8 sweep, Candidates& c) {
     const __m256i order = pack_order(bits);
     const uint32_t n = c.count;
     _mm256_storeu_si256(reinterpret_cast<__m256i*>(c.leaf + n), _mm256_add_epi32(_mm256_set1_epi32(int(first)), order));
     float* out[6] = {c.min_x + n, c.min_y + n, c.min_z + n, c.max_x + n, c.max_y + n, c.max_z + n};
     for (int a = 0; a < 6; ++a) _mm256_storeu_ps(out[a], _mm256_permutevar8x32_ps(box[a].v, order));
     _mm256_storeu_ps(c.reach2 + n, _mm256_permutevar8x32_ps(reach2.v, order));
+    _mm256_storeu_ps(c.sweep + n, _mm256_permutevar8x32_ps(sweep.v, order));
     c.count = n + uint32_t(__builtin_popcount(bits));
 }
 #endif
 
-// Traces a cluster point's ray against every candidate leaf whose box meets the segment's box,
-// keeping the first hit (strictly smaller t: ties keep the first leaf and lane, deterministic).
+// Traces a cluster point's ray against every candidate leaf whose box meets the segment's box
+// widened by the leaf's sweep (in a triangle's frame the origin moves by up to that,
+// intersect_leaf), keeping the first hit (strictly smaller t: ties keep the first leaf and lane,
+// deterministic).
 template <class F>
 inline void trace_candidates(const BodyHierarchy& h, const Candidates& c, const float* org, const float* dir,
-                             float t_far, RayHit& hit) {
+                             float t_far, float share, RayHit& hit) {
     using namespace simd;
     float lo[3], hi[3];
     for (int a = 0; a < 3; ++a) {
@@ -302,22 +333,26 @@ inline void trace_candidates(const BodyHierarchy& h, const Candidates& c, const 
     const F lx = splat(lo[0], F{}), ly = splat(lo[1], F{}), lz = splat(lo[2], F{});
     const F hx = splat(hi[0], F{}), hy = splat(hi[1], F{}), hz = splat(hi[2], F{});
     alignas(32) float t[kLeafTriangles], u[kLeafTriangles], v[kLeafTriangles], det[kLeafTriangles];
+    alignas(32) float motion[3 * kLeafTriangles];
     for (uint32_t i = 0; i < c.count; i += F::width) {
-        const auto apart = (load(c.min_x + i, F{}) > hx) | (load(c.max_x + i, F{}) < lx) |
-                           (load(c.min_y + i, F{}) > hy) | (load(c.max_y + i, F{}) < ly) |
-                           (load(c.min_z + i, F{}) > hz) | (load(c.max_z + i, F{}) < lz);
+        const F sweep = load(c.sweep + i, F{});
+        const auto apart = (load(c.min_x + i, F{}) - sweep > hx) | (load(c.max_x + i, F{}) + sweep < lx) |
+                           (load(c.min_y + i, F{}) - sweep > hy) | (load(c.max_y + i, F{}) + sweep < ly) |
+                           (load(c.min_z + i, F{}) - sweep > hz) | (load(c.max_z + i, F{}) + sweep < lz);
         uint32_t bits = ~lane_bits(apart) & ((1u << F::width) - 1u);
         while (bits != 0) {
             const uint32_t lane = uint32_t(__builtin_ctz(bits));
             bits &= bits - 1;
             if (i + lane >= c.count) break;
             const uint32_t leaf = c.leaf[i + lane];
-            uint32_t lanes = intersect_leaf<F>(h.leaf_corners + size_t(kLeafCorners) * leaf, org, dir, t_far, t, u, v, det);
+            uint32_t lanes = intersect_leaf<F>(h.leaf_corners + size_t(kLeafCorners) * leaf, org, dir, t_far, share, t, u,
+                                               v, det, motion);
             while (lanes != 0) {
                 const uint32_t k = uint32_t(__builtin_ctz(lanes));
                 lanes &= lanes - 1;
                 if (!(t[k] < hit.t)) continue;
-                hit = {t[k], h.leaf_triangle[kLeafTriangles * leaf + k], u[k], v[k], det[k] > 0.0f};
+                hit = {t[k], h.leaf_triangle[kLeafTriangles * leaf + k], u[k], v[k], det[k] > 0.0f,
+                       {motion[k], motion[kLeafTriangles + k], motion[2 * kLeafTriangles + k]}};
             }
         }
     }
@@ -433,7 +468,7 @@ inline void collect_leaves(const BodyHierarchy& h, float base_reach, const float
                 const F sweep = load(h.leaf_sweep + i0, F{});
                 for (int a = 0; a < 3; ++a) box[a] = box[a] + sweep, box[3 + a] = box[3 + a] - sweep;
                 const F leaf_reach = reach + sweep;
-                append_candidates(~lane_bits(apart) & ((1u << F::width) - 1u), i0, box, leaf_reach * leaf_reach, c);
+                append_candidates(~lane_bits(apart) & ((1u << F::width) - 1u), i0, box, leaf_reach * leaf_reach, sweep, c);
                 if (c.count + 8 > kMaxCandidates) flush();
             }
         });
@@ -450,7 +485,7 @@ inline uint32_t search_cluster(const BodyHierarchy& h, float reach, Cluster& q, 
     float lo[3] = {inf, inf, inf}, hi[3] = {-inf, -inf, -inf};
     for (uint32_t k = 0; k < kClusterSlots; ++k) {
         q.best[k] = {inf, 0, 0.0f, 0.0f};
-        q.hit[k] = {inf, kNoTriangle, 0.0f, 0.0f, false};
+        q.hit[k] = {inf, kNoTriangle, 0.0f, 0.0f, false, {0.0f, 0.0f, 0.0f}};
         if (!(q.active >> k & 1u)) continue;
         for (int a = 0; a < 3; ++a) {
             lo[a] = q.point[k][a] - reach < lo[a] ? q.point[k][a] - reach : lo[a];
@@ -475,11 +510,12 @@ inline uint32_t search_cluster(const BodyHierarchy& h, float reach, Cluster& q, 
             c.min_x[n] = c.min_y[n] = c.min_z[n] = inf;
             c.max_x[n] = c.max_y[n] = c.max_z[n] = -inf;
             c.reach2[n] = 0.0f;
+            c.sweep[n] = 0.0f;
             c.leaf[n] = 0;
         }
         for (uint32_t k = 0; k < kClusterSlots; ++k) {
             if (!(q.active >> k & 1u)) continue;
-            if (q.rays >> k & 1u) trace_candidates<F>(h, c, q.origin[k], q.dir[k], q.t_far[k], q.hit[k]);
+            if (q.rays >> k & 1u) trace_candidates<F>(h, c, q.origin[k], q.dir[k], q.t_far[k], q.share, q.hit[k]);
             if (search_candidates<F>(h, c, q.point[k], q.best[k], contacts_only)) met |= 1u << k;
         }
         c.count = 0;
@@ -564,7 +600,7 @@ inline void unite(const Boxes& from, uint32_t first, uint32_t end, uint32_t coun
 // corners, edges, normals and radii of its triangles, its box widened by the largest motion of its
 // vertices and kBoxSlack_m, then the group boxes. Min, max and IEEE arithmetic: both paths agree.
 template <class F>
-inline void refit_leaves(BodyHierarchy& h, const float* hull) {
+inline void refit_leaves(BodyHierarchy& h, const float* hull, const float* previous_hull) {
     using namespace simd;
     const F slack = splat(kBoxSlack_m, F{});
     for (uint32_t l = 0; l < h.leaf_count; ++l) {
@@ -599,6 +635,15 @@ inline void refit_leaves(BodyHierarchy& h, const float* hull) {
             store(c + 96 + k, sqrt(max(dot(ab, ab), dot(ac, ac))) + slack);
             const F motion = max(corner_a[3], max(corner_b[3], corner_c[3]));
             sweep = k == 0 ? motion : max(sweep, motion);
+            // The triangle's motion this step: its corners' mean (the rays' frame, intersect_leaf).
+            F before_a[4], before_b[4], before_c[4];
+            load_vertices(previous_hull, offset + k, before_a);
+            load_vertices(previous_hull, offset + kLeafTriangles + k, before_b);
+            load_vertices(previous_hull, offset + 2 * kLeafTriangles + k, before_c);
+            const F third = splat(1.0f / 3.0f, F{});
+            for (int axis = 0; axis < 3; ++axis)
+                store(c + 104 + 8 * axis + k, ((corner_a[axis] - before_a[axis]) + (corner_b[axis] - before_b[axis]) +
+                                               (corner_c[axis] - before_c[axis])) * third);
         }
         // Widened by the leaf's motion (a surface sweeping over resting cloth: the particle lies up
         // to that much deeper) and by a slack that absorbs the box test's rounding.
@@ -695,7 +740,7 @@ inline uint32_t project_on_planes(const Particles& particles, const ContactPlane
 // further (in_front_of_every_plane); query_body wants its closest point all the same.
 using SearchCluster = uint32_t (*)(const BodyHierarchy&, float, Cluster&, Candidates&, bool contacts_only);
 using SearchAgain = void (*)(const BodyHierarchy&, float, Cluster&, Candidates&);
-using RefitLeaves = void (*)(BodyHierarchy&, const float*);
+using RefitLeaves = void (*)(BodyHierarchy&, const float* hull, const float* previous_hull);
 using ProjectOnPlanes = uint32_t (*)(const Particles&, const ContactPlanes&, float friction, uint64_t& contacts);
 struct Path {
     SearchCluster search;
