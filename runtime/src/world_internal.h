@@ -19,7 +19,7 @@ struct ClothStepCounts {
     BodyPassCounts body;
 };
 
-struct ClothInstance {
+struct alignas(64) ClothInstance {  // a cache line of its own: cloths step on different threads
     const ClothAsset* asset = nullptr;
     ClothDesc settings;
     SolverSplit split;  // settings after the budget policy: what the step runs

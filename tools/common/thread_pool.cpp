@@ -35,7 +35,7 @@ void* ThreadPool::enqueue(StepTaskFn fn, uint32_t items, uint32_t min_range, voi
     }
     // Ranges small enough that a slow item does not leave the other threads idle for long, and no
     // smaller than the world asks.
-    const uint32_t range = std::max(min_range, std::max(1u, items / (4 * pool.threads())));
+    const uint32_t range = std::max(min_range, std::max(1u, items / (16 * pool.threads())));
     {
         std::lock_guard<std::mutex> lock(pool.mutex_);
         // A worker still leaving the last task's ranges reads these fields: wait for it.
