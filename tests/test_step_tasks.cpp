@@ -205,9 +205,10 @@ Transform sprint_and_turn(float t) {
 
 // Known to fail (2026-11-27; issue 23, point 3): at inertia 0.5 the sample skirt and tee reach
 // 845% max strain and 34 mm below the hull during the turn (the still walk: 268%, 1.9 mm); in world
-// space (inertia 1) 2 245% and 50 mm. The inertia scales the share of the root's displacement the
-// cloth is carried by; its skin constraints (3 cm balls around the skinned positions) then yank
-// the lagging half of a 180-degree turn in 0.2 s around. should_fail: it reports when it holds.
+// space (inertia 1) 2 245% and 50 mm; fully carried (inertia 0) still 489% and 69 mm: friction
+// against the capsules and the hull compares the particles' own motion (the carry excluded) with the
+// surfaces' world motion (the root's included), docs/decisions/2026-11-27-step-as-tasks.md.
+// should_fail: it reports when it holds.
 TEST_CASE("character motion: sprinting to 10 m/s and turning 180 degrees in 0.2 s at inertia 0.5 stays within the still walk's strain and penetration (known to fail)" *
           doctest::should_fail()) {
     const CharacterFigures still = walk_one(1.0f, 150, nullptr);
