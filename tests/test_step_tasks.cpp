@@ -201,28 +201,35 @@ Transform sprint_and_turn(float t) {
     return {at, turn_about_y(heading)};
 }
 
+// The sprint at `inertia` against the still walk: max strain within `strain_factor` of it, the
+// deepest particle within `depth_factor` of it (and never held to less than 2 mm).
+void check_sprint_within_still_walk(float inertia, double strain_factor, double depth_factor) {
+    const CharacterFigures still = walk_one(1.0f, 150, nullptr);
+    const CharacterFigures sprint = walk_one(inertia, 150, sprint_and_turn);
+    CAPTURE(still.max_strain);
+    CAPTURE(still.deepest_m);
+    CAPTURE(sprint.max_strain);
+    CAPTURE(sprint.deepest_m);
+    CHECK(sprint.max_strain <= strain_factor * still.max_strain);
+    CHECK(sprint.deepest_m <= std::max(0.002, depth_factor * still.deepest_m));
+}
+
 }  // namespace
 
+TEST_CASE("character motion: carried fully (inertia 0), sprinting to 10 m/s and turning 180 degrees in 0.2 s changes nothing of the walk") {
+    // The carry moves the garments with the root substep by substep, as the body's hull and its
+    // skinned points move: the walk reads as the still one to within its noise.
+    check_sprint_within_still_walk(0.0f, 1.05, 1.1);
+}
+
 // Known to fail (2026-11-27; issue 23, point 3): at inertia 0.5 the sample skirt and tee reach
-// 845% max strain and 34 mm below the hull during the turn (the still walk: 268%, 1.9 mm); in world
-// space (inertia 1) 2 245% and 50 mm; fully carried (inertia 0) still 489% and 69 mm: friction
-// against the capsules and the hull compares the particles' own motion (the carry excluded) with the
-// surfaces' world motion (the root's included), docs/decisions/2026-11-27-step-as-tasks.md.
+// 849% max strain and 30 mm below the hull during the turn (the still walk: 268%, 1.9 mm; in world
+// space, inertia 1, 2 245% and 50 mm): the half of a 20 m/s reversal in 0.2 s the cloth feels is
+// forced on it by its skin constraints' 3 cm balls (docs/decisions/2026-11-27-step-as-tasks.md).
 // should_fail: it reports when it holds.
 TEST_CASE("character motion: sprinting to 10 m/s and turning 180 degrees in 0.2 s at inertia 0.5 stays within the still walk's strain and penetration (known to fail)" *
           doctest::should_fail()) {
-    const CharacterFigures still = walk_one(1.0f, 150, nullptr);
-    const CharacterFigures moving = walk_one(0.5f, 150, sprint_and_turn);
-    CAPTURE(still.max_strain);
-    CAPTURE(still.deepest_m);
-    CAPTURE(moving.max_strain);
-    CAPTURE(moving.deepest_m);
-    CHECK(moving.max_strain <= 1.1 * still.max_strain);
-    CHECK(moving.deepest_m <= std::max(0.002, still.deepest_m));
-    // The same sprint in world space (inertia 1) is what the inertia scale is for: report it.
-    const CharacterFigures world_space = walk_one(1.0f, 150, sprint_and_turn);
-    MESSAGE("max strain still ", still.max_strain, ", sprint at inertia 0.5 ", moving.max_strain, ", at inertia 1 ",
-            world_space.max_strain, "; deepest ", still.deepest_m, " / ", moving.deepest_m, " / ", world_space.deepest_m, " m");
+    check_sprint_within_still_walk(0.5f, 1.1, 1.0);
 }
 
 TEST_CASE("character motion: a 10 m teleport leaves no stretch and no penetration after one frame") {

@@ -50,21 +50,41 @@ void move_rigidly(float* x, float* y, float* z, uint32_t count, const float r[9]
     }
 }
 
-void carry(ClothInstance& cloth, const Transform& to, float angular_share, Vec3 shift) {
-    const Transform& from = cloth.previous_root;
-    float r[9];
+void carry(ClothInstance& cloth, const Transform& from, const Transform& to, float angular_share, Vec3 shift) {
+    float* r = cloth.carry_rotation;
     to_matrix(scale_rotation(multiply(to.rotation, conjugate(from.rotation)), angular_share), r);
+    cloth.carry_pivot = from.translation_m;
+    cloth.carry_shift = shift;
+    cloth.carried = true;
     Particles& p = cloth.particles;
     move_rigidly(p.x, p.y, p.z, p.slot_count, r, from.translation_m, shift);
     move_rigidly(p.previous_x, p.previous_y, p.previous_z, p.slot_count, r, from.translation_m, shift);
 }
 
+// The root `share` of the way from a to b (the rotation about the same axis).
+Transform along(const Transform& a, const Transform& b, float share) {
+    const Vec3 t{a.translation_m.x + (b.translation_m.x - a.translation_m.x) * share,
+                 a.translation_m.y + (b.translation_m.y - a.translation_m.y) * share,
+                 a.translation_m.z + (b.translation_m.z - a.translation_m.z) * share};
+    return {t, multiply(scale_rotation(multiply(b.rotation, conjugate(a.rotation)), share), a.rotation)};
+}
+
 }  // namespace
 
-void follow_root(ClothInstance& cloth, float dt_s) {
+Vec3 carried_motion(const ClothInstance& cloth, Vec3 at) {
+    if (!cloth.carried) return {};
+    const float* r = cloth.carry_rotation;
+    const Vec3 d{at.x - cloth.carry_pivot.x, at.y - cloth.carry_pivot.y, at.z - cloth.carry_pivot.z};
+    return {r[0] * d.x + r[1] * d.y + r[2] * d.z - d.x + cloth.carry_shift.x,
+            r[3] * d.x + r[4] * d.y + r[5] * d.z - d.y + cloth.carry_shift.y,
+            r[6] * d.x + r[7] * d.y + r[8] * d.z - d.z + cloth.carry_shift.z};
+}
+
+void follow_root(ClothInstance& cloth, float dt_s, uint32_t substep, uint32_t substeps) {
+    cloth.carried = false;
     if (!cloth.has_root) return;
-    const Transform& from = cloth.previous_root;
-    const Transform& to = cloth.root;
+    const Transform from = cloth.previous_root, to = cloth.root;
+    if (substep + 1 == substeps) cloth.previous_root = to;
     const Vec3 delta{to.translation_m.x - from.translation_m.x, to.translation_m.y - from.translation_m.y,
                      to.translation_m.z - from.translation_m.z};
     const bool turned = to.rotation.x != from.rotation.x || to.rotation.y != from.rotation.y ||
@@ -78,14 +98,16 @@ void follow_root(ClothInstance& cloth, float dt_s) {
         const float k = most / felt_length;
         felt = {felt.x * k, felt.y * k, felt.z * k};
     }
-    carry(cloth, to, 1.0f - s.angular_inertia, {delta.x - felt.x, delta.y - felt.y, delta.z - felt.z});
-    cloth.previous_root = to;
+    // Each substep its share, as the body's hull and the skinned points are interpolated.
+    const float n = float(substeps);
+    carry(cloth, along(from, to, float(substep) / n), along(from, to, float(substep + 1) / n), 1.0f - s.angular_inertia,
+          {(delta.x - felt.x) / n, (delta.y - felt.y) / n, (delta.z - felt.z) / n});
 }
 
 void jump_to_root(ClothInstance& cloth, const Transform& root, bool drop_velocity) {
     if (cloth.has_root) {
         const Transform& from = cloth.previous_root;
-        carry(cloth, root, 1.0f,
+        carry(cloth, from, root, 1.0f,
               {root.translation_m.x - from.translation_m.x, root.translation_m.y - from.translation_m.y,
                root.translation_m.z - from.translation_m.z});
     }

@@ -154,7 +154,15 @@ void collide(World& world, ClothInstance& cloth, uint32_t substeps) {
         args.radius = c.desc.shape == ColliderShape::plane ? c.desc.inflation_m
                                                            : c.desc.radius_m + c.desc.inflation_m;
         args.friction = c.desc.friction;
-        args.motion = {c.motion_m.x * share, c.motion_m.y * share, c.motion_m.z * share};
+        // The collider's motion relative to the cloth's carry (character motion): the carry moved
+        // the particles already, so friction drags them only by the rest.
+        const bool axis = c.desc.shape == ColliderShape::capsule || c.desc.shape == ColliderShape::cylinder;
+        const Vec3 centre = axis ? Vec3{0.5f * (args.p0.x + args.p1.x), 0.5f * (args.p0.y + args.p1.y),
+                                        0.5f * (args.p0.z + args.p1.z)}
+                                 : args.p0;
+        const Vec3 carried = carried_motion(cloth, centre);
+        args.motion = {c.motion_m.x * share - carried.x, c.motion_m.y * share - carried.y,
+                       c.motion_m.z * share - carried.z};
         if (!collider_may_touch(box, args)) {
             cloth.counts.colliders_skipped += 1;
             continue;
@@ -271,9 +279,9 @@ void find_vertex_normals(World& world, ClothInstance& cloth) {
 
 void step_cloth(World& world, ClothInstance& cloth, float dt) {
     const float h = dt / float(cloth.split.substeps);
-    follow_root(cloth, dt);                                    // carried by its character's root
     find_skin_frames(world, cloth);                            // the skinned frames of 3d
     for (uint32_t substep = 0; substep < cloth.split.substeps; ++substep) {
+        follow_root(cloth, dt, substep, cloth.split.substeps);  //    carried by its character's root
         if (cloth.attached_body != ~0u)                        // 0. attached particles ride the body
             follow_attachments(world.bodies[cloth.attached_body], *cloth.asset, cloth.particles,
                                float(substep + 1) / float(cloth.split.substeps));

@@ -47,11 +47,20 @@ struct alignas(64) ClothInstance {  // a cache line of its own: cloths step on d
     // whether a root was given yet.
     Transform root, previous_root;
     bool has_root = false;
+    // This substep's carry: x -> carry_rotation (x - carry_pivot) + carry_pivot + carry_shift (carried
+    // false: none). Friction subtracts it from the surfaces' motion: the particles already moved so.
+    bool carried = false;
+    float carry_rotation[9] = {1, 0, 0, 0, 1, 0, 0, 0, 1};
+    Vec3 carry_pivot{}, carry_shift{};
 };
 
-// Character motion (runtime/src/character_motion.cpp). At a step's start: carries the cloth by the
-// share of its root's motion since the last step that its inertia leaves out.
-void follow_root(ClothInstance& cloth, float dt_s);
+// How far this step's carry moved a point at `p` (zero without one).
+Vec3 carried_motion(const ClothInstance& cloth, Vec3 p);
+
+// Character motion (runtime/src/character_motion.cpp). At each substep's start: carries the cloth
+// by the substep's part of the share of its root's motion since the last step that its inertia
+// leaves out.
+void follow_root(ClothInstance& cloth, float dt_s, uint32_t substep, uint32_t substeps);
 // teleport_cloth: carries the cloth rigidly to `root`; with drop_velocity, at rest there.
 void jump_to_root(ClothInstance& cloth, const Transform& root, bool drop_velocity);
 
