@@ -24,6 +24,7 @@
 #include <vector>
 
 #include "common/asset_writer.h"
+#include "common/crowd.h"
 #include "common/seed_scenes.h"
 #include "common/thread_pool.h"
 #include "weft/weft.h"
@@ -337,6 +338,42 @@ TEST_CASE("stepping four cloths on a thread pool of three allocates nothing, on 
     CHECK(deallocations == 0);
     CHECK(world_stats(world).steps == 300);
     destroy_world(world);
+}
+
+TEST_CASE("1000 despawns and spawns of a dressed character allocate nothing and leave the world's pools as they were") {
+    // Two walking characters in skirt and tee (tools/common/crowd.h); the second leaves and comes
+    // back every frame: its cloths, limb capsules and body removed, then added, bound and stepped.
+    scenes::CrowdOptions o;
+    o.characters = 2;
+    o.skirt_scene = std::string(WEFT_SOURCE_DIR) + "/samples/scenes/skirt-walk.json";
+    o.tee_scene = std::string(WEFT_SOURCE_DIR) + "/samples/scenes/tee-walk.json";
+    o.asset_dirs = {WEFT_SAMPLE_ASSETS_DIR};
+    scenes::Crowd crowd;
+    const std::string built = scenes::build_crowd(o, &crowd);
+    INFO(built);
+    REQUIRE(built.empty());
+    REQUIRE(step(crowd.world, crowd.dt_s).ok());
+    const WorldUsage start = world_usage(crowd.world);
+    uint64_t allocations = 0;
+    uint32_t failures = 0;
+    for (uint32_t cycle = 1; cycle <= 1000; ++cycle) {
+        {
+            CountingScope counting;
+            failures += !scenes::despawn_character(crowd, 1).empty();
+            failures += !scenes::spawn_character(crowd, 1).empty();
+            allocations += counting.allocations();
+        }
+        // The game's animation (the mannequin's walk, tools/body) is not Weft's: not counted.
+        failures += !scenes::animate_crowd(crowd, float(cycle % 120) * crowd.dt_s).empty();
+        CountingScope counting;
+        failures += !step(crowd.world, crowd.dt_s).ok();
+        allocations += counting.allocations();
+    }
+    CHECK(failures == 0);
+    CHECK(allocations == 0);
+    CHECK(world_usage(crowd.world) == start);
+    CHECK(world_stats(crowd.world).memory_compactions == 0);  // each comes back to the room it left
+    CHECK(step_stage_items(crowd.world, StepStage::cloths) == 4);
 }
 
 TEST_CASE("a frame's calls allocate nothing: set_wind, set_collider, step, read_positions, read_normals, view_cloth") {

@@ -297,6 +297,22 @@ TEST_CASE("C API: stale ids and a destroyed world give an error, not a crash") {
     CHECK(weft_step_stage_items(c->world, WEFT_STAGE_CLOTHS) == 1);
     CHECK(weft_step_stage_items(nullptr, WEFT_STAGE_CLOTHS) == 0);
 
+    // Removed: the ids go stale; the next add takes the place under a new generation.
+    REQUIRE_WEFT_OK(weft_remove_collider(c->world, 0));
+    CHECK_WEFT_ERROR(weft_set_collider(c->world, 0, &collider), WEFT_STALE_ID);
+    REQUIRE_WEFT_OK(weft_remove_cloth(c->world, 0));
+    CHECK_WEFT_ERROR(weft_read_positions(c->world, 0, positions.data(), c->info.particle_count), WEFT_STALE_ID);
+    CHECK_WEFT_ERROR(weft_remove_cloth(c->world, 0), WEFT_STALE_ID);
+    CHECK(std::string(weft_error_name(WEFT_STALE_ID)) == "stale_id");
+    const WeftClothDesc again = weft_default_cloth_desc(c->asset);
+    WeftClothId again_id = 0;
+    REQUIRE_WEFT_OK(weft_add_cloth(c->world, &again, &again_id));
+    CHECK((again_id & 0xFFFFu) == 0);
+    CHECK(again_id != 0);
+    REQUIRE_WEFT_OK(weft_read_positions(c->world, again_id, positions.data(), c->info.particle_count));
+    REQUIRE_WEFT_OK(weft_step(c->world, 0.01f));
+    CHECK_WEFT_ERROR(weft_remove_body(c->world, 0), WEFT_OUT_OF_RANGE);  // the world has no bodies
+
     // Destroyed: every call refuses the handle; destroying again does nothing.
     WeftWorld* world = c->world;
     weft_destroy_world(world);

@@ -29,6 +29,7 @@ inline const char* code_name(ErrorCode code) {
         case ErrorCode::memory_too_small: return "memory_too_small";
         case ErrorCode::unsupported: return "unsupported";
         case ErrorCode::corrupt_asset: return "corrupt_asset";
+        case ErrorCode::stale_id: return "stale_id";
     }
     return "?";
 }

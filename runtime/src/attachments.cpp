@@ -5,6 +5,7 @@
 #include <cmath>
 
 #include "constraints/attachments.h"
+#include "constraints/skin.h"
 #include "asset/garment_checks.h"
 #include "world_internal.h"
 
@@ -12,13 +13,47 @@ namespace weft {
 namespace {
 
 Result find_cloth_and_body(const World* world, ClothId cloth, BodyId body) {
-    if (world == nullptr) return make_error(ErrorCode::invalid_argument, "world is null");
-    if (Result r = refuse_while_stepping(world); !r.ok()) return r;
-    if (cloth.index >= world->cloth_count)
-        return make_error(ErrorCode::out_of_range, "cloth %u of %u", cloth.index, world->cloth_count);
-    if (body.index >= world->body_count)
-        return make_error(ErrorCode::out_of_range, "body %u of %u", body.index, world->body_count);
-    return {};
+    if (Result r = find_cloth(world, cloth); !r.ok()) return r;
+    return find_body(world, body);
+}
+
+// SkinState's arrays, `padded` lanes each, one after another from `block`.
+void carve_skin_state(uint8_t* block, uint32_t padded, SkinState& s) {
+    auto next = [&, i = 0u]() mutable { return reinterpret_cast<uint32_t*>(block) + size_t(padded) * i++; };
+    auto next_float = [&] { return reinterpret_cast<float*>(next()); };
+    s.slot = next();
+    for (int i = 0; i < 3; ++i) s.corner[i] = next(), s.weight[i] = next_float();
+    s.rest_offset_m = next_float();
+    s.max_distance_m = next_float();
+    s.backstop_m = next_float();
+    for (int i = 0; i < 3; ++i)
+        s.previous_point[i] = next_float(), s.point[i] = next_float(), s.normal[i] = next_float();
+}
+
+// Room for `bytes` of skin constraints in the world's skin pool: the first gap between the cloths'
+// blocks that fits, after compacting them when none does (memory/regions.h).
+bool reserve_skin_memory(World& world, size_t bytes, Region* out) {
+    Region* live = world.regions;  // max_cloths entries at least
+    uint32_t n = 0;
+    for (uint32_t i = 0; i < world.cloth_slots; ++i)
+        if (world.cloths[i].slot.live && world.cloths[i].skin_memory.end > 0)
+            live[n++] = {world.cloths[i].skin_memory.begin, world.cloths[i].skin_memory.end, i};
+    sort_regions(live, n);
+    uint8_t* const base = world.skin_pool.base;
+    size_t at = first_fit(base, live, n, 0, world.skin_pool.capacity, bytes);
+    if (at == SIZE_MAX) {
+        world.stats.memory_compactions += 1;
+        compact_regions(base, live, n, 0, [&](const Region& r, ptrdiff_t) {
+            ClothInstance& c = world.cloths[r.owner];
+            c.skin_memory = {r.begin, r.end};
+            carve_skin_state(base + r.begin, c.skin_capacity, c.skin_state);
+        });
+        sort_regions(live, n);
+        at = first_fit(base, live, n, 0, world.skin_pool.capacity, bytes);
+        if (at == SIZE_MAX) return false;
+    }
+    *out = {at, at + bytes};
+    return true;
 }
 
 }  // namespace
@@ -74,22 +109,18 @@ Result bind_skin_constraints(World* world, ClothId cloth, BodyId body, const Ski
     // The cloth's SkinState: reused when the binding fits, else carved anew from the world's pool.
     const uint32_t padded = (skin.count + kSimdWidth - 1) / kSimdWidth * kSimdWidth;
     if (padded > c.skin_capacity) {
-        auto* block = static_cast<uint32_t*>(world->skin_pool.allocate(kSkinArrays * sizeof(float) * size_t(padded)));
-        if (block == nullptr)
+        const Region old = c.skin_memory;
+        c.skin_memory = {};  // the old room is free for the search
+        Region room;
+        if (!reserve_skin_memory(*world, kSkinArrays * sizeof(float) * size_t(padded), &room)) {
+            c.skin_memory = old;
             return make_error(ErrorCode::capacity_exceeded,
                               "%u skin constraints do not fit in what WorldDesc::max_skin_constraints left",
                               skin.count);
-        SkinState& s = c.skin_state;
-        auto next = [&, i = 0u]() mutable { return block + size_t(padded) * i++; };
-        auto next_float = [&] { return reinterpret_cast<float*>(next()); };
-        s.slot = next();
-        for (int i = 0; i < 3; ++i) s.corner[i] = next(), s.weight[i] = next_float();
-        s.rest_offset_m = next_float();
-        s.max_distance_m = next_float();
-        s.backstop_m = next_float();
-        for (int i = 0; i < 3; ++i)
-            s.previous_point[i] = next_float(), s.point[i] = next_float(), s.normal[i] = next_float();
+        }
+        c.skin_memory = room;
         c.skin_capacity = padded;
+        carve_skin_state(world->skin_pool.base + room.begin, padded, c.skin_state);
     }
     // Slot order (each particle is bound once, so the order changes no result): the substep
     // pass's loads and stores then walk the particle arrays forwards. The permutation is sorted in
@@ -116,6 +147,39 @@ Result bind_skin_constraints(World* world, ClothId cloth, BodyId body, const Ski
     }
     c.skin_body = body.index;
     c.skin_points_current = false;  // the first step gathers P on both hulls
+    return {};
+}
+
+Result reset_to_pose(World* world, ClothId cloth) {
+    if (Result r = find_cloth(world, cloth); !r.ok()) return r;
+    ClothInstance& c = world->cloths[cloth.index];
+    if (c.skin_body == ~0u && c.attached_body == ~0u)
+        return make_error(ErrorCode::invalid_argument,
+                          "cloth %u has no skin constraints or attachments: nothing says where on a body it goes",
+                          cloth.index);
+    place_at_start(*world->kernels, c);
+    const Particles& p = c.particles;
+    if (c.skin_body != ~0u) {  // S = P + rest offset * N on the hull as it is now (constraints/skin.h)
+        const BodyState& body = world->bodies[c.skin_body];
+        const SkinState& s = c.skin_state;
+        world->kernels->skin_frames(s, SkinFrameArgs{body.hull, body.hull, body.normals});
+        for (uint32_t k = 0; k < s.count; ++k) {
+            const uint32_t slot = s.slot[k];
+            p.x[slot] = p.previous_x[slot] = std::fma(s.rest_offset_m[k], s.normal[0][k], s.point[0][k]);
+            p.y[slot] = p.previous_y[slot] = std::fma(s.rest_offset_m[k], s.normal[1][k], s.point[1][k]);
+            p.z[slot] = p.previous_z[slot] = std::fma(s.rest_offset_m[k], s.normal[2][k], s.point[2][k]);
+        }
+        c.skin_points_current = true;  // P at this hull: the next step moves it from here
+    }
+    if (c.attached_body != ~0u) {
+        follow_attachments(world->bodies[c.attached_body], *c.asset, p, 1.0f);
+        for (uint32_t k = 0; k < c.asset->attachment_count; ++k) {
+            const uint32_t s = c.asset->slot_of_particle[c.asset->attached_particle[k]];
+            p.previous_x[s] = p.x[s], p.previous_y[s] = p.y[s], p.previous_z[s] = p.z[s];
+        }
+    }
+    if (p.normal_x != nullptr) world->kernels->vertex_normals(p, *c.asset);
+    c.previous_root = c.root;  // carried from the root it stands at now
     return {};
 }
 

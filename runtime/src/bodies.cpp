@@ -6,17 +6,16 @@
 #include "world_internal.h"
 
 namespace weft {
-namespace {
-
-constexpr float kMaxCoordinate_m = 1e5f;  // beyond this a millimetre contact no longer resolves in float
 
 Result find_body(const World* world, BodyId id) {
     if (world == nullptr) return make_error(ErrorCode::invalid_argument, "world is null");
     if (Result r = refuse_while_stepping(world); !r.ok()) return r;
-    if (id.index >= world->body_count)
-        return make_error(ErrorCode::out_of_range, "body %u does not exist (%u bodies)", id.index, world->body_count);
-    return {};
+    return check_id(world->bodies, world->desc.max_bodies, id.index, id.generation, "body");
 }
+
+namespace {
+
+constexpr float kMaxCoordinate_m = 1e5f;  // beyond this a millimetre contact no longer resolves in float
 
 // Every position finite and within kMaxCoordinate_m: checked before anything is written.
 Result check_positions(const Vec3* positions, uint32_t count) {
@@ -46,7 +45,7 @@ Result check_body_desc(const World& world, const BodyDesc& desc) {
     if (desc.collision != BodyCollision::exact && desc.collision != BodyCollision::cached_planes &&
         desc.collision != BodyCollision::skin_constraints)
         return make_error(ErrorCode::invalid_argument, "unknown body collision model %u", unsigned(desc.collision));
-    if (world.body_count >= world.desc.max_bodies)
+    if (free_slot(world.bodies, world.body_slots, world.desc.max_bodies) == world.desc.max_bodies)
         return make_error(ErrorCode::capacity_exceeded, "world holds at most %u bodies", world.desc.max_bodies);
     if (desc.collision == BodyCollision::cached_planes && world.cached_plane_bodies >= world.desc.max_cached_plane_bodies)
         return make_error(ErrorCode::capacity_exceeded,
@@ -83,6 +82,15 @@ void refit_embree(World& world, BodyState& body) {
 
 namespace {
 
+// Embree reads the hull and the triangles in the world's block (no copy).
+void share_buffers_with_embree(BodyState& body) {
+    rtcSetSharedGeometryBuffer(body.geometry, RTC_BUFFER_TYPE_VERTEX, 0, RTC_FORMAT_FLOAT3, body.hull, 0,
+                               4 * sizeof(float), body.vertex_count);
+    rtcSetSharedGeometryBuffer(body.geometry, RTC_BUFFER_TYPE_INDEX, 0, RTC_FORMAT_UINT3, body.triangles, 0,
+                               3 * sizeof(uint32_t), body.triangle_count);
+    rtcCommitGeometry(body.geometry);
+}
+
 // The Embree scene over the body's offset hull (shared buffers: Embree reads the hull and
 // triangles in the world's block, no copy). Refit, not rebuild, when the body moves: only this
 // combination refits in Embree 3.13.5 (any other rebuilds from scratch on every commit).
@@ -93,11 +101,7 @@ Result build_embree_scene(World& world, BodyState& body) {
     rtcSetSceneBuildQuality(body.scene, RTC_BUILD_QUALITY_LOW);
     body.geometry = rtcNewGeometry(device, RTC_GEOMETRY_TYPE_TRIANGLE);
     rtcSetGeometryBuildQuality(body.geometry, RTC_BUILD_QUALITY_REFIT);
-    rtcSetSharedGeometryBuffer(body.geometry, RTC_BUFFER_TYPE_VERTEX, 0, RTC_FORMAT_FLOAT3, body.hull, 0,
-                               4 * sizeof(float), body.vertex_count);
-    rtcSetSharedGeometryBuffer(body.geometry, RTC_BUFFER_TYPE_INDEX, 0, RTC_FORMAT_UINT3, body.triangles, 0,
-                               3 * sizeof(uint32_t), body.triangle_count);
-    rtcCommitGeometry(body.geometry);
+    share_buffers_with_embree(body);
     rtcAttachGeometry(body.scene, body.geometry);
     commit_body(world, body);
     if (const RTCError error = rtcGetDeviceError(device); error != RTC_ERROR_NONE) {
@@ -108,7 +112,42 @@ Result build_embree_scene(World& world, BodyState& body) {
     return {};
 }
 
+// A body's arrays: the hull and previous hull (4 floats a vertex), normals (3), triangles (3 indices).
+// The +4 pads let Embree read its buffers' last element with one 16-byte load (Embree docs,
+// rtcSetSharedGeometryBuffer); skin_frames loads 16 bytes a normal.
+struct BodyArrays {
+    float* hull = nullptr;
+    float* previous_hull = nullptr;
+    float* normals = nullptr;
+    uint32_t* triangles = nullptr;
+};
+template <class Room>
+BodyArrays carve_body_arrays(Room& room, uint32_t v, uint32_t t) {
+    BodyArrays a;
+    a.hull = room.template allocate_array<float>(4 * size_t(v) + 4);
+    a.previous_hull = room.template allocate_array<float>(4 * size_t(v));
+    a.normals = room.template allocate_array<float>(3 * size_t(v) + 4);
+    a.triangles = room.template allocate_array<uint32_t>(3 * size_t(t) + 4);
+    return a;
+}
+
+// Counts what carve_body_arrays takes (ArenaSizer's rounding), for body_region_bytes.
+struct RoomSizer {
+    ArenaSizer sizer;
+    template <class T>
+    T* allocate_array(size_t count) {
+        sizer.add(sizeof(T) * count);
+        return nullptr;
+    }
+};
+
 }  // namespace
+
+size_t body_region_bytes(uint32_t vertex_count, uint32_t triangle_count) {
+    RoomSizer room;
+    carve_body_arrays(room, vertex_count, triangle_count);
+    return align_up(room.sizer.bytes, kCacheLine) + body_hierarchy_bytes(triangle_count, 1);
+}
 
 Result add_body(World* world, const BodyDesc& desc, BodyId* out_body) {
     if (world == nullptr || out_body == nullptr)
@@ -116,38 +155,35 @@ Result add_body(World* world, const BodyDesc& desc, BodyId* out_body) {
     if (Result r = refuse_while_stepping(world); !r.ok()) return r;
     if (Result r = check_body_desc(*world, desc); !r.ok()) return r;
 
-    // Carve the arrays; on failure restore the arena so nothing changes. The +4 pads let Embree
-    // read its buffers' last element with one 16-byte load (Embree docs, rtcSetSharedGeometryBuffer).
-    const Arena saved = world->arena;
+    // Carve the arrays in a region of their own (body_region_bytes: the sizing says they fit).
     const uint32_t v = desc.vertex_count, t = desc.triangle_count;
-    float* hull = world->arena.allocate_array<float>(4 * size_t(v) + 4);
-    float* previous = world->arena.allocate_array<float>(4 * size_t(v));
-    float* normals = world->arena.allocate_array<float>(3 * size_t(v) + 4);  // + 4: skin_frames loads 16 bytes a vertex
-    uint32_t* triangles = world->arena.allocate_array<uint32_t>(3 * size_t(t) + 4);
-    if (normals != nullptr) std::memset(normals + 3 * size_t(v), 0, 4 * sizeof(float));
-    if (hull == nullptr || previous == nullptr || normals == nullptr || triangles == nullptr) {
-        world->arena = saved;
-        return make_error(ErrorCode::capacity_exceeded, "world memory exhausted");
-    }
-    BodyState& body = world->bodies[world->body_count];
+    Arena room;
+    Region region;
+    if (Result r = reserve_instance_memory(*world, body_region_bytes(v, t), &room, &region); !r.ok()) return r;
+    BodyArrays arrays = carve_body_arrays(room, v, t);
+    std::memset(arrays.normals + 3 * size_t(v), 0, 4 * sizeof(float));
+    const uint32_t index = free_slot(world->bodies, world->body_slots, world->desc.max_bodies);
+    BodyState& body = world->bodies[index];
+    const uint32_t generation = body.slot.generation;
     body = BodyState();
+    body.slot = {true, generation, region};
     body.desc = desc;
     body.desc.positions = nullptr;  // the caller's arrays are not kept
     body.desc.triangles = nullptr;
     body.vertex_count = v;
     body.triangle_count = t;
-    body.hull = hull;
-    body.previous_hull = previous;
-    body.normals = normals;
-    body.triangles = triangles;
+    float* const hull = body.hull = arrays.hull;
+    float* const previous = body.previous_hull = arrays.previous_hull;
+    body.normals = arrays.normals;
+    uint32_t* const triangles = body.triangles = arrays.triangles;
     std::memcpy(triangles, desc.triangles, sizeof(uint32_t) * 3 * size_t(t));
     std::memset(triangles + 3 * size_t(t), 0, sizeof(uint32_t) * 4);
     std::memset(hull + 4 * size_t(v), 0, sizeof(float) * 4);
     compute_offset_hull(body, desc.positions);
     std::memcpy(previous, hull, sizeof(float) * 4 * size_t(v));
-    if (!build_body_hierarchy(body, world->arena, world->kernels->path)) {
+    if (!build_body_hierarchy(body, room, world->kernels->path)) {  // cannot fail: body_region_bytes holds it
         body = BodyState();
-        world->arena = saved;
+        body.slot.generation = generation;
         return make_error(ErrorCode::capacity_exceeded, "world memory exhausted");
     }
 
@@ -156,24 +192,87 @@ Result add_body(World* world, const BodyDesc& desc, BodyId* out_body) {
     if (desc.reference_queries) {
         if (Result r = build_embree_scene(*world, body); !r.ok()) {
             body = BodyState();
-            world->arena = saved;
+            body.slot.generation = generation;
             return r;
         }
     }
     world->body_vertices_used += v;
     world->body_triangles_used += t;
-    if (desc.collision == BodyCollision::cached_planes) body.plane_index = world->cached_plane_bodies++;
-    out_body->index = world->body_count++;
+    if (desc.collision == BodyCollision::cached_planes) {  // the lowest place no live body holds
+        uint32_t place = 0;
+        for (bool taken = true; taken; place += taken) {
+            taken = false;
+            for (uint32_t i = 0; i < world->body_slots; ++i)
+                taken = taken || (i != index && world->bodies[i].slot.live && world->bodies[i].plane_index == place);
+        }
+        body.plane_index = place;
+        world->cached_plane_bodies += 1;
+    }
+    world->body_slots = std::max(world->body_slots, index + 1);
+    world->bodies_live += 1;
+    *out_body = {index, generation};
     return {};
 }
 
-Result set_body_vertices(World* world, BodyId id, const Vec3* positions, uint32_t count) {
+Result remove_body(World* world, BodyId id) {
     if (Result r = find_body(world, id); !r.ok()) return r;
+    for (uint32_t i = 0; i < world->cloth_slots; ++i) {
+        const ClothInstance& c = world->cloths[i];
+        if (c.slot.live && (c.own_body == id.index || c.skin_body == id.index || c.attached_body == id.index))
+            return make_error(ErrorCode::invalid_argument,
+                              "body %u still carries cloth %u (its own body, skin constraints or attachments): "
+                              "remove the cloth first", id.index, i);
+    }
     BodyState& body = world->bodies[id.index];
+    if (body.scene != nullptr) {  // reference_queries bodies only
+        rtcReleaseGeometry(body.geometry);
+        rtcReleaseScene(body.scene);
+    }
+    world->body_vertices_used -= body.vertex_count;
+    world->body_triangles_used -= body.triangle_count;
+    world->cached_plane_bodies -= body.desc.collision == BodyCollision::cached_planes;
+    world->bodies_live -= 1;
+    const InstanceSlot slot = body.slot;
+    body = BodyState();
+    body.slot = slot;
+    release_slot(world->bodies, id.index, &world->body_slots);
+    return {};
+}
+
+void rebase_body(World& world, BodyState& body, ptrdiff_t delta) {
+    for (float** a : {&body.hull, &body.previous_hull, &body.normals}) rebase(*a, delta);
+    rebase(body.triangles, delta);
+    BodyHierarchy& h = body.hierarchy;
+    rebase(h.leaf_triangle, delta);
+    rebase(h.leaf_vertex, delta);
+    rebase(h.leaf_corners, delta);
+    rebase(h.leaf_sweep, delta);
+    for (Boxes* boxes : {&h.leaves, &h.groups, &h.roots})
+        for (float** a : {&boxes->min_x, &boxes->min_y, &boxes->min_z, &boxes->max_x, &boxes->max_y, &boxes->max_z})
+            rebase(*a, delta);
+    if (body.scene != nullptr) {  // Embree reads the hull and triangles where they now are
+        share_buffers_with_embree(body);
+        commit_body(world, body);
+    }
+}
+
+namespace {
+
+// A new pose for a body: the body exists, `count` is its vertex count, every position is sane.
+Result check_pose(const World* world, BodyId id, const Vec3* positions, uint32_t count) {
+    if (Result r = find_body(world, id); !r.ok()) return r;
     if (positions == nullptr) return make_error(ErrorCode::invalid_argument, "positions is null");
-    if (count != body.vertex_count)
-        return make_error(ErrorCode::out_of_range, "count %u, body has %u vertices", count, body.vertex_count);
-    if (Result r = check_positions(positions, count); !r.ok()) return r;
+    if (count != world->bodies[id.index].vertex_count)
+        return make_error(ErrorCode::out_of_range, "count %u, body has %u vertices", count,
+                          world->bodies[id.index].vertex_count);
+    return check_positions(positions, count);
+}
+
+}  // namespace
+
+Result set_body_vertices(World* world, BodyId id, const Vec3* positions, uint32_t count) {
+    if (Result r = check_pose(world, id, positions, count); !r.ok()) return r;
+    BodyState& body = world->bodies[id.index];
     // The previous hull is the one the last step used: keep it across several calls before a step.
     if (!body.refit_pending) std::memcpy(body.previous_hull, body.hull, sizeof(float) * 4 * size_t(count));
     compute_offset_hull(body, positions, body.previous_hull);  // with each vertex's motion
@@ -182,18 +281,14 @@ Result set_body_vertices(World* world, BodyId id, const Vec3* positions, uint32_
 }
 
 Result teleport_body(World* world, BodyId id, const Vec3* positions, uint32_t count) {
-    if (Result r = find_body(world, id); !r.ok()) return r;
+    if (Result r = check_pose(world, id, positions, count); !r.ok()) return r;
     BodyState& body = world->bodies[id.index];
-    if (positions == nullptr) return make_error(ErrorCode::invalid_argument, "positions is null");
-    if (count != body.vertex_count)
-        return make_error(ErrorCode::out_of_range, "count %u, body has %u vertices", count, body.vertex_count);
-    if (Result r = check_positions(positions, count); !r.ok()) return r;
     compute_offset_hull(body, positions);  // no motion
     std::memcpy(body.previous_hull, body.hull, sizeof(float) * 4 * size_t(count));
     body.refit_pending = true;
     // Skin constraints bound to it take their previous points from the new hull, not the old one.
-    for (uint32_t i = 0; i < world->cloth_count; ++i)
-        if (world->cloths[i].skin_body == id.index) world->cloths[i].skin_points_current = false;
+    for (uint32_t i = 0; i < world->cloth_slots; ++i)
+        if (world->cloths[i].slot.live && world->cloths[i].skin_body == id.index) world->cloths[i].skin_points_current = false;
     return {};
 }
 
@@ -248,14 +343,14 @@ Result set_embree_commit_hook(World* world, EmbreeCommitHook hook, void* user) {
 
 void destroy_world(World* world) {
     if (world == nullptr) return;
-    for (uint32_t i = 0; i < world->body_count; ++i) {
+    for (uint32_t i = 0; i < world->body_slots; ++i) {
         if (world->bodies[i].scene != nullptr) {  // reference_queries bodies only
             rtcReleaseGeometry(world->bodies[i].geometry);
             rtcReleaseScene(world->bodies[i].scene);
         }
         world->bodies[i] = BodyState();
     }
-    world->body_count = 0;
+    world->body_slots = 0;
     if (world->embree_device != nullptr) rtcReleaseDevice(world->embree_device);
     world->embree_device = nullptr;
 }

@@ -137,15 +137,16 @@ void apply_tethers(World& world, ClothInstance& cloth) {
 }
 
 void collide(World& world, ClothInstance& cloth, uint32_t substeps) {
-    if (world.collider_count == 0) return;
+    if (world.colliders_live == 0) return;
     PassTimer timer(world, cloth, Pass::collide);
     const float share = 1.0f / float(substeps);
     // A collider whose box misses the cloth's is skipped (a skirt's thigh capsules cost its
     // character's tee nothing).
     ParticleBounds box;
     world.kernels->particle_bounds(cloth.particles, &box);
-    for (uint32_t i = 0; i < world.collider_count; ++i) {
+    for (uint32_t i = 0; i < world.collider_slots; ++i) {
         const ColliderState& c = world.colliders[i];
+        if (!c.slot.live) continue;
         ColliderKernelArgs args{};
         args.shape = static_cast<uint8_t>(c.desc.shape);
         args.p0 = c.desc.p0;
@@ -179,8 +180,8 @@ void find_contact_anchors(World& world, ClothInstance& cloth) {
     PassTimer timer(world, cloth, Pass::coarse);
     const ClothAsset& asset = *cloth.asset;
     begin_holding_nodes(cloth.particles, asset, cloth.coarse);
-    for (uint32_t i = 0; i < world.collider_count; ++i)
-        if (world.colliders[i].desc.friction > 0.0f)
+    for (uint32_t i = 0; i < world.collider_slots; ++i)
+        if (world.colliders[i].slot.live && world.colliders[i].desc.friction > 0.0f)
             mark_contact_nodes(cloth.particles, asset, cloth.coarse, world.colliders[i].desc);
     update_contact_anchors(asset, cloth.coarse, (world.stats.steps & 1u) == 0);
 }
@@ -188,13 +189,14 @@ void find_contact_anchors(World& world, ClothInstance& cloth) {
 // Does `cloth` search `body`'s hull: every body, or its own (set_cloth_body), except the one its
 // skin constraints bind under skin_constraints (their backstop is its collision with that body).
 bool searches(const ClothInstance& cloth, const BodyState& body, uint32_t index) {
+    if (!body.slot.live) return false;
     if (cloth.own_body != ~0u && cloth.own_body != index) return false;
     return !(body.desc.collision == BodyCollision::skin_constraints && cloth.skin_body == index);
 }
 
 bool searched_by_a_cloth(const World& world, uint32_t body) {
-    for (uint32_t i = 0; i < world.cloth_count; ++i)
-        if (searches(world.cloths[i], world.bodies[body], body)) return true;
+    for (uint32_t i = 0; i < world.cloth_slots; ++i)
+        if (world.cloths[i].slot.live && searches(world.cloths[i], world.bodies[body], body)) return true;
     return false;
 }
 
@@ -255,11 +257,11 @@ void project_skin_constraints(World& world, ClothInstance& cloth, uint32_t subst
 }
 
 void collide_bodies(World& world, ClothInstance& cloth, uint32_t substep, uint32_t substeps) {
-    if (world.body_count == 0) return;
+    if (world.bodies_live == 0) return;
     PassTimer timer(world, cloth, Pass::body);
     BodyPassCounts& counts = cloth.counts.body;
     const uint32_t slots = cloth.particles.slot_count;
-    for (uint32_t i = 0; i < world.body_count; ++i) {
+    for (uint32_t i = 0; i < world.body_slots; ++i) {
         const BodyState& body = world.bodies[i];
         if (!searches(cloth, body, i)) continue;
         ContactPlanes planes{};
@@ -305,8 +307,9 @@ void step_cloth(World& world, ClothInstance& cloth, float dt) {
 
 uint64_t count_projections(const World& world, BatchLayout layout) {
     uint64_t lanes = 0;
-    for (uint32_t i = 0; i < world.cloth_count; ++i) {
+    for (uint32_t i = 0; i < world.cloth_slots; ++i) {
         const ClothInstance& c = world.cloths[i];
+        if (!c.slot.live) continue;
         const uint64_t sweeps = uint64_t(c.split.substeps) * c.split.iterations;
         const uint64_t on_runs = c.asset->constraints_on_runs;
         lanes += sweeps * (layout == BatchLayout::run ? on_runs : c.asset->total_constraints() - on_runs);
@@ -317,10 +320,11 @@ uint64_t count_projections(const World& world, BatchLayout layout) {
 // The stages' work items: run_step_items and the scheduler's tasks.
 void run_items(World& world, StepStage stage, uint32_t begin, uint32_t end) {
     for (uint32_t i = begin; i < end; ++i) {
-        if (stage == StepStage::bodies)
-            move_body(world, i);
-        else
+        if (stage == StepStage::bodies) {
+            if (world.bodies[i].slot.live) move_body(world, i);
+        } else if (world.cloths[i].slot.live) {
             step_cloth(world, world.cloths[i], world.step_dt_s);
+        }
     }
 }
 
@@ -373,8 +377,8 @@ Result begin_step(World* world, float dt_s) {
     if (std::isnan(dt_s) || std::isinf(dt_s)) return make_error(ErrorCode::non_finite, "dt is not finite");
     if (!(dt_s > 0.0f) || dt_s > 1.0f)
         return make_error(ErrorCode::out_of_range, "dt %g s outside (0, 1]", double(dt_s));
-    for (uint32_t i = 0; i < world->cloth_count; ++i) world->cloths[i].counts = {};
-    for (uint32_t i = 0; i < world->body_count; ++i) {
+    for (uint32_t i = 0; i < world->cloth_slots; ++i) world->cloths[i].counts = {};
+    for (uint32_t i = 0; i < world->body_slots; ++i) {
         BodyState& body = world->bodies[i];
         body.refits = body.embree_refits = 0;
         body.refit_ns = body.pass_ns = 0;
@@ -388,7 +392,9 @@ Result begin_step(World* world, float dt_s) {
 
 uint32_t step_stage_items(const World* world, StepStage stage) {
     if (world == nullptr) return 0;
-    return stage == StepStage::bodies ? world->body_count : stage == StepStage::cloths ? world->cloth_count : 0;
+    // A free slot's item does nothing: the items keep their places, so the split over threads and
+    // the order of the sums stay the same whatever came and went.
+    return stage == StepStage::bodies ? world->body_slots : stage == StepStage::cloths ? world->cloth_slots : 0;
 }
 
 Result run_step_items(World* world, StepStage stage, uint32_t begin, uint32_t end) {
@@ -403,14 +409,14 @@ Result end_step(World* world) {
     WorldStats& stats = world->stats;
     stats.colliders_skipped = stats.body_contacts = stats.body_rays = stats.body_queried = 0;
     stats.body_refits = stats.body_embree_refits = 0;
-    for (uint32_t i = 0; i < world->body_count; ++i) {  // in body order, then cloth order
+    for (uint32_t i = 0; i < world->body_slots; ++i) {  // in body order, then cloth order
         const BodyState& body = world->bodies[i];
         stats.body_refits += body.refits;
         stats.body_embree_refits += body.embree_refits;
         stats.body_refit_ns += body.refit_ns;
         stats.pass_ns[static_cast<int>(Pass::body)] += body.pass_ns;
     }
-    for (uint32_t i = 0; i < world->cloth_count; ++i) {
+    for (uint32_t i = 0; i < world->cloth_slots; ++i) {
         const ClothStepCounts& c = world->cloths[i].counts;
         for (int pass = 0; pass < static_cast<int>(Pass::count); ++pass) stats.pass_ns[pass] += c.pass_ns[pass];
         stats.colliders_skipped += c.colliders_skipped;
@@ -418,7 +424,7 @@ Result end_step(World* world) {
         stats.body_rays += c.body.rays;
         stats.body_queried += c.body.queried;
     }
-    for (uint32_t i = 0; i < world->collider_count; ++i) world->colliders[i].motion_m = {};
+    for (uint32_t i = 0; i < world->collider_slots; ++i) world->colliders[i].motion_m = {};
     stats.steps += 1;
     stats.run_projections = count_projections(*world, BatchLayout::run);
     stats.indexed_projections = count_projections(*world, BatchLayout::indexed);

@@ -53,6 +53,12 @@ Vec3 to_cpp(WeftVec3 v) { return {v.x, v.y, v.z}; }
 const Vec3* to_cpp(const WeftVec3* v) { return reinterpret_cast<const Vec3*>(v); }
 Vec3* to_cpp(WeftVec3* v) { return reinterpret_cast<Vec3*>(v); }
 
+// C ids pack the place (low 16 bits: the world's capacities stay below 2^16) and its generation.
+uint32_t to_c_id(uint32_t index, uint32_t generation) { return index | generation << 16; }
+ClothId cloth_id(WeftClothId id) { return {id & 0xFFFFu, id >> 16}; }
+BodyId body_id(WeftBodyId id) { return id == WEFT_EVERY_BODY ? kEveryBody : BodyId{id & 0xFFFFu, id >> 16}; }
+ColliderId collider_id(WeftColliderId id) { return {id & 0xFFFFu, id >> 16}; }
+
 bool is_aligned(const void* p, size_t alignment) { return reinterpret_cast<uintptr_t>(p) % alignment == 0; }
 
 Result live_asset(const WeftAsset* asset) {
@@ -114,6 +120,7 @@ const char* weft_error_name(WeftErrorCode code) {
         case WEFT_MEMORY_TOO_SMALL: return "memory_too_small";
         case WEFT_UNSUPPORTED: return "unsupported";
         case WEFT_CORRUPT_ASSET: return "corrupt_asset";
+        case WEFT_STALE_ID: return "stale_id";
     }
     return "unknown";
 }
@@ -255,7 +262,7 @@ WeftResult weft_add_cloth(WeftWorld* world, const WeftClothDesc* desc, WeftCloth
     c.lift_coefficient = desc->lift_coefficient;
     ClothId id;
     if (Result r = add_cloth(world->world, c, &id); !r.ok()) return to_c(r);
-    *out_cloth = id.index;
+    *out_cloth = to_c_id(id.index, id.generation);
     return {};
 }
 
@@ -283,18 +290,18 @@ WeftResult weft_add_body(WeftWorld* world, const WeftBodyDesc* desc, WeftBodyId*
     b.friction = desc->friction;
     BodyId id;
     if (Result r = add_body(world->world, b, &id); !r.ok()) return to_c(r);
-    *out_body = id.index;
+    *out_body = to_c_id(id.index, id.generation);
     return {};
 }
 
 WeftResult weft_set_body_vertices(WeftWorld* world, WeftBodyId body, const WeftVec3* positions, uint32_t count) {
     if (Result r = live_world(world); !r.ok()) return to_c(r);
-    return to_c(set_body_vertices(world->world, BodyId{body}, to_cpp(positions), count));
+    return to_c(set_body_vertices(world->world, body_id(body), to_cpp(positions), count));
 }
 
 WeftResult weft_attach_cloth_to_body(WeftWorld* world, WeftClothId cloth, WeftBodyId body) {
     if (Result r = live_world(world); !r.ok()) return to_c(r);
-    return to_c(attach_cloth_to_body(world->world, ClothId{cloth}, BodyId{body}));
+    return to_c(attach_cloth_to_body(world->world, cloth_id(cloth), body_id(body)));
 }
 
 WeftColliderDesc weft_default_collider_desc(void) {
@@ -315,14 +322,14 @@ WeftResult weft_add_collider(WeftWorld* world, const WeftColliderDesc* desc, Wef
         return to_c(make_error(ErrorCode::invalid_argument, "desc or out_collider is null"));
     ColliderId id;
     if (Result r = add_collider(world->world, to_cpp(*desc), &id); !r.ok()) return to_c(r);
-    *out_collider = id.index;
+    *out_collider = to_c_id(id.index, id.generation);
     return {};
 }
 
 WeftResult weft_set_collider(WeftWorld* world, WeftColliderId collider, const WeftColliderDesc* desc) {
     if (Result r = live_world(world); !r.ok()) return to_c(r);
     if (desc == nullptr) return to_c(make_error(ErrorCode::invalid_argument, "desc is null"));
-    return to_c(set_collider(world->world, ColliderId{collider}, to_cpp(*desc)));
+    return to_c(set_collider(world->world, collider_id(collider), to_cpp(*desc)));
 }
 
 // --- every frame ----------------------------------------------------------------------------------------
@@ -364,17 +371,32 @@ WeftResult weft_end_step(WeftWorld* world) {
 
 WeftResult weft_set_cloth_body(WeftWorld* world, WeftClothId cloth, WeftBodyId body) {
     if (Result r = live_world(world); !r.ok()) return to_c(r);
-    return to_c(set_cloth_body(world->world, ClothId{cloth}, BodyId{body}));
+    return to_c(set_cloth_body(world->world, cloth_id(cloth), body_id(body)));
+}
+
+WeftResult weft_remove_cloth(WeftWorld* world, WeftClothId cloth) {
+    if (Result r = live_world(world); !r.ok()) return to_c(r);
+    return to_c(remove_cloth(world->world, cloth_id(cloth)));
+}
+
+WeftResult weft_remove_body(WeftWorld* world, WeftBodyId body) {
+    if (Result r = live_world(world); !r.ok()) return to_c(r);
+    return to_c(remove_body(world->world, body_id(body)));
+}
+
+WeftResult weft_remove_collider(WeftWorld* world, WeftColliderId collider) {
+    if (Result r = live_world(world); !r.ok()) return to_c(r);
+    return to_c(remove_collider(world->world, collider_id(collider)));
 }
 
 WeftResult weft_read_positions(const WeftWorld* world, WeftClothId cloth, WeftVec3* out, uint32_t count) {
     if (Result r = live_world(world); !r.ok()) return to_c(r);
-    return to_c(read_positions(world->world, ClothId{cloth}, to_cpp(out), count));
+    return to_c(read_positions(world->world, cloth_id(cloth), to_cpp(out), count));
 }
 
 WeftResult weft_read_normals(const WeftWorld* world, WeftClothId cloth, WeftVec3* out, uint32_t count) {
     if (Result r = live_world(world); !r.ok()) return to_c(r);
-    return to_c(read_normals(world->world, ClothId{cloth}, to_cpp(out), count));
+    return to_c(read_normals(world->world, cloth_id(cloth), to_cpp(out), count));
 }
 
 }  // extern "C"

@@ -137,6 +137,7 @@ ArenaSizer size_world(const WorldDesc& desc) {
     sizer.add(sizeof(ClothInstance) * desc.max_cloths);
     sizer.add(sizeof(ColliderState) * desc.max_colliders);
     sizer.add(sizeof(uint32_t) * validation_scratch_count(desc));
+    sizer.add(sizeof(Region) * (size_t(desc.max_cloths) + desc.max_bodies));
     // The cloths' arrays: each cloth's start on a cache line, so each may waste up to one per array.
     ClothInstance shape;
     visit_cloth_arrays(desc, capacity_array_counts(desc), shape, [&](auto*& array, size_t count) {
@@ -264,6 +265,8 @@ void clear_contact_anchors(ClothInstance& cloth) {
     }
 }
 
+}  // namespace
+
 void place_at_start(const Kernels& kernels, ClothInstance& cloth) {
     const ClothAsset& a = *cloth.asset;
     const Particles& p = cloth.particles;
@@ -286,7 +289,6 @@ void place_at_start(const Kernels& kernels, ClothInstance& cloth) {
     cloth.previous_substep_s = 0.0f;
 }
 
-}  // namespace
 
 SolverSplit resolve_split(const ClothDesc& desc, const ClothAsset& asset) {
     SolverSplit split;
@@ -336,9 +338,71 @@ bool count_embree_memory(void* user, ssize_t bytes, bool /*post*/) {
 Result find_cloth(const World* world, ClothId id) {
     if (world == nullptr) return make_error(ErrorCode::invalid_argument, "world is null");
     if (Result r = refuse_while_stepping(world); !r.ok()) return r;
-    if (id.index >= world->cloth_count)
-        return make_error(ErrorCode::out_of_range, "cloth %u does not exist (%u cloths)", id.index,
-                          world->cloth_count);
+    return check_id(world->cloths, world->desc.max_cloths, id.index, id.generation, "cloth");
+}
+
+namespace {
+
+Result find_collider(const World* world, ColliderId id) {
+    if (world == nullptr) return make_error(ErrorCode::invalid_argument, "world is null");
+    if (Result r = refuse_while_stepping(world); !r.ok()) return r;
+    return check_id(world->colliders, world->desc.max_colliders, id.index, id.generation, "collider");
+}
+
+// A cloth's arrays moved by `delta` bytes (compaction): its pointers follow.
+void rebase_cloth(const WorldDesc& desc, ClothInstance& cloth, ptrdiff_t delta) {
+    visit_cloth_arrays(desc, cloth_array_counts(desc, *cloth.asset), cloth,
+                       [&](auto*& array, size_t) { rebase(array, delta); });
+}
+
+size_t cloth_region_bytes(const WorldDesc& desc, const ClothAsset& asset) {
+    ArenaSizer sizer;
+    ClothInstance shape;
+    visit_cloth_arrays(desc, cloth_array_counts(desc, asset), shape,
+                       [&](auto*& array, size_t count) { sizer.add(sizeof(*array) * count); });
+    return sizer.bytes;
+}
+
+constexpr uint32_t kBodyRegion = 1u << 31;  // Region::owner: a body's index with this bit, else a cloth's
+
+// The live cloths' and bodies' regions, sorted by where they start.
+uint32_t live_regions(const World& world, Region* out) {
+    uint32_t n = 0;
+    for (uint32_t i = 0; i < world.cloth_slots; ++i)
+        if (world.cloths[i].slot.live) out[n++] = {world.cloths[i].slot.memory.begin, world.cloths[i].slot.memory.end, i};
+    for (uint32_t i = 0; i < world.body_slots; ++i)
+        if (world.bodies[i].slot.live)
+            out[n++] = {world.bodies[i].slot.memory.begin, world.bodies[i].slot.memory.end, i | kBodyRegion};
+    sort_regions(out, n);
+    return n;
+}
+
+}  // namespace
+
+Result reserve_instance_memory(World& world, size_t bytes, Arena* out_arena, Region* out_region) {
+    uint8_t* const base = world.arena.base;
+    const size_t low = world.instance_memory_begin, high = world.arena.capacity;
+    uint32_t n = live_regions(world, world.regions);
+    size_t at = first_fit(base, world.regions, n, low, high, bytes);
+    if (at == SIZE_MAX) {  // no gap fits: close them all, then the room is at the end
+        world.stats.memory_compactions += 1;
+        compact_regions(base, world.regions, n, low, [&](const Region& r, ptrdiff_t delta) {
+            if (r.owner & kBodyRegion) {
+                BodyState& body = world.bodies[r.owner & ~kBodyRegion];
+                body.slot.memory = {r.begin, r.end};
+                rebase_body(world, body, delta);
+            } else {
+                ClothInstance& cloth = world.cloths[r.owner];
+                cloth.slot.memory = {r.begin, r.end};
+                rebase_cloth(world.desc, cloth, delta);
+            }
+        });
+        n = live_regions(world, world.regions);
+        at = first_fit(base, world.regions, n, low, high, bytes);
+        if (at == SIZE_MAX) return make_error(ErrorCode::capacity_exceeded, "world memory exhausted");
+    }
+    *out_arena = Arena{base, at + bytes, at};
+    *out_region = {at, at + bytes};
     return {};
 }
 
@@ -375,6 +439,7 @@ Result create_world(const WorldDesc& desc, void* memory, size_t bytes, World** o
     world->colliders = arena.allocate_array<ColliderState>(desc.max_colliders);
     for (uint32_t i = 0; i < desc.max_colliders; ++i) new (&world->colliders[i]) ColliderState();
     world->validation_scratch = arena.allocate_array<uint32_t>(validation_scratch_count(desc));
+    world->regions = arena.allocate_array<Region>(size_t(desc.max_cloths) + desc.max_bodies);
     world->bodies = arena.allocate_array<BodyState>(desc.max_bodies);
     for (uint32_t i = 0; i < desc.max_bodies; ++i) new (&world->bodies[i]) BodyState();
     if (desc.max_bodies > 0) {
@@ -389,6 +454,7 @@ Result create_world(const WorldDesc& desc, void* memory, size_t bytes, World** o
     if (const size_t skin_bytes = skin_pool_bytes(desc); skin_bytes > 0)
         world->skin_pool = Arena{static_cast<uint8_t*>(arena.allocate(skin_bytes)), skin_bytes, 0};
     world->arena = arena;
+    world->instance_memory_begin = arena.used;
     world->gravity_m_s2 = desc.gravity_m_s2;
 
     const Kernels* avx2 = avx2_kernels();
@@ -407,7 +473,8 @@ Result add_cloth(World* world, const ClothDesc& desc, ClothId* out_cloth) {
     if (Result r = refuse_while_stepping(world); !r.ok()) return r;
     if (Result r = check_cloth_settings(desc); !r.ok()) return r;
     const ClothAsset& asset = *desc.asset;
-    if (world->cloth_count >= world->desc.max_cloths)
+    const uint32_t index = free_slot(world->cloths, world->cloth_slots, world->desc.max_cloths);
+    if (index == world->desc.max_cloths)
         return make_error(ErrorCode::capacity_exceeded, "world holds at most %u cloths", world->desc.max_cloths);
     if (asset.slot_count > world->desc.max_particles - world->particles_used)
         return make_error(ErrorCode::capacity_exceeded, "cloth needs %u particle slots, %u left",
@@ -422,21 +489,19 @@ Result add_cloth(World* world, const ClothDesc& desc, ClothId* out_cloth) {
         !r.ok())
         return r;
 
-    // Carve the cloth's arrays; on failure restore the arena so nothing changes.
-    ClothInstance& cloth = world->cloths[world->cloth_count];
+    // Carve the cloth's arrays in a region of their own (the sizing above says they fit).
+    Arena room;
+    Region region;
+    if (Result r = reserve_instance_memory(*world, cloth_region_bytes(world->desc, asset), &room, &region); !r.ok())
+        return r;
+    ClothInstance& cloth = world->cloths[index];
+    const uint32_t generation = cloth.slot.generation;
     cloth = ClothInstance();
-    const Arena saved = world->arena;
+    cloth.slot = {true, generation, region};
     const ClothArrayCounts counts = cloth_array_counts(world->desc, asset);
-    bool carved = true;
     visit_cloth_arrays(world->desc, counts, cloth, [&](auto*& array, size_t count) {
-        array = world->arena.allocate_array<std::remove_reference_t<decltype(*array)>>(count);
-        carved = carved && array != nullptr;
+        array = room.allocate_array<std::remove_reference_t<decltype(*array)>>(count);
     });
-    if (!carved) {
-        world->arena = saved;
-        cloth = ClothInstance();
-        return make_error(ErrorCode::capacity_exceeded, "world memory exhausted");
-    }
     cloth.asset = &asset;
     cloth.settings = desc;
     cloth.split = resolve_split(desc, asset);
@@ -453,7 +518,24 @@ Result add_cloth(World* world, const ClothDesc& desc, ClothId* out_cloth) {
     world->particles_used += asset.slot_count;
     world->constraints_used += asset.lane_count;
     world->coarse_nodes_used += asset.coarse_slot_count;
-    out_cloth->index = world->cloth_count++;
+    world->cloth_slots = std::max(world->cloth_slots, index + 1);
+    world->cloths_live += 1;
+    *out_cloth = {index, generation};
+    return {};
+}
+
+Result remove_cloth(World* world, ClothId id) {
+    if (Result r = find_cloth(world, id); !r.ok()) return r;
+    ClothInstance& cloth = world->cloths[id.index];
+    const ClothAsset& asset = *cloth.asset;
+    world->particles_used -= asset.slot_count;
+    world->constraints_used -= asset.lane_count;
+    world->coarse_nodes_used -= asset.coarse_slot_count;
+    world->cloths_live -= 1;
+    const InstanceSlot slot = cloth.slot;
+    cloth = ClothInstance();  // its regions (arrays, skin constraints) are free with it
+    cloth.slot = slot;
+    release_slot(world->cloths, id.index, &world->cloth_slots);
     return {};
 }
 
@@ -462,21 +544,31 @@ Result add_collider(World* world, const ColliderDesc& desc, ColliderId* out_coll
         return make_error(ErrorCode::invalid_argument, "world or out_collider is null");
     if (Result r = refuse_while_stepping(world); !r.ok()) return r;
     if (Result r = check_collider(desc); !r.ok()) return r;
-    if (world->collider_count >= world->desc.max_colliders)
+    const uint32_t index = free_slot(world->colliders, world->collider_slots, world->desc.max_colliders);
+    if (index == world->desc.max_colliders)
         return make_error(ErrorCode::capacity_exceeded, "world holds at most %u colliders",
                           world->desc.max_colliders);
-    ColliderState& c = world->colliders[world->collider_count];
+    ColliderState& c = world->colliders[index];
+    c.slot.live = true;
     c.desc = desc;
     c.motion_m = {};
-    out_collider->index = world->collider_count++;
+    world->collider_slots = std::max(world->collider_slots, index + 1);
+    world->colliders_live += 1;
+    *out_collider = {index, c.slot.generation};
+    return {};
+}
+
+Result remove_collider(World* world, ColliderId id) {
+    if (Result r = find_collider(world, id); !r.ok()) return r;
+    world->colliders[id.index].desc = {};
+    world->colliders[id.index].motion_m = {};
+    world->colliders_live -= 1;
+    release_slot(world->colliders, id.index, &world->collider_slots);
     return {};
 }
 
 Result set_collider(World* world, ColliderId collider, const ColliderDesc& desc) {
-    if (world == nullptr) return make_error(ErrorCode::invalid_argument, "world is null");
-    if (Result r = refuse_while_stepping(world); !r.ok()) return r;
-    if (collider.index >= world->collider_count)
-        return make_error(ErrorCode::out_of_range, "collider %u does not exist", collider.index);
+    if (Result r = find_collider(world, collider); !r.ok()) return r;
     if (Result r = check_collider(desc); !r.ok()) return r;
     ColliderState& c = world->colliders[collider.index];
     c.motion_m.x += desc.p0.x - c.desc.p0.x;
@@ -650,6 +742,23 @@ Result view_cloth(const World* world, ClothId cloth, ClothView* out) {
 }
 
 WorldStats world_stats(const World* world) { return world != nullptr ? world->stats : WorldStats{}; }
+
+WorldUsage world_usage(const World* world) {
+    WorldUsage u;
+    if (world == nullptr) return u;
+    u.cloths = world->cloths_live, u.bodies = world->bodies_live, u.colliders = world->colliders_live;
+    u.particle_slots = world->particles_used, u.constraint_lanes = world->constraints_used;
+    u.coarse_nodes = world->coarse_nodes_used;
+    u.body_vertices = world->body_vertices_used, u.body_triangles = world->body_triangles_used;
+    for (uint32_t i = 0; i < world->cloth_slots; ++i)
+        if (world->cloths[i].slot.live) {
+            u.instance_bytes += world->cloths[i].slot.memory.end - world->cloths[i].slot.memory.begin;
+            u.skin_bytes += world->cloths[i].skin_memory.end - world->cloths[i].skin_memory.begin;
+        }
+    for (uint32_t i = 0; i < world->body_slots; ++i)
+        if (world->bodies[i].slot.live) u.instance_bytes += world->bodies[i].slot.memory.end - world->bodies[i].slot.memory.begin;
+    return u;
+}
 
 SimdPath world_simd_path(const World* world) {
     return world != nullptr && world->kernels != nullptr ? world->kernels->path : SimdPath::scalar;

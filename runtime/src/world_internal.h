@@ -5,6 +5,7 @@
 #include "error.h"
 #include "kernels.h"
 #include "memory/arena.h"
+#include "memory/regions.h"
 #include "weft/attachments.h"
 #include "weft/debug.h"
 #include "weft/world.h"
@@ -20,6 +21,7 @@ struct ClothStepCounts {
 };
 
 struct alignas(64) ClothInstance {  // a cache line of its own: cloths step on different threads
+    InstanceSlot slot;
     const ClothAsset* asset = nullptr;
     ClothDesc settings;
     SolverSplit split;  // settings after the budget policy: what the step runs
@@ -32,6 +34,7 @@ struct alignas(64) ClothInstance {  // a cache line of its own: cloths step on d
     uint32_t skin_body = ~0u;
     SkinState skin_state;          // the bound constraints in slot order (constraints/skin.h)
     uint32_t skin_capacity = 0;    // constraints skin_state's arrays hold (a multiple of kSimdWidth)
+    Region skin_memory;            // skin_state's arrays in the world's skin pool
     // skin_state.point holds P on the hull that is now the body's previous one (the last step's):
     // the next frames pass takes it as previous_point instead of gathering it again.
     bool skin_points_current = false;
@@ -65,6 +68,7 @@ void follow_root(ClothInstance& cloth, float dt_s, uint32_t substep, uint32_t su
 void jump_to_root(ClothInstance& cloth, const Transform& root, bool drop_velocity);
 
 struct ColliderState {
+    InstanceSlot slot;
     ColliderDesc desc;
     Vec3 motion_m{};  // how far p0 moved since the last step (drives friction)
 };
@@ -72,24 +76,31 @@ struct ColliderState {
 struct World {
     WorldDesc desc;
     const Kernels* kernels = nullptr;
-    Arena arena;  // the rest of the block: particle arrays of cloths added later
+    // The rest of the block: the arrays of the cloths and bodies, each in a region of its own from
+    // instance_memory_begin on (memory/regions.h: reserve_instance_memory).
+    Arena arena;
+    size_t instance_memory_begin = 0;
+    Region* regions = nullptr;  // [max_cloths + max_bodies]: scratch for the gap search
 
+    // Instance arrays: slots [0, *_slots) have been used; a removed instance's slot is free
+    // (slot.live false) until the next add takes the lowest free one.
     ClothInstance* cloths = nullptr;  // [desc.max_cloths]
-    uint32_t cloth_count = 0;
+    uint32_t cloth_slots = 0;
     ColliderState* colliders = nullptr;  // [desc.max_colliders]
-    uint32_t collider_count = 0;
+    uint32_t collider_slots = 0;
     // Body colliders. One Embree device, created with the world only when desc.max_bodies > 0; a
     // body with reference_queries has its own Embree scene on it (a still body needs no commit).
     RTCDevice embree_device = nullptr;
     BodyState* bodies = nullptr;  // [desc.max_bodies]
-    uint32_t body_count = 0;
+    uint32_t body_slots = 0;
     uint32_t body_vertices_used = 0;
     uint32_t body_triangles_used = 0;
-    uint32_t cached_plane_bodies = 0;  // bodies added with BodyCollision::cached_planes
+    uint32_t cached_plane_bodies = 0;  // live bodies with BodyCollision::cached_planes
     EmbreeCommitHook commit_hook = nullptr;
     void* commit_hook_user = nullptr;
     uint32_t* validation_scratch = nullptr;  // [max(max_particles, max_coarse_nodes)], for validate_asset
     Arena skin_pool;  // WorldDesc::max_skin_constraints: carved by bind_skin_constraints
+    uint32_t cloths_live = 0, bodies_live = 0, colliders_live = 0;
     uint32_t particles_used = 0;
     uint32_t constraints_used = 0;
     uint32_t coarse_nodes_used = 0;
@@ -101,16 +112,57 @@ struct World {
     float step_dt_s = 0.0f;  // the open step's dt
 };
 
-// The cloth exists (and no step is open).
+// The cloth exists (its id is not stale) and no step is open.
 Result find_cloth(const World* world, ClothId id);
+// The same for a body.
+Result find_body(const World* world, BodyId id);
+// An id names a live instance: out_of_range for a place that never held one, stale_id for one
+// removed since (a removal bumps its place's generation).
+template <class Instance>
+Result check_id(const Instance* instances, uint32_t capacity, uint32_t index, uint32_t generation, const char* what) {
+    if (index >= capacity || (!instances[index].slot.live && generation == instances[index].slot.generation))
+        return make_error(ErrorCode::out_of_range, "%s %u does not exist", what, index);
+    if (!instances[index].slot.live || generation != instances[index].slot.generation)
+        return make_error(ErrorCode::stale_id, "%s %u (generation %u) was removed", what, index, generation);
+    return {};
+}
+// The slot an add takes: the lowest free one (slots is the array's *_slots, grown when all are
+// taken), or `capacity` when the array is full.
+template <class Instance>
+uint32_t free_slot(const Instance* instances, uint32_t slots, uint32_t capacity) {
+    for (uint32_t i = 0; i < slots; ++i)
+        if (!instances[i].slot.live) return i;
+    return slots < capacity ? slots : capacity;
+}
+// Marks a slot free and bumps its generation; lowers *slots past free slots at the end.
+template <class Instance>
+void release_slot(Instance* instances, uint32_t index, uint32_t* slots) {
+    instances[index].slot.live = false;
+    instances[index].slot.generation = (instances[index].slot.generation + 1) % kGenerations;
+    instances[index].slot.memory = {};
+    while (*slots > 0 && !instances[*slots - 1].slot.live) --*slots;
+}
+
+// Room for `bytes` of a new cloth's or body's arrays in the world's block: the first gap between
+// the live instances' regions that fits, after compacting them when none does. Returns an arena
+// over that room (`*out_region` its region), or capacity_exceeded.
+Result reserve_instance_memory(World& world, size_t bytes, Arena* out_arena, Region* out_region);
+// A body's arrays moved by `delta` bytes (compaction): its pointers follow (bodies.cpp).
+void rebase_body(World& world, BodyState& body, ptrdiff_t delta);
 
 // Refused while a step is open (begin_step .. end_step): anything that changes the world.
 Result refuse_while_stepping(const World* world);
 
 // Commits a body's scene (a refit once built), telling the diagnostics hook.
 void commit_body(World& world, BodyState& body);
+// Bytes of the world's block a body with these counts takes (its region).
+size_t body_region_bytes(uint32_t vertex_count, uint32_t triangle_count);
+
 // Refits a body's Embree BVH to its current hull (a commit).
 void refit_embree(World& world, BodyState& body);
+
+// Puts a cloth at its asset's start pose (plus its translation), at rest (add_cloth, reset_cloth).
+void place_at_start(const Kernels& kernels, ClothInstance& cloth);
 
 // Checks a finite vector (no NaN or infinity).
 bool is_finite(Vec3 v);

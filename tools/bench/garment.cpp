@@ -222,6 +222,14 @@ int run_garment(uint32_t steps, bool as_json, const std::vector<GarmentModel>& a
         std::printf("weft-bench garment: %u steps per scene after the walk's 1 s ramp, one thread; us per step (medians); "
                     "the models' worlds step in turn, frame by frame\n", steps);
     for (const Case& c : cases) {
+        std::vector<GarmentModel> models;  // limb capsules follow the mannequin's bones
+        for (const GarmentModel& m : all_models)
+            if (!m.limb_capsules || c.mannequin) models.push_back(m);
+        if (models.empty()) {  // only limb capsules asked for, on a body without bones
+            std::fprintf(stderr, "weft-bench garment: %s skipped: its body has no bones for limb capsules\n",
+                         c.scene_file.c_str());
+            continue;
+        }
         scenes::Scene scene;
         bake::Baked baked;
         if (std::string e = dress_scene(c.scene_file, c.pattern, c.mannequin ? mannequin : mean_all, dir, &scene, &baked);
@@ -229,9 +237,6 @@ int run_garment(uint32_t steps, bool as_json, const std::vector<GarmentModel>& a
             return std::fprintf(stderr, "weft-bench garment: %s\n", e.c_str()), 1;
         scene.profile = true;
         scene.normals = true;  // a game renders the garment: the step ends with its vertex normals
-        std::vector<GarmentModel> models;  // limb capsules follow the mannequin's bones
-        for (const GarmentModel& m : all_models)
-            if (!m.limb_capsules || c.mannequin) models.push_back(m);
         const std::vector<std::string> scene_capsules = scene.body->limb_capsules;
         // One world per model, stepped in turn every frame: the same load on each, so the ratios
         // between them hold even when the machine's speed drifts.

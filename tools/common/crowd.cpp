@@ -47,6 +47,47 @@ std::string add_garment(Crowd& c, const SceneWorld& sample, const CrowdCharacter
 
 Crowd::~Crowd() { destroy_world(world); }
 
+std::string spawn_character(Crowd& c, uint32_t k) {
+    if (k >= c.characters.size()) return "no character " + std::to_string(k);
+    CrowdCharacter& who = c.characters[k];
+    const SceneBody& body = *c.skirt.body;
+    const BodySpec& spec = body.spec;
+    // At rest where it stands (c.pose is the scratch: spawning allocates nothing).
+    for (size_t v = 0; v < body.rest.size(); ++v) c.pose[v] = plus(body.rest[v], who.offset_m);
+    BodyDesc bd;
+    bd.positions = c.pose.data();
+    bd.vertex_count = uint32_t(body.rest.size());
+    bd.triangles = body.triangles.data();
+    bd.triangle_count = uint32_t(body.triangles.size() / 3);
+    bd.thickness_m = spec.thickness_m;
+    bd.margin_m = spec.margin_m;
+    bd.friction = spec.friction;
+    bd.collision = spec.collision;
+    if (Result r = add_body(c.world, bd, &who.body); !r.ok()) return std::string("body: ") + r.message;
+    who.limb_colliders.resize(body.limb_capsules.size());
+    for (size_t i = 0; i < body.limb_capsules.size(); ++i) {
+        body::LimbCapsule capsule = body.limb_capsules[i];
+        capsule.p0 = plus(capsule.p0, who.offset_m), capsule.p1 = plus(capsule.p1, who.offset_m);
+        if (Result r = add_collider(c.world, limb_collider(spec, capsule), &who.limb_colliders[i]); !r.ok())
+            return std::string("limb capsule: ") + r.message;
+    }
+    who.root = {};
+    if (std::string e = add_garment(c, c.skirt, who, c.inertia, &who.skirt); !e.empty()) return "skirt: " + e;
+    if (std::string e = add_garment(c, c.tee, who, c.inertia, &who.tee); !e.empty()) return "tee: " + e;
+    return {};
+}
+
+std::string despawn_character(Crowd& c, uint32_t k) {
+    if (k >= c.characters.size()) return "no character " + std::to_string(k);
+    CrowdCharacter& who = c.characters[k];
+    for (ClothId cloth : {who.skirt, who.tee})  // the cloths first: they use the body
+        if (Result r = remove_cloth(c.world, cloth); !r.ok()) return r.message;
+    for (ColliderId collider : who.limb_colliders)
+        if (Result r = remove_collider(c.world, collider); !r.ok()) return r.message;
+    if (Result r = remove_body(c.world, who.body); !r.ok()) return r.message;
+    return {};
+}
+
 std::string build_crowd(const CrowdOptions& options, Crowd* out) {
     Crowd& c = *out;
     if (options.characters == 0) return "a crowd of no one";
@@ -82,33 +123,15 @@ std::string build_crowd(const CrowdOptions& options, Crowd* out) {
     // A square grid; each character its own phase in the stride and its own pace (0.8 to 1.2),
     // from a fixed sequence so every run builds the same crowd.
     const uint32_t side = uint32_t(std::ceil(std::sqrt(double(options.characters))));
-    std::vector<Vec3> rest(body.rest.size());
+    c.pose.resize(body.rest.size());
+    c.inertia = options.inertia;
     c.characters.resize(options.characters);
     for (uint32_t k = 0; k < options.characters; ++k) {
         CrowdCharacter& who = c.characters[k];
         who.offset_m = {options.spacing_m * float(k % side), 0.0f, options.spacing_m * float(k / side)};
         who.phase_s = 1.1f * float((k * 7) % 16) / 16.0f;  // the walk's stride is 1.1 s
         who.pace = 0.8f + 0.4f * float((k * 5) % 9) / 8.0f;
-        for (size_t v = 0; v < rest.size(); ++v) rest[v] = plus(body.rest[v], who.offset_m);
-        BodyDesc bd;
-        bd.positions = rest.data();
-        bd.vertex_count = uint32_t(rest.size());
-        bd.triangles = body.triangles.data();
-        bd.triangle_count = uint32_t(body.triangles.size() / 3);
-        bd.thickness_m = spec.thickness_m;
-        bd.margin_m = spec.margin_m;
-        bd.friction = spec.friction;
-        bd.collision = spec.collision;
-        if (Result r = add_body(c.world, bd, &who.body); !r.ok()) return std::string("body: ") + r.message;
-        who.limb_colliders.resize(body.limb_capsules.size());
-        for (size_t i = 0; i < body.limb_capsules.size(); ++i) {
-            body::LimbCapsule capsule = body.limb_capsules[i];
-            capsule.p0 = plus(capsule.p0, who.offset_m), capsule.p1 = plus(capsule.p1, who.offset_m);
-            if (Result r = add_collider(c.world, limb_collider(spec, capsule), &who.limb_colliders[i]); !r.ok())
-                return std::string("limb capsule: ") + r.message;
-        }
-        if (std::string e = add_garment(c, c.skirt, who, options.inertia, &who.skirt); !e.empty()) return "skirt: " + e;
-        if (std::string e = add_garment(c, c.tee, who, options.inertia, &who.tee); !e.empty()) return "tee: " + e;
+        if (std::string e = spawn_character(c, k); !e.empty()) return e;
         c.particles += c.skirt.cloths[0].asset->particle_count + c.tee.cloths[0].asset->particle_count;
     }
     return {};

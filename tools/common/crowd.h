@@ -48,6 +48,7 @@ struct Crowd {
     std::vector<Vec3> pose;  // scratch for one character's skinned vertices
     std::vector<body::LimbCapsule> posed_capsules;
     float dt_s = 0.0f;
+    float inertia = 1.0f;    // CrowdOptions::inertia
     uint32_t particles = 0;  // summed over the cloths
 
     Crowd() = default;
@@ -57,6 +58,12 @@ struct Crowd {
 
 // Builds the crowd's world. Returns the failure message (empty on success).
 std::string build_crowd(const CrowdOptions& options, Crowd* out);
+
+// A character leaves the world (its cloths, limb capsules and body removed: their ids go stale)
+// and comes back where it stands, at rest, dressed (its new ids in characters[k]). Neither
+// allocates, and the world's pools are as they were after a despawn and a spawn.
+std::string despawn_character(Crowd& crowd, uint32_t k);
+std::string spawn_character(Crowd& crowd, uint32_t k);
 
 // Poses every character at time t (entering the walk from the rest pose over the first second, as
 // the sample scenes do) and moves its limb capsules.

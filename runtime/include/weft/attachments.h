@@ -40,4 +40,12 @@ Result bind_asset_skin_constraints(World* world, ClothId cloth, BodyId body);
 // `count` 0 removes it. Nothing is moved at once: the next substep projects.
 Result bind_skin_constraints(World* world, ClothId cloth, BodyId body, const SkinConstraints& skin);
 
+// Puts a dressed cloth back at its dressed pose on its body as the body is now (a respawn, a cut to
+// another animation): every particle its skin constraints bind at its skinned position (the point
+// at its weights on the offset hull, moved out by its rest offset), its attached particles on their
+// triangles, the rest at the asset's start pose; at rest. Pose the body first (teleport_body for a
+// jump). Refuses a cloth with neither skin constraints nor attachments: nothing says where on the
+// body it goes (reset_cloth, teleport_cloth).
+Result reset_to_pose(World* world, ClothId cloth);
+
 }  // namespace weft

@@ -82,13 +82,19 @@ struct BodyDesc {
     bool reference_queries = false;
 };
 
-struct BodyId {
+struct BodyId {  // as ClothId (weft/world.h): a place and its generation
     uint32_t index = 0;
+    uint32_t generation = 0;
 };
 
 // Adds a body (validated: finite positions, indices in range, capacities). Builds its hierarchy
 // (and, with reference_queries, Embree's BVH).
 Result add_body(World* world, const BodyDesc& desc, BodyId* out_body);
+
+// Removes a body between steps (its memory goes back to the world's pools, its id goes stale).
+// Refused while a cloth still uses it: its own body (set_cloth_body), its skin constraints or its
+// attachments. Remove those cloths first.
+Result remove_body(World* world, BodyId body);
 
 // The body's new vertex positions (the game's skinned pose), `count` = its vertex count. The next
 // step refits the BVH and uses (new - previous) hull positions as the surface velocity for

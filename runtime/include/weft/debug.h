@@ -42,9 +42,22 @@ struct WorldStats {
     // held now, and how many times it grew since creation.
     int64_t embree_bytes = 0;
     uint64_t embree_allocations = 0;
+    // Times an add found no gap for its arrays and compacted the live instances (memory/regions.h).
+    uint64_t memory_compactions = 0;
 };
 
 WorldStats world_stats(const World* world);
+
+// What a world holds now (remove_cloth, remove_body and remove_collider give it back).
+struct WorldUsage {
+    uint32_t cloths = 0, bodies = 0, colliders = 0;
+    uint32_t particle_slots = 0, constraint_lanes = 0, coarse_nodes = 0;
+    uint32_t body_vertices = 0, body_triangles = 0;
+    size_t instance_bytes = 0;  // the live cloths' and bodies' arrays in the world's block
+    size_t skin_bytes = 0;      // the skin constraints' arrays in the world's skin pool
+    bool operator==(const WorldUsage&) const = default;
+};
+WorldUsage world_usage(const World* world);
 
 // --- internal arrays ----------------------------------------------------------------------------
 

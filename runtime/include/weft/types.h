@@ -32,6 +32,7 @@ enum class ErrorCode : uint32_t {
     memory_too_small,   // the caller's block is smaller or less aligned than the query said
     unsupported,        // e.g. the AVX2 path requested on a build or CPU without it
     corrupt_asset,      // an asset failed validation
+    stale_id,           // the id of a cloth, body or collider that was removed
 };
 
 // The outcome of a call: a code and a human-readable message (always NUL-terminated).

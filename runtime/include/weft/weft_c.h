@@ -43,7 +43,8 @@ typedef WEFT_ENUM(WeftErrorCode) {
     WEFT_CAPACITY_EXCEEDED = 4,  /* the world was created too small for what is added */
     WEFT_MEMORY_TOO_SMALL = 5,   /* the caller's block is smaller or less aligned than required */
     WEFT_UNSUPPORTED = 6,        /* e.g. the AVX2 path on a CPU without it */
-    WEFT_CORRUPT_ASSET = 7       /* the asset file failed validation */
+    WEFT_CORRUPT_ASSET = 7,      /* the asset file failed validation */
+    WEFT_STALE_ID = 8            /* the id of a cloth, body or collider that was removed */
 } WeftErrorCode;
 
 typedef struct WeftResult {
@@ -67,9 +68,13 @@ typedef WEFT_ENUM(WeftSimdPath) { WEFT_SIMD_AUTOMATIC = 0, WEFT_SIMD_SCALAR = 1,
 
 typedef struct WeftAsset WeftAsset; /* a loaded .weft asset, in the caller's block */
 typedef struct WeftWorld WeftWorld; /* a world, in the caller's block */
-typedef uint32_t WeftClothId;       /* as returned by weft_add_cloth: 0, 1, 2... */
+/* Ids as the add calls return them: a place in the world (low 16 bits; 0, 1, 2... as first added) and
+ * the generation of what holds it (high 16 bits), so the id of a removed instance is refused
+ * (WEFT_STALE_ID) even after another took its place. */
+typedef uint32_t WeftClothId;
 typedef uint32_t WeftBodyId;
 typedef uint32_t WeftColliderId;
+#define WEFT_EVERY_BODY 0xFFFFFFFFu /* weft_set_cloth_body: the cloth collides with every body again */
 
 /* --- assets (weft-bake's files) ---------------------------------------------------------------- */
 
@@ -206,6 +211,13 @@ WeftResult weft_end_step(WeftWorld* world);
 
 /* The cloth collides with this body only (its character's), not every body of the world. */
 WeftResult weft_set_cloth_body(WeftWorld* world, WeftClothId cloth, WeftBodyId body);
+
+/* Removes an instance between steps: its memory goes back to the world (the next add may take it)
+ * and its id goes stale. A body a cloth still uses (weft_set_cloth_body, attachments) is refused:
+ * remove the cloth first. */
+WeftResult weft_remove_cloth(WeftWorld* world, WeftClothId cloth);
+WeftResult weft_remove_body(WeftWorld* world, WeftBodyId body);
+WeftResult weft_remove_collider(WeftWorld* world, WeftColliderId collider);
 
 /* The cloth's positions in the caller's particle order, metres; count = the asset's particle_count. */
 WeftResult weft_read_positions(const WeftWorld* world, WeftClothId cloth, WeftVec3* out, uint32_t count);

@@ -8,6 +8,7 @@
 //   add_cloth(world, cloth_desc, &cloth);  add_collider(world, collider_desc, &collider);
 //   every frame: set_collider(...), set_body_vertices(...), set_wind(...), step(world, dt),
 //                read_positions(...), read_normals(...)
+//   remove_cloth(world, cloth), remove_collider(...) between steps give their memory back
 //   destroy_world(world) (releases the Embree device of a world with bodies, weft/body.h), then
 //   free the block: it is the caller's.
 #pragma once
@@ -165,11 +166,16 @@ struct ClothDesc {
     float max_inertial_speed_m_s = 1000.0f;
 };
 
+// Ids name a place in the world's instance array and the generation of what holds it: removing an
+// instance bumps the generation, so its old id is refused (ErrorCode::stale_id) even after another
+// instance took the place.
 struct ColliderId {
     uint32_t index = 0;
+    uint32_t generation = 0;
 };
 struct ClothId {
     uint32_t index = 0;
+    uint32_t generation = 0;
 };
 
 // --- creation -------------------------------------------------------------------------------
@@ -193,6 +199,12 @@ void destroy_world(World* world);
 Result add_cloth(World* world, const ClothDesc& desc, ClothId* out_cloth);
 
 Result add_collider(World* world, const ColliderDesc& desc, ColliderId* out_collider);
+
+// Removes an instance between steps: its memory goes back to the world's pools (the next add may
+// take it) and its id goes stale. A body that a cloth still uses (set_cloth_body, skin constraints,
+// attachments: weft/body.h) is refused; remove the cloth first.
+Result remove_cloth(World* world, ClothId cloth);
+Result remove_collider(World* world, ColliderId collider);
 
 // --- every frame ----------------------------------------------------------------------------
 

@@ -22,6 +22,7 @@
 #include <cstdint>
 
 #include "kernels.h"
+#include "memory/regions.h"
 #include "weft/body.h"
 #include "weft/debug.h"
 
@@ -64,6 +65,7 @@ struct BodyHierarchy {
 inline constexpr uint32_t kLeafCorners = 16 * kLeafTriangles;
 
 struct BodyState {
+    InstanceSlot slot;
     BodyDesc desc;  // thickness, margin, friction (the array pointers are not kept)
     uint32_t vertex_count = 0, triangle_count = 0;
     // [4 * vertex_count + 4]: the offset hull, Embree's shared vertex buffer: x, y, z and, where
