@@ -42,6 +42,10 @@ bool reserve_skin_memory(World& world, size_t bytes, Region* out) {
     uint8_t* const base = world.skin_pool.base;
     size_t at = first_fit(base, live, n, 0, world.skin_pool.capacity, bytes);
     if (at == SIZE_MAX) {
+        // Not even after compacting: fail before moving anything (the caller's old block, left out
+        // of `live`, is still in use if the binding fails).
+        if (first_fit(base, nullptr, 0, compacted_end(base, live, n, 0), world.skin_pool.capacity, bytes) == SIZE_MAX)
+            return false;
         world.stats.memory_compactions += 1;
         compact_regions(base, live, n, 0, [&](const Region& r, ptrdiff_t) {
             ClothInstance& c = world.cloths[r.owner];

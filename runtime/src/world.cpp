@@ -385,6 +385,8 @@ Result reserve_instance_memory(World& world, size_t bytes, Arena* out_arena, Reg
     uint32_t n = live_regions(world, world.regions);
     size_t at = first_fit(base, world.regions, n, low, high, bytes);
     if (at == SIZE_MAX) {  // no gap fits: close them all, then the room is at the end
+        if (first_fit(base, nullptr, 0, compacted_end(base, world.regions, n, low), high, bytes) == SIZE_MAX)
+            return make_error(ErrorCode::capacity_exceeded, "world memory exhausted");
         world.stats.memory_compactions += 1;
         compact_regions(base, world.regions, n, low, [&](const Region& r, ptrdiff_t delta) {
             if (r.owner & kBodyRegion) {

@@ -43,6 +43,16 @@ inline size_t first_fit(const uint8_t* base, const Region* live, uint32_t count,
     return fits(from, high, &at) ? at : SIZE_MAX;
 }
 
+// Where the live regions (sorted by begin) would end after compact_regions, without moving them:
+// an add checks it first, so a compaction never runs for nothing.
+inline size_t compacted_end(const uint8_t* base, const Region* live, uint32_t count, size_t low) {
+    size_t next = low;
+    for (uint32_t i = 0; i < count; ++i)
+        next = align_up(reinterpret_cast<uintptr_t>(base) + next, kCacheLine) - reinterpret_cast<uintptr_t>(base) +
+               (live[i].end - live[i].begin);
+    return next;
+}
+
 // Slides the live regions (sorted by begin) down to `low`, each on a cache line, in order: every
 // gap closes. `move(region, delta)` is called after each region's bytes moved by `delta` bytes
 // (negative or zero) so its owner can rebase its pointers. Returns the end of the last region.
