@@ -10,7 +10,7 @@ packages=(
   doctest-dev libcgal-dev                       # tests (CGAL meshes the irregular disc; weft-bake later)
   libcli11-dev nlohmann-json3-dev libxxhash-dev # tools: command lines, JSON, asset hashing
   clang libclang-rt-14-dev                      # fuzzing (clang -fsanitize=fuzzer)
-  libbullet-dev gnuplot-nox                     # weft-bench sweep: the Bullet peer, the Pareto plot
+  libbullet-dev gnuplot-nox jq                  # weft-bench sweep: the Bullet peer, the Pareto plot; bench-baseline.sh
   libtinyobjloader-dev libtinygltf-dev          # tools/body: body meshes from OBJ and glTF
   libmeshoptimizer-dev                          # weft-bench body --simplify: simplified collision hulls
   libepoxy-dev libegl-dev libegl-mesa0          # tools/render: OpenGL loader, EGL (surfaceless)

@@ -304,7 +304,6 @@ TEST_CASE("stepping four cloths on a thread pool of three allocates nothing, on 
     wd.max_cloths = 0;
     for (int k = 0; k < 4; ++k) reserve_cloth(wd, asset);
     wd.max_colliders = 1;
-    wd.profile = true;
     wd.scheduler = pool.scheduler();
     const MemoryRequirements need = world_memory_requirements(wd);
     std::unique_ptr<unsigned char[], void (*)(void*)> memory{
@@ -312,6 +311,7 @@ TEST_CASE("stepping four cloths on a thread pool of three allocates nothing, on 
         std::free};
     World* world = nullptr;
     REQUIRE(create_world(wd, memory.get(), need.bytes, &world).ok());
+    REQUIRE(set_profiling(world, true).ok());
     for (int k = 0; k < 4; ++k) {
         ClothDesc cd;
         cd.asset = &asset;
@@ -482,7 +482,7 @@ TEST_CASE("a world without bodies creates no Embree device: create_world allocat
 }
 
 // Weft's own hierarchy (the default): no commit and no allocation at all, still or moving. The
-// plain reference pass (BodyDesc::reference_queries) refits Embree's BVH: one commit per moving
+// plain reference pass (add_reference_body) refits Embree's BVH: one commit per moving
 // step, at most one transient allocation inside it.
 TEST_CASE("stepping with a body allocates nothing, Embree's reference pass at most once per moving body's commit") {
     const body::BodyMesh sphere = body::make_icosphere({0, 0, 0}, 0.3f, 4);
@@ -524,12 +524,11 @@ TEST_CASE("stepping with a body allocates nothing, Embree's reference pass at mo
         bd.vertex_count = uint32_t(sphere.positions.size());
         bd.triangles = sphere.triangles.data();
         bd.triangle_count = uint32_t(sphere.triangles.size() / 3);
-        bd.reference_queries = reference;
         bd.collision = pass == 1   ? BodyCollision::cached_planes
                        : pass == 3 ? BodyCollision::skin_constraints
                                    : BodyCollision::exact;
         BodyId body;
-        REQUIRE(add_body(world, bd, &body).ok());
+        REQUIRE((reference ? add_reference_body(world, bd, &body) : add_body(world, bd, &body)).ok());
         SkinBinding skin;  // pass 3: every particle bound to the sphere
         if (pass == 3) REQUIRE(scenes::bind_skin(world, cloth, body, SkinBindingOptions{}, &skin).empty());
         if (pass == 3) {  // binding arrays already made (an asset's: bind_asset_skin_constraints) allocates nothing

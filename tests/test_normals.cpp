@@ -135,8 +135,8 @@ TEST_CASE("vertex normals: reset_cloth restores the start pose's, bad calls are 
     const CookedCloth cooked = test::cook(grid.desc());
     OwnedWorld plain;
     WorldDesc desc = test::world_for({&cooked.asset()});
-    desc.profile = true;
     REQUIRE(test::make_world(desc, &plain).ok());
+    REQUIRE(set_profiling(plain.world, true).ok());
     ClothDesc cloth;
     cloth.asset = &cooked.asset();
     ClothId id;

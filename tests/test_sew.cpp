@@ -24,6 +24,7 @@
 #include "weft/weft.h"
 #include "weft/cook.h"
 #include "weft/debug.h"
+#include "weft/weft_c.h"
 
 using namespace weft;
 
@@ -90,21 +91,45 @@ void check_dressed(const Dressed* d, const bake::SewBody& body, uint32_t sweeps)
     const ClothAsset& a = d->loaded.asset;
     const bake::MeshedGarment& flat = d->baked.garment;
 
-    // Seams closed and merged: one particle per seam point, summed mass, every source's uv.
+    // Seams closed and merged: one particle per seam point, summed mass, every source's uv, as a
+    // game's renderer reads them (weft/asset_view.h).
+    const AssetView v = view_asset(a);
     CHECK(r.max_seam_gap_m == 0.0);
     CHECK(r.seam_points > 0);
     CHECK(a.seam_point_count == 0);
-    CHECK(a.sewn_point_count == r.seam_points);
-    CHECK(a.particle_count == r.particles_after);
+    CHECK(v.sewn_point_count == r.seam_points);
+    CHECK(v.particle_count == r.particles_after);
+    CHECK(v.triangle_count == a.triangle_count);
+    CHECK((v.uv == a.uv && v.panel == a.panel && v.panel_count == a.panel_count));
+    CHECK(v.attachment_count == a.attachment_count);
+    CHECK(v.skin_constraint_count == a.skin.count);
     uint32_t sources = 0;
-    for (uint32_t s = 0; s < a.sewn_point_count; ++s) {
-        const uint32_t first = a.sewn_uv_first[s], count = a.sewn_uv_first[s + 1] - first;
+    for (uint32_t s = 0; s < v.sewn_point_count; ++s) {
+        const uint32_t first = v.sewn_uv_first[s], count = v.sewn_uv_first[s + 1] - first;
         CHECK(count >= 2);
         sources += count;
-        CHECK(a.sewn_uv[2 * first] == a.uv[2 * a.sewn_particle[s]]);
-        CHECK(a.sewn_uv[2 * first + 1] == a.uv[2 * a.sewn_particle[s] + 1]);
+        CHECK(v.sewn_uv[2 * first] == v.uv[2 * v.sewn_particle[s]]);
+        CHECK(v.sewn_uv[2 * first + 1] == v.uv[2 * v.sewn_particle[s] + 1]);
     }
-    CHECK(r.particles_after == r.particles_before - (sources - a.sewn_point_count));
+    CHECK(r.particles_after == r.particles_before - (sources - v.sewn_point_count));
+    // The C API gives the same view of the same file.
+    WeftMemoryRequirements need{};
+    REQUIRE(weft_asset_memory_requirements(d->loaded.bytes.data(), d->loaded.bytes.size(), &need).code == WEFT_OK);
+    std::vector<std::byte> block(need.bytes + need.alignment);
+    void* aligned = block.data() + (need.alignment - reinterpret_cast<uintptr_t>(block.data()) % need.alignment) % need.alignment;
+    WeftAsset* c_asset = nullptr;
+    REQUIRE(weft_load_asset(d->loaded.bytes.data(), d->loaded.bytes.size(), aligned, need.bytes, &c_asset).code == WEFT_OK);
+    WeftAssetInfo info{};
+    REQUIRE(weft_asset_info(c_asset, &info).code == WEFT_OK);
+    CHECK((info.particle_count == v.particle_count && info.triangle_count == v.triangle_count));
+    CHECK((info.sewn_point_count == v.sewn_point_count && info.attachment_count == v.attachment_count &&
+           info.skin_constraint_count == v.skin_constraint_count && (info.has_fabric != 0) == v.has_fabric));
+    CHECK((info.damping_per_s == v.fabric.damping_per_s && info.compliance_m_per_n[1] == v.fabric.compliance_m_per_n[1]));
+    REQUIRE(info.uv != nullptr);
+    CHECK(std::equal(info.uv, info.uv + 2 * size_t(info.particle_count), v.uv));
+    CHECK(std::equal(info.sewn_uv_first, info.sewn_uv_first + info.sewn_point_count + 1, v.sewn_uv_first));
+    CHECK(std::equal(info.sewn_particle, info.sewn_particle + info.sewn_point_count, v.sewn_particle));
+    CHECK(std::equal(info.sewn_uv, info.sewn_uv + 2 * size_t(v.sewn_uv_first[v.sewn_point_count]), v.sewn_uv));
     // Summed mass: a sewn particle weighs its sources (0 when pinned: the attachments).
     std::vector<double> source_mass(a.particle_count, 0.0);
     for (uint32_t p = 0; p < d->baked.sewn.new_of_old.size(); ++p)

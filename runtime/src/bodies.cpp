@@ -149,7 +149,9 @@ size_t body_region_bytes(uint32_t vertex_count, uint32_t triangle_count) {
     return align_up(room.sizer.bytes, kCacheLine) + body_hierarchy_bytes(triangle_count, 1);
 }
 
-Result add_body(World* world, const BodyDesc& desc, BodyId* out_body) {
+namespace {
+
+Result add_body_searched_by(World* world, const BodyDesc& desc, bool reference_queries, BodyId* out_body) {
     if (world == nullptr || out_body == nullptr)
         return make_error(ErrorCode::invalid_argument, "world or out_body is null");
     if (Result r = refuse_while_stepping(world); !r.ok()) return r;
@@ -168,6 +170,7 @@ Result add_body(World* world, const BodyDesc& desc, BodyId* out_body) {
     body = BodyState();
     body.slot = {true, generation, region};
     body.desc = desc;
+    body.reference_queries = reference_queries;
     body.desc.positions = nullptr;  // the caller's arrays are not kept
     body.desc.triangles = nullptr;
     body.vertex_count = v;
@@ -187,9 +190,9 @@ Result add_body(World* world, const BodyDesc& desc, BodyId* out_body) {
         return make_error(ErrorCode::capacity_exceeded, "world memory exhausted");
     }
 
-    // Embree's BVH serves only the plain reference pass (BodyDesc::reference_queries); every other
-    // body is searched through Weft's own hierarchy, so it neither builds nor holds one.
-    if (desc.reference_queries) {
+    // Embree's BVH serves only the plain reference pass (add_reference_body); every other body is
+    // searched through Weft's own hierarchy, so it neither builds nor holds one.
+    if (reference_queries) {
         if (Result r = build_embree_scene(*world, body); !r.ok()) {
             body = BodyState();
             body.slot.generation = generation;
@@ -214,6 +217,16 @@ Result add_body(World* world, const BodyDesc& desc, BodyId* out_body) {
     return {};
 }
 
+}  // namespace
+
+Result add_body(World* world, const BodyDesc& desc, BodyId* out_body) {
+    return add_body_searched_by(world, desc, false, out_body);
+}
+
+Result add_reference_body(World* world, const BodyDesc& desc, BodyId* out_body) {
+    return add_body_searched_by(world, desc, true, out_body);
+}
+
 Result remove_body(World* world, BodyId id) {
     if (Result r = find_body(world, id); !r.ok()) return r;
     for (uint32_t i = 0; i < world->cloth_slots; ++i) {
@@ -224,7 +237,7 @@ Result remove_body(World* world, BodyId id) {
                               "remove the cloth first", id.index, i);
     }
     BodyState& body = world->bodies[id.index];
-    if (body.scene != nullptr) {  // reference_queries bodies only
+    if (body.scene != nullptr) {  // reference bodies only
         rtcReleaseGeometry(body.geometry);
         rtcReleaseScene(body.scene);
     }
@@ -315,7 +328,7 @@ Result query_body(const World* world, BodyId id, Vec3 point, BodyContact* out, f
     refresh_body_hierarchy(const_cast<BodyState&>(body), world->kernels->path);
     const float p[3] = {point.x, point.y, point.z};
     const float reach = reach_m > 0.0f ? reach_m : body.desc.thickness_m + body.desc.margin_m;
-    *out = body.desc.reference_queries ? closest_hull_point(body, p, reach)
+    *out = body.reference_queries ? closest_hull_point(body, p, reach)
                                        : closest_hull_point_hierarchy(body, p, reach, world->kernels->path);
     return {};
 }
@@ -344,7 +357,7 @@ Result set_embree_commit_hook(World* world, EmbreeCommitHook hook, void* user) {
 void destroy_world(World* world) {
     if (world == nullptr) return;
     for (uint32_t i = 0; i < world->body_slots; ++i) {
-        if (world->bodies[i].scene != nullptr) {  // reference_queries bodies only
+        if (world->bodies[i].scene != nullptr) {  // reference bodies only
             rtcReleaseGeometry(world->bodies[i].geometry);
             rtcReleaseScene(world->bodies[i].scene);
         }

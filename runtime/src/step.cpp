@@ -41,7 +41,7 @@ namespace {
 // `profile`; end_step adds the counters into WorldStats.
 class PassTimer {
 public:
-    PassTimer(const World& world, uint64_t& ns) : ns_(world.desc.profile ? &ns : nullptr) {
+    PassTimer(const World& world, uint64_t& ns) : ns_(world.profiling ? &ns : nullptr) {
         if (ns_ != nullptr) start_ = std::chrono::steady_clock::now();
     }
     PassTimer(const World& world, ClothInstance& cloth, Pass pass)
@@ -208,12 +208,12 @@ bool searched_by_a_cloth(const World& world, uint32_t body) {
 void move_body(World& world, uint32_t index) {
     BodyState& body = world.bodies[index];
     PassTimer timer(world, body.pass_ns);
-    const auto start = world.desc.profile ? std::chrono::steady_clock::now() : std::chrono::steady_clock::time_point{};
-    const bool lazy = body.desc.collision == BodyCollision::skin_constraints && !body.desc.reference_queries;
+    const auto start = world.profiling ? std::chrono::steady_clock::now() : std::chrono::steady_clock::time_point{};
+    const bool lazy = body.desc.collision == BodyCollision::skin_constraints && !body.reference_queries;
     if (body.refit_pending) {
         if (lazy) {
             body.hierarchy_stale = true;
-        } else if (!body.desc.reference_queries) {
+        } else if (!body.reference_queries) {
             refit_body_hierarchy(body, world.kernels->path);
         }
         body.refit_pending = false;
@@ -224,12 +224,12 @@ void move_body(World& world, uint32_t index) {
         std::memcpy(body.previous_hull, body.hull, sizeof(float) * 4 * size_t(body.vertex_count));
         if (lazy)
             body.hierarchy_stale = true;
-        else if (!body.desc.reference_queries)
+        else if (!body.reference_queries)
             refit_body_hierarchy(body, world.kernels->path);  // boxes no longer widened by the motion
         body.moving = false;
     }
     if (body.hierarchy_stale && searched_by_a_cloth(world, index)) refresh_body_hierarchy(body, world.kernels->path);
-    if (world.desc.profile)
+    if (world.profiling)
         body.refit_ns += uint64_t(
             std::chrono::duration_cast<std::chrono::nanoseconds>(std::chrono::steady_clock::now() - start).count());
 }
@@ -383,7 +383,7 @@ Result begin_step(World* world, float dt_s) {
         body.refits = body.embree_refits = 0;
         body.refit_ns = body.pass_ns = 0;
         // The plain reference pass (a diagnostic) commits Embree scenes: here, on this thread.
-        if (body.desc.reference_queries && body.refit_pending) refit_embree(*world, body);
+        if (body.reference_queries && body.refit_pending) refit_embree(*world, body);
     }
     world->step_dt_s = dt_s;
     world->step_open = true;

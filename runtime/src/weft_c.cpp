@@ -156,8 +156,19 @@ WeftResult weft_load_asset(const void* file, size_t size, void* memory, size_t m
 WeftResult weft_asset_info(const WeftAsset* asset, WeftAssetInfo* out) {
     if (Result r = live_asset(asset); !r.ok()) return to_c(r);
     if (out == nullptr) return to_c(make_error(ErrorCode::invalid_argument, "out is null"));
-    out->particle_count = asset->asset.particle_count;
-    out->triangle_count = asset->asset.triangle_count;
+    const AssetView v = view_asset(asset->asset);
+    out->particle_count = v.particle_count;
+    out->triangle_count = v.triangle_count;
+    out->uv = v.uv;
+    out->sewn_point_count = v.sewn_point_count;
+    out->sewn_particle = v.sewn_particle;
+    out->sewn_uv_first = v.sewn_uv_first;
+    out->sewn_uv = v.sewn_uv;
+    out->has_fabric = v.has_fabric ? 1 : 0;
+    out->damping_per_s = v.fabric.damping_per_s;
+    for (int k = 0; k < 3; ++k) out->compliance_m_per_n[k] = v.fabric.compliance_m_per_n[k];
+    out->attachment_count = v.attachment_count;
+    out->skin_constraint_count = v.skin_constraint_count;
     return {};
 }
 

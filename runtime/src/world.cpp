@@ -745,6 +745,13 @@ Result view_cloth(const World* world, ClothId cloth, ClothView* out) {
 
 WorldStats world_stats(const World* world) { return world != nullptr ? world->stats : WorldStats{}; }
 
+Result set_profiling(World* world, bool on) {
+    if (world == nullptr) return make_error(ErrorCode::invalid_argument, "world is null");
+    if (Result r = refuse_while_stepping(world); !r.ok()) return r;
+    world->profiling = on;
+    return {};
+}
+
 WorldUsage world_usage(const World* world) {
     WorldUsage u;
     if (world == nullptr) return u;

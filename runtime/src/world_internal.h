@@ -76,6 +76,7 @@ struct ColliderState {
 struct World {
     WorldDesc desc;
     const Kernels* kernels = nullptr;
+    bool profiling = false;  // set_profiling (weft/debug.h): the passes read the clock
     // The rest of the block: the arrays of the cloths and bodies, each in a region of its own from
     // instance_memory_begin on (memory/regions.h: reserve_instance_memory).
     Arena arena;
@@ -89,7 +90,7 @@ struct World {
     ColliderState* colliders = nullptr;  // [desc.max_colliders]
     uint32_t collider_slots = 0;
     // Body colliders. One Embree device, created with the world only when desc.max_bodies > 0; a
-    // body with reference_queries has its own Embree scene on it (a still body needs no commit).
+    // reference body (add_reference_body) has its own Embree scene on it (a still body needs no commit).
     RTCDevice embree_device = nullptr;
     BodyState* bodies = nullptr;  // [desc.max_bodies]
     uint32_t body_slots = 0;

@@ -71,10 +71,11 @@ int main(int argc, char** argv) {
     World* world = nullptr;
     CHECK(create_world(desc, world_block.get(), need.bytes, &world));
 
+    const AssetView view = view_asset(asset);  // counts, fabric, uv, triangles: no solver layout
     ClothDesc cloth_desc;
     cloth_desc.asset = &asset;
-    cloth_desc.damping_per_s = asset.fabric.damping_per_s;  // the baked fabric's (ClothDesc's if none)
-    for (int k = 0; k < 3; ++k) cloth_desc.compliance_m_per_n[k] = asset.fabric.compliance_m_per_n[k];
+    cloth_desc.damping_per_s = view.fabric.damping_per_s;  // the baked fabric's (ClothDesc's if none)
+    for (int k = 0; k < 3; ++k) cloth_desc.compliance_m_per_n[k] = view.fabric.compliance_m_per_n[k];
     ClothId cloth;
     CHECK(add_cloth(world, cloth_desc, &cloth));
     std::vector<Vec3> ball(kVertices);
@@ -89,7 +90,7 @@ int main(int argc, char** argv) {
     CHECK(add_body(world, body_desc, &body));
 
     // 3. The frame loop: move the body, step, read positions and normals.
-    std::vector<Vec3> positions(asset.particle_count), normals(asset.particle_count);
+    std::vector<Vec3> positions(view.particle_count), normals(view.particle_count);
     const float dt_s = 1.0f / 60.0f;
     float ball_x = 0.0f;
     for (int frame = 1; frame <= 60; ++frame) {
@@ -97,14 +98,14 @@ int main(int argc, char** argv) {
         ball_vertices(ball_x, ball.data());
         CHECK(set_body_vertices(world, body, ball.data(), kVertices));
         CHECK(step(world, dt_s));
-        CHECK(read_positions(world, cloth, positions.data(), asset.particle_count));
-        CHECK(read_normals(world, cloth, normals.data(), asset.particle_count));
+        CHECK(read_positions(world, cloth, positions.data(), view.particle_count));
+        CHECK(read_normals(world, cloth, normals.data(), view.particle_count));
     }
 
     // 4. Check what the frames did.
     float lowest = INFINITY;
     int bad = 0, inside = 0;
-    for (uint32_t i = 0; i < asset.particle_count; ++i) {
+    for (uint32_t i = 0; i < view.particle_count; ++i) {
         const Vec3 p = positions[i], n = normals[i];
         bad += !std::isfinite(p.x) || !std::isfinite(p.y) || !std::isfinite(p.z) ||
                std::fabs(std::sqrt(n.x * n.x + n.y * n.y + n.z * n.z) - 1.0f) > 1e-3f;
@@ -112,7 +113,7 @@ int main(int argc, char** argv) {
         lowest = std::fmin(lowest, p.y);
     }
     std::printf("hello-cpp: %u particles after 60 frames, lowest at %.3f m, %d bad, %d inside the ball\n",
-                asset.particle_count, double(lowest), bad, inside);
+                view.particle_count, double(lowest), bad, inside);
     destroy_world(world);  // releases the Embree device; the blocks are ours
     return bad == 0 && inside == 0 && lowest < 1.5f ? 0 : 1;
 }

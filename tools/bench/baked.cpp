@@ -2,7 +2,7 @@
 // and its asset loaded back through the runtime's loader; the same meshed garment is cooked in memory
 // twice, with its lattice coordinates and without. Each asset steps in its own world: one substep
 // of `iterations` sweeps, no coarse level, no tethers, no colliders, so the constraint pass
-// dominates; WorldDesc::profile times it. The figure is the constraint pass's median per-step time
+// dominates; set_profiling times it. The figure is the constraint pass's median per-step time
 // divided by the projections it ran (padding lanes excluded): ns per constraint projection. The
 // variants take turns within each repeat, and the repeat with the lowest median is kept.
 #include "bench/baked.h"
@@ -53,7 +53,6 @@ std::string time_asset(const ClothAsset& asset, SimdPath path, Timing* out) {
     WorldDesc wd;
     reserve_cloth(wd, asset);
     wd.simd = path;
-    wd.profile = true;
     const MemoryRequirements need = world_memory_requirements(wd);
     const size_t bytes = (need.bytes + need.alignment - 1) / need.alignment * need.alignment;
     std::unique_ptr<unsigned char, void (*)(void*)> memory(static_cast<unsigned char*>(std::aligned_alloc(need.alignment, bytes)),
@@ -61,6 +60,7 @@ std::string time_asset(const ClothAsset& asset, SimdPath path, Timing* out) {
     if (!memory) return "out of memory";
     World* world = nullptr;
     if (Result r = create_world(wd, memory.get(), bytes, &world); !r.ok()) return r.message;
+    set_profiling(world, true);
     ClothDesc cd;
     cd.asset = &asset;
     cd.policy = BudgetPolicy::explicit_split;

@@ -2,9 +2,9 @@
 //
 // Two runs of the same scene (each `repeats` times), each `warmup` untimed steps followed by
 // `steps` timed ones:
-//   1. totals: WorldDesc::profile off, one steady_clock read per step; the reported step time is the
+//   1. totals: profiling off, one steady_clock read per step; the reported step time is the
 //      median over the timed steps. The cloth metrics are read after this run's last step.
-//   2. passes: WorldDesc::profile on (the runtime reads the clock around every pass); the per-pass
+//   2. passes: set_profiling on (the runtime reads the clock around every pass); the per-pass
 //      figures are medians of the per-step deltas of WorldStats::pass_ns. The total of this run is
 //      kept too, so the profiling overhead is visible next to the unprofiled total.
 #pragma once

@@ -3,7 +3,7 @@
 //   weft-bench body [--frames 60] [--points 10000] [--thickness 0.005] [--fall G] [--random-order] [--scalar]
 //                   [--simplify SHARE] [--json]
 // Two worlds step the same frames: Weft's pass (its own hierarchy, rays through Embree) and the
-// plain pass (BodyDesc::reference_queries: Embree refit + one rtcPointQuery per particle). Per frame:
+// plain pass (add_reference_body: Embree refit + one rtcPointQuery per particle). Per frame:
 // set_body_vertices (offset hull of the new pose), then the step's body pass, for points 0 to 3 cm off
 // the skin of the torso, hips and upper arms, re-placed on the new pose before every step (a
 // garment-like load). The points are ordered as a garment's slots are: neighbours next to each other
@@ -50,13 +50,13 @@ bool make_run(const body::BodyMesh& a, const std::vector<uint32_t>& triangles, f
     desc.max_body_vertices = a.vertex_count();
     desc.max_body_triangles = a.triangle_count();
     desc.gravity_m_s2 = {0, -o.fall_m_s2, 0};
-    desc.profile = true;
     desc.simd = o.scalar ? SimdPath::scalar : SimdPath::automatic;
     const MemoryRequirements need = world_memory_requirements(desc);
     run->block.reset(static_cast<unsigned char*>(
         std::aligned_alloc(need.alignment, (need.bytes + need.alignment - 1) / need.alignment * need.alignment)));
     if (Result r = create_world(desc, run->block.get(), need.bytes, &run->world); !r.ok())
         return std::fprintf(stderr, "%s\n", r.message), false;
+    set_profiling(run->world, true);
     ClothDesc cd;
     cd.asset = &asset;
     cd.policy = BudgetPolicy::explicit_split;  // one substep: one body pass per frame
@@ -68,8 +68,8 @@ bool make_run(const body::BodyMesh& a, const std::vector<uint32_t>& triangles, f
     bd.triangles = triangles.data();
     bd.triangle_count = uint32_t(triangles.size() / 3);
     bd.thickness_m = thickness_m;
-    bd.reference_queries = reference;
-    if (!add_cloth(run->world, cd, &run->cloth).ok() || !add_body(run->world, bd, &run->body).ok())
+    if (!add_cloth(run->world, cd, &run->cloth).ok() ||
+        !(reference ? add_reference_body(run->world, bd, &run->body) : add_body(run->world, bd, &run->body)).ok())
         return std::fprintf(stderr, "setup failed\n"), false;
     return true;
 }

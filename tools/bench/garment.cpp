@@ -1,7 +1,7 @@
 // weft-bench garment: per scene (samples/scenes/skirt-walk.json, tee-walk.json and, with ../shared,
 // tests/scenes/dress-garmentcode.json), the garment is baked onto its body (weft-bake's
 // bake_pattern with --body), the scene file is built and run, and every step is timed per pass
-// (WorldDesc::profile). In the same run, after every step, a plain baseline of the body pass is
+// (set_profiling, weft/debug.h). In the same run, after every step, a plain baseline of the body pass is
 // timed with Embree directly: refit of a dynamic scene over the same offset hull, then one
 // rtcPointQuery (closest point within thickness + margin) per particle per substep, no rays.
 // One world per body collision model (--collision), stepped in turn every frame; every row gives
@@ -193,7 +193,7 @@ std::string dress_scene(const std::string& scene_file, const std::string& patter
     return f ? std::string() : "cannot write " + (dir / scene->cloths[0].asset_path).string();
 }
 
-int run_garment(uint32_t steps, bool as_json, const std::vector<GarmentModel>& all_models) {
+int run_garment(uint32_t steps, bool as_json, const std::vector<GarmentModel>& all_models, SimdPath simd) {
     const std::string shared = WEFT_SHARED_DATA_DIR;
     std::vector<Case> cases = {{std::string(WEFT_SOURCE_DIR) + "/samples/scenes/skirt-walk.json",
                                 std::string(WEFT_SOURCE_DIR) + "/samples/patterns/skirt.json", true},
@@ -236,6 +236,7 @@ int run_garment(uint32_t steps, bool as_json, const std::vector<GarmentModel>& a
             !e.empty())
             return std::fprintf(stderr, "weft-bench garment: %s\n", e.c_str()), 1;
         scene.profile = true;
+        scene.simd = simd;
         scene.normals = true;  // a game renders the garment: the step ends with its vertex normals
         const std::vector<std::string> scene_capsules = scene.body->limb_capsules;
         // One world per model, stepped in turn every frame: the same load on each, so the ratios
@@ -313,6 +314,7 @@ int run_garment(uint32_t steps, bool as_json, const std::vector<GarmentModel>& a
             const double body_us = median(r.body_us), step_us = median(r.step_us);
             nlohmann::json j = {{"scene", scene.name},
                                 {"collision", garment_model_name(r.model)},
+                                {"simd", simd_path_name(world_simd_path(sw.world))},
                                 {"limb_capsules", sw.body->limb_capsules.size()},
                                 {"particles", sw.cloths[0].asset->particle_count},
                                 {"body_triangles", sw.body->triangles.size() / 3},

@@ -26,7 +26,9 @@ bool garment_model_from_name(const std::string& name, GarmentModel* out);
 std::string garment_model_name(const GarmentModel& model);
 
 // One row per scene and body collision model in `models` (the first also times the plain pass).
-int run_garment(uint32_t steps, bool as_json, const std::vector<GarmentModel>& models);
+// `simd`: the path every scene runs on (automatic: the widest this CPU has).
+int run_garment(uint32_t steps, bool as_json, const std::vector<GarmentModel>& models,
+                SimdPath simd = SimdPath::automatic);
 
 // The project's mannequin (default measurements, rest pose) as a body to sew onto.
 std::string mannequin_sew_body(bake::SewBody* out);

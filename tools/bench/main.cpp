@@ -589,6 +589,9 @@ int main(int argc, char** argv) {
     garment->add_option("--collision", garment_models, "body collision models, each a row (exact, cached_planes, skin_constraints; "
                         "+limb_capsules adds the mannequin's limb capsules: the scene's, or the thighs')")
         ->delimiter(',')->capture_default_str();
+    std::string garment_simd = "automatic";
+    garment->add_option("--simd", garment_simd, "the SIMD path every scene runs on")
+        ->check(CLI::IsMember({"automatic", "scalar", "avx2"}))->capture_default_str();
     bench::CrowdBenchOptions crowd_o;
     CLI::App* crowd = app.add_subcommand("crowd", "walking mannequins in skirt and tee, each its own body, on 1, 2, ... threads");
     crowd->add_option("--characters", crowd_o.characters, "mannequins (two garments each)")->check(CLI::Range(1u, 1024u))
@@ -661,7 +664,10 @@ int main(int argc, char** argv) {
         for (size_t m = 0; m < models.size(); ++m)
             if (!bench::garment_model_from_name(garment_models[m], &models[m]))
                 return std::fprintf(stderr, "weft-bench garment: unknown --collision '%s'\n", garment_models[m].c_str()), 2;
-        return bench::run_garment(garment_steps, garment_json, models);
+        const SimdPath simd = garment_simd == "scalar" ? SimdPath::scalar
+                              : garment_simd == "avx2" ? SimdPath::avx2
+                                                       : SimdPath::automatic;
+        return bench::run_garment(garment_steps, garment_json, models, simd);
     }
     if (crowd->parsed()) return bench::run_crowd(crowd_o);
 

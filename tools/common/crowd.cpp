@@ -116,9 +116,9 @@ std::string build_crowd(const CrowdOptions& options, Crowd* out) {
     wd.max_colliders = options.characters * uint32_t(body.limb_capsules.size());
     wd.gravity_m_s2 = {0.0f, -9.81f, 0.0f};
     wd.simd = options.simd;
-    wd.profile = options.profile;
     wd.scheduler = options.scheduler;
     if (std::string e = create_world_in_block(wd, &c.memory, &c.world); !e.empty()) return e;
+    if (options.profile) set_profiling(c.world, true);
 
     // A square grid; each character its own phase in the stride and its own pace (0.8 to 1.2),
     // from a fixed sequence so every run builds the same crowd.

@@ -280,11 +280,11 @@ std::string build_scene(const Scene& scene, SceneWorld* out, const std::vector<s
     wd.gravity_m_s2 = scene.gravity_m_s2;
     wd.air_density_kg_m3 = scene.air_density_kg_m3;
     wd.simd = scene.simd;
-    wd.profile = scene.profile;
     wd.normals = scene.normals;
     wd.scheduler = scene.scheduler;
     if (std::string e = create_world_in_block(wd, &out->memory, &out->world); !e.empty()) return e;
     out->memory_bytes = world_memory_requirements(wd).bytes;
+    if (scene.profile) set_profiling(out->world, true);
 
     if (out->body) {
         const BodySpec& b = out->body->spec;

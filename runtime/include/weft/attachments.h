@@ -16,6 +16,8 @@
 
 namespace weft {
 
+struct SkinConstraints;  // weft/cloth_asset.h (a cooking tool fills one: weft/cook.h)
+
 // Binds the cloth's asset attachments to `body`. Refuses an asset without attachments, a triangle
 // index past the body's, or an attached particle that is not pinned; nothing changes on failure.
 // Moves the attached particles onto the body at once.

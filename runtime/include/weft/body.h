@@ -36,28 +36,14 @@ struct World;
 
 // How the step finds and answers contacts with a body (docs/garments.md, "Collision models").
 enum class BodyCollision : uint8_t {
-    // Every substep, every particle: the closest offset-hull point through Weft's hierarchy, the
-    // tunnelling ray and the crease rounds (the reference every cheaper model is measured against).
+    // Every substep, every particle: the closest offset-hull point, the tunnelling ray, the crease rounds.
     exact,
-    // The exact search at a step's first substep only; it keeps each particle's contact plane (the
-    // closest hull point within reach, its normal and the surface's motion there; in a crease the
-    // other side's too). Later substeps project the particle onto that plane (the hull does not move
-    // within a step) and search exactly again only a particle that moved 2 mm or more from where it
-    // was last searched: getting deeper than that behind the hull takes moving further, so no
-    // particle ends a step more than 2 mm inside a hull the exact pass would have kept it out of
-    // (tested on the moving mean_all's torso, hips and arms). Unreal's Chaos Cloth calls these
-    // planar constraints. With one substep a step it is the exact pass. The planes take every cloth
-    // 76 bytes a particle slot, reserved by WorldDesc::max_cached_plane_bodies (add_body refuses a
-    // cached_planes body beyond it).
+    // The exact search at a step's first substep; later substeps project each particle onto its
+    // cached contact plane (Chaos Cloth's planar constraints) and search again only one that moved
+    // 2 mm or more. Needs WorldDesc::max_cached_plane_bodies.
     cached_planes,
-    // No hierarchy search for a cloth bound to this body by skin constraints
-    // (weft/attachments.h: bind_skin_constraints): the constraints' backstop and max distance are
-    // its only collision with the body, one triangle's interpolation per particle per substep
-    // instead of a search. A cloth without skin constraints on this body gets the exact pass.
-    // The particles stay in front of the triangle they were bound to, not of the whole hull: a
-    // skirt swinging into the other thigh is not seen (docs/garments.md, "Collision models").
-    // The body's hierarchy is refitted only when something searches it (an unbound cloth,
-    // query_body, which then must not be called from two threads at once).
+    // A cloth bound to this body by skin constraints (weft/attachments.h) collides through their
+    // backstop and max distance only, no search; any other cloth gets the exact pass.
     skin_constraints,
 };
 
@@ -76,10 +62,6 @@ struct BodyDesc {
     // exact by default: weft-bake's sewing and the tests' brute-force comparisons expect it; the
     // scene files' default for a dressed garment is cached_planes (docs/scene-format.md).
     BodyCollision collision = BodyCollision::exact;
-    // Diagnostics and benchmarks: the plain pass, one Embree rtcPointQuery per particle (radius
-    // thickness + margin, not widened by the body's motion) and an Embree refit every moving step,
-    // instead of the step's own hierarchy (docs/garments.md, body colliders).
-    bool reference_queries = false;
 };
 
 struct BodyId {  // as ClothId (weft/world.h): a place and its generation
@@ -87,8 +69,7 @@ struct BodyId {  // as ClothId (weft/world.h): a place and its generation
     uint32_t generation = 0;
 };
 
-// Adds a body (validated: finite positions, indices in range, capacities). Builds its hierarchy
-// (and, with reference_queries, Embree's BVH).
+// Adds a body (validated: finite positions, indices in range, capacities) and builds its hierarchy.
 Result add_body(World* world, const BodyDesc& desc, BodyId* out_body);
 
 // Removes a body between steps (its memory goes back to the world's pools, its id goes stale).

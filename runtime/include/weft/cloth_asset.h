@@ -1,4 +1,5 @@
-// The cloth asset: the immutable, shareable description of one cloth that the solver steps.
+// The cloth asset's solver layout: what cooking tools write and debuggers read. A game reads an
+// asset through weft/asset_view.h.
 //
 // Three kinds of data are kept apart (as Jolt does):
 //   ClothAsset   - this file: topology, rest lengths, masses, constraint batches. Read-only,
@@ -10,6 +11,7 @@
 // in-memory triangle mesh, weft/cook.h: the cooking library). Both give the same plain struct of pointers into memory the caller owns.
 #pragma once
 
+#include "weft/asset_view.h"
 #include "weft/types.h"
 
 namespace weft {
@@ -25,7 +27,6 @@ inline constexpr uint32_t kNoParticle = 0xFFFFFFFFu;
 
 // Spring kinds (seed section 1.1). Each has its own compliance in the cloth instance.
 enum class ConstraintKind : uint8_t { stretch = 0, shear = 1, bend = 2 };
-inline constexpr uint32_t kConstraintKindCount = 3;
 
 // Coarse nodes that move one particle (ClothAsset::coarse_weight).
 inline constexpr uint32_t kCoarseWeights = 4;
@@ -72,17 +73,6 @@ struct TriangleRun {
     uint32_t first_lane = 0;  // into wind_lane_weight
     uint32_t lane_count = 0;  // a multiple of the asset's simd_width; padding lanes have weight 0
     uint32_t a0 = 0, b0 = 0, c0 = 0;
-};
-
-// The fabric a garment is made of (its cloth instances start from these). All values >= 0 and finite.
-// The defaults are ClothDesc's (world.h): hard springs, damping 1/s, so an asset without a fabric
-// steps as before; density, thickness and friction default to cotton on a frictionless body.
-struct Fabric {
-    float areal_density_kg_m2 = 0.150f;            // mass per rest area (cotton; Penava et al. 2014)
-    float compliance_m_per_n[3] = {0.0f, 0.0f, 0.0f};  // XPBD compliance: stretch, shear, bend
-    float damping_per_s = 1.0f;                    // dv/dt = -damping * v
-    float thickness_m = 0.0f;                      // collision thickness of the fabric
-    float friction = 0.0f;                         // Coulomb coefficient against colliders
 };
 
 // Seam points (seed paper 4.1.2 and 4.2, eq. 10): a seam point replaces its 2 or 3 source boundary
@@ -255,17 +245,5 @@ inline uint32_t tether_anchor(const ClothAsset& a, const TetherBatch& t, uint32_
 // Checks every invariant the solver relies on (indices in range, runs really contiguous and
 // particle-disjoint, finite rest lengths, ...). The world calls it before it uses an asset.
 Result validate_asset(const ClothAsset& asset);
-
-// ---------------------------------------------------------------------------------------------
-// What a renderer reads of an asset to build its mesh, in the caller's particle order (the order
-// of read_positions and read_normals), so it needs none of the solver's layout above: the particle
-// and triangle counts, these two, and the texture coordinates in `uv` ([2 * particle_count],
-// caller order; null when the asset has none).
-
-// The start pose, metres: count = particle_count.
-Result read_start_positions(const ClothAsset& asset, Vec3* out, uint32_t count);
-// The triangles as caller particle indices, wound as the mesh that was cooked (their order may
-// differ: the wind pass's runs come first): count = 3 * triangle_count.
-Result read_triangles(const ClothAsset& asset, uint32_t* out, uint32_t count);
 
 }  // namespace weft

@@ -19,7 +19,7 @@ const char* pass_name(Pass pass);
 
 struct WorldStats {
     uint64_t steps = 0;
-    // Nanoseconds spent in each pass over all steps (only with WorldDesc::profile).
+    // Nanoseconds spent in each pass over all steps (only while set_profiling is on).
     uint64_t pass_ns[static_cast<int>(Pass::count)] = {};
     // Projections the last step ran on runs and on the indexed path (padding lanes excluded).
     uint64_t run_projections = 0;
@@ -31,11 +31,11 @@ struct WorldStats {
     uint64_t body_rays = 0;
     uint64_t body_refits = 0;
     // Last step: particles whose reach met a box of the body's hierarchy (needed triangle tests;
-    // with BodyDesc::reference_queries, every particle queried), and Embree refits (made only for
+    // on a reference body (add_reference_body), every particle queried), and Embree refits (made only for
     // the reference pass).
     uint64_t body_queried = 0;
     uint64_t body_embree_refits = 0;
-    // Nanoseconds (all steps, with WorldDesc::profile) of pass_ns[body] spent refitting moved
+    // Nanoseconds (all steps, while profiling) of pass_ns[body] spent refitting moved
     // bodies (Weft's hierarchy, or Embree's BVH for the reference pass).
     uint64_t body_refit_ns = 0;
     // Embree's heap as its memory monitor reports it (rtcSetDeviceMemoryMonitorFunction): bytes
@@ -47,6 +47,9 @@ struct WorldStats {
 };
 
 WorldStats world_stats(const World* world);
+
+// Times every pass from the next step on (WorldStats::pass_ns; one clock read a pass). Off at creation.
+Result set_profiling(World* world, bool on);
 
 // What a world holds now (remove_cloth, remove_body and remove_collider give it back).
 struct WorldUsage {
@@ -88,6 +91,11 @@ struct BodyView {
     float thickness_m = 0, margin_m = 0;
 };
 Result view_body(const World* world, BodyId body, BodyView* out);
+
+// A body searched by the plain reference pass instead of the step's hierarchy: one Embree
+// rtcPointQuery a particle (reach thickness + margin, not widened by the body's motion) and an
+// Embree refit every moving step. The baseline the body pass is measured against (docs/garments.md).
+Result add_reference_body(World* world, const BodyDesc& desc, BodyId* out_body);
 
 // Diagnostics: called with `entering` true just before and false just after every rtcCommitScene
 // the world makes (creation and steps), so a test can tell Embree's allocations from Weft's.

@@ -54,6 +54,9 @@ struct MemoryRequirements {
 // binary can compare them; `automatic` picks the widest the CPU runs.
 enum class SimdPath : uint8_t { automatic, scalar, avx2 };
 
+// Spring kinds (seed section 1.1: stretch, shear, bend), each with its own compliance.
+inline constexpr uint32_t kConstraintKindCount = 3;
+
 const char* simd_path_name(SimdPath path);
 
 // True when this build contains the AVX2 kernels and this CPU can run them.

@@ -4,8 +4,8 @@
 #pragma once
 
 #include "weft/asset_file.h"
+#include "weft/asset_view.h"
 #include "weft/attachments.h"
 #include "weft/body.h"
-#include "weft/cloth_asset.h"
 #include "weft/types.h"
 #include "weft/world.h"

@@ -85,9 +85,22 @@ WeftResult weft_asset_memory_requirements(const void* file, size_t size, WeftMem
  * is used; `memory` holds the handle and the loader's scratch. Every byte is validated first. */
 WeftResult weft_load_asset(const void* file, size_t size, void* memory, size_t memory_bytes, WeftAsset** out_asset);
 
+/* What a game reads of an asset (weft/asset_view.h): pointers into the loaded file, null when absent. */
 typedef struct WeftAssetInfo {
     uint32_t particle_count; /* positions and normals are read in this count, the caller's order */
     uint32_t triangle_count;
+    const float* uv;         /* [2 * particle_count] texture coordinates, metres on the flat panel */
+    /* Sewn seams: particle sewn_particle[k] splits into one render vertex per source, at
+     * sewn_uv[2j..2j+1] for j in [sewn_uv_first[k], sewn_uv_first[k + 1]). */
+    uint32_t sewn_point_count;
+    const uint32_t* sewn_particle;
+    const uint32_t* sewn_uv_first;
+    const float* sewn_uv;
+    int has_fabric;                 /* 0: the fabric fields hold the defaults */
+    float damping_per_s;            /* the fabric's, for WeftClothDesc */
+    float compliance_m_per_n[3];    /* stretch, shear, bend */
+    uint32_t attachment_count;      /* particles bound to the body the garment was dressed on */
+    uint32_t skin_constraint_count; /* baked skin constraints */
 } WeftAssetInfo;
 WeftResult weft_asset_info(const WeftAsset* asset, WeftAssetInfo* out);
 

@@ -13,7 +13,7 @@
 //   free the block: it is the caller's.
 #pragma once
 
-#include "weft/cloth_asset.h"
+#include "weft/asset_view.h"  // ClothAsset is only pointed to: its layout is weft/cloth_asset.h
 #include "weft/types.h"
 
 namespace weft {
@@ -68,8 +68,7 @@ struct WorldDesc {
     uint32_t max_bodies = 0;
     uint32_t max_body_vertices = 0;   // summed over bodies
     uint32_t max_body_triangles = 0;  // summed over bodies
-    // Bodies that may use BodyCollision::cached_planes (at most max_bodies): each costs every cloth
-    // 76 bytes a particle slot for its contact planes; add_body refuses one more. 0: none, no bytes.
+    // Bodies that may use BodyCollision::cached_planes (<= max_bodies): 76 bytes a cloth's particle slot each.
     uint32_t max_cached_plane_bodies = 0;
     // Skin constraints (weft/attachments.h) summed over the cloths that bind them; reserve_cloth
     // adds the asset's. Each costs 76 bytes; a cloth rebound to more than it holds takes new room.
@@ -85,7 +84,6 @@ struct WorldDesc {
 
     SimdPath simd = SimdPath::automatic;
     StepScheduler scheduler;  // how step() hands out its work items (above)
-    bool profile = false;  // time every pass (weft/debug.h: world_stats; one clock read per pass)
 };
 
 // How a spring's length correction is evaluated (runtime/src/constraints/distance.h).
@@ -102,12 +100,8 @@ inline constexpr uint32_t kMaxCoarseSubsteps = 8;  // substeps of an explicit sp
 
 // How a cloth spends its solver budget.
 enum class BudgetPolicy : uint8_t {
-    // The measured default (docs/solver.md): a cloth held by pinned particles runs 1 substep of
-    // `sweeps` iterations with its tethers (the pins carry the long range; iterations cut strain
-    // most); a cloth held by nothing but colliders runs 2 substeps (3 from 6 sweeps) of
-    // sweeps / substeps iterations, relaxation 0.8, with the coarse level solved 3 times a substep
-    // (friction needs substeps; the coarse level carries the tension; more than 3 coarse
-    // corrections a step kept a draped cloth jittering).
+    // Pinned cloth: 1 substep of `sweeps` iterations with tethers; collider-held: 2-3 substeps,
+    // relaxation 0.8, the coarse level (docs/solver.md, "The policy").
     automatic,
     // substeps, iterations, relaxation and coarse_level exactly as given below.
     explicit_split,

@@ -1,8 +1,26 @@
-// An asset's start pose and triangles in the caller's particle order (weft/cloth_asset.h).
+// What a game reads of an asset, in the caller's particle order (weft/asset_view.h).
 #include "error.h"
 #include "weft/cloth_asset.h"
 
 namespace weft {
+
+AssetView view_asset(const ClothAsset& a) {
+    AssetView v;
+    v.particle_count = a.particle_count;
+    v.triangle_count = a.triangle_count;
+    v.has_fabric = a.has_fabric;
+    v.fabric = a.fabric;
+    v.uv = a.uv;
+    v.panel_count = a.panel_count;
+    v.panel = a.panel;
+    v.sewn_point_count = a.sewn_point_count;
+    v.sewn_particle = a.sewn_particle;
+    v.sewn_uv_first = a.sewn_uv_first;
+    v.sewn_uv = a.sewn_uv;
+    v.attachment_count = a.attachment_count;
+    v.skin_constraint_count = a.skin.count;
+    return v;
+}
 
 Result read_start_positions(const ClothAsset& asset, Vec3* out, uint32_t count) {
     if (out == nullptr) return make_error(ErrorCode::invalid_argument, "out is null");

@@ -247,7 +247,7 @@ BodyContact closest_hull_point(const BodyState& body, const float* point, float 
 
 namespace {
 
-// The plain pass (BodyDesc::reference_queries): one rtcPointQuery per particle, radius thickness +
+// The plain pass (add_reference_body): one rtcPointQuery per particle, radius thickness +
 // margin (the plain pass: not widened by the body's motion, so a surface sweeping over resting
 // cloth can leave it deeper than Weft's pass). The baseline the step's own hierarchy is measured against.
 void collide_body_reference(const Particles& p, const BodyState& body, float share, BodyPassCounts& counts) {
@@ -552,7 +552,7 @@ void collide_clusters(const Particles& particles, const uint32_t* order, const B
 void collide_body(const Particles& particles, const uint32_t* order, const BodyState& body, uint32_t substep,
                   uint32_t substeps, const ContactPlanes* planes, SimdPath path, BodyPassCounts& counts) {
     const float share = 1.0f / float(substeps);
-    if (body.desc.reference_queries) return collide_body_reference(particles, body, share, counts);
+    if (body.reference_queries) return collide_body_reference(particles, body, share, counts);
     const body_query::Path& kernels = path_for(path);
     if (substeps == 1) planes = nullptr;  // no later substep to keep planes for: the exact pass
     if (planes == nullptr || substep == 0)

@@ -5,7 +5,7 @@
 // this step) through Weft's own box hierarchy (BodyHierarchy, collide/body_query.h: one walk per
 // cluster of neighbouring slots, eight triangles at a time per particle; closest point on a
 // triangle: Ericson, Real-Time Collision Detection, 5.1.5), or, for the plain reference pass
-// (BodyDesc::reference_queries), one Embree rtcPointQuery per particle. The barycentric coordinates of that point interpolate the hull's vertex normals into the
+// (add_reference_body), one Embree rtcPointQuery per particle. The barycentric coordinates of that point interpolate the hull's vertex normals into the
 // contact normal; the particle is inside when it lies behind the hull along that normal.
 // Response: the same projection and friction as the analytic colliders (colliders.h:
 // resolve_contact), with the surface's own motion, interpolated from the hull's per-vertex
@@ -67,6 +67,7 @@ inline constexpr uint32_t kLeafCorners = 16 * kLeafTriangles;
 struct BodyState {
     InstanceSlot slot;
     BodyDesc desc;  // thickness, margin, friction (the array pointers are not kept)
+    bool reference_queries = false;  // add_reference_body: the plain Embree pass (scene below)
     uint32_t vertex_count = 0, triangle_count = 0;
     // [4 * vertex_count + 4]: the offset hull, Embree's shared vertex buffer: x, y, z and, where
     // Embree does not look, |hull - previous_hull| of the vertex this step (metres). A particle the
@@ -77,7 +78,7 @@ struct BodyState {
     float* previous_hull = nullptr;  // [4 * vertex_count]: the hull the previous step used
     float* normals = nullptr;        // [3 * vertex_count]: unit area-weighted vertex normals
     uint32_t* triangles = nullptr;   // [3 * triangle_count + 4]: Embree's shared index buffer
-    RTCScene scene = nullptr;        // reference_queries bodies only (the plain pass's BVH)
+    RTCScene scene = nullptr;        // reference bodies only (the plain pass's BVH)
     RTCGeometry geometry = nullptr;
     BodyHierarchy hierarchy;
     bool refit_pending = false;  // new vertices since the last step
@@ -102,7 +103,7 @@ void compute_offset_hull(BodyState& body, const Vec3* positions, const float* pr
 
 // The closest hull point within `reach` (BodyContact::found false when none is), by
 // Embree's rtcPointQuery (the reference; the step uses its own hierarchy unless
-// BodyDesc::reference_queries).
+// add_reference_body).
 BodyContact closest_hull_point(const BodyState& body, const float* point, float reach);
 
 // Arena bytes for the hierarchies of bodies with these totals (world sizing).
