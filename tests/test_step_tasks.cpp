@@ -344,3 +344,143 @@ TEST_CASE("character motion: bad roots and inertia are refused, a still root cha
     d.max_inertial_speed_m_s = -1.0f;
     CHECK(set_cloth_settings(crowd.world, skirt, d).code == ErrorCode::out_of_range);
 }
+
+namespace {
+
+// The slowest-settling garment's mean speed (m/s) and whether every particle of both garments is
+// finite and within 1.5 m of the character's root across and 0-2 m above it.
+struct GarmentState {
+    double mean_speed_m_s = 0.0, max_strain = 0.0;
+    bool finite_and_bounded = true;
+};
+GarmentState garment_state(scenes::Crowd& crowd) {
+    const scenes::CrowdCharacter& who = crowd.characters[0];
+    GarmentState g;
+    for (ClothId cloth : {who.skirt, who.tee}) {
+        ClothView view;
+        REQUIRE(view_cloth(crowd.world, cloth, &view).ok());
+        const metrics::Bounds b = metrics::bounds(view);
+        const Vec3 root{who.offset_m.x + who.root.translation_m.x, who.offset_m.y + who.root.translation_m.y,
+                        who.offset_m.z + who.root.translation_m.z};
+        g.finite_and_bounded = g.finite_and_bounded && b.finite && b.min.x > root.x - 1.5f && b.max.x < root.x + 1.5f &&
+                               b.min.z > root.z - 1.5f && b.max.z < root.z + 1.5f && b.min.y > root.y - 0.05f &&
+                               b.max.y < root.y + 2.0f;
+        g.mean_speed_m_s = std::max(g.mean_speed_m_s, metrics::mean_speed(view));
+        g.max_strain = std::max(g.max_strain, metrics::stretch_strain(view).max);
+    }
+    return g;
+}
+
+// `frames` frames of the character standing still in its rest pose (the walk's pose at t = 0) at
+// its root; the state after them, and whether every frame was finite and bounded.
+GarmentState stand(scenes::Crowd& crowd, uint32_t frames) {
+    bool bounded = true;
+    for (uint32_t frame = 0; frame < frames; ++frame) {
+        REQUIRE(scenes::animate_crowd(crowd, 0.0f).empty());
+        REQUIRE(step(crowd.world, crowd.dt_s).ok());
+        bounded = bounded && garment_state(crowd).finite_and_bounded;
+    }
+    GarmentState g = garment_state(crowd);
+    g.finite_and_bounded = g.finite_and_bounded && bounded;
+    return g;
+}
+
+
+// Issue 23 point 6. The sample skirt and tee on the mannequin standing still (world space, inertia
+// 1: the worst case); after each abuse the character stands: every particle stays finite and within
+// reach of the body throughout, the garments end no more stretched than they started (within 10% +
+// 1 percentage point) and at rest (mean speed under 5 mm/s) after `settle_s` seconds at most: 2 s
+// after refused vertices and a 100 m teleport, `violent_settle_s` after the spin and the hitch.
+void abuse_a_dressed_character(float violent_settle_s) {
+    scenes::Crowd crowd;
+    REQUIRE(scenes::build_crowd(crowd_options(1), &crowd).empty());
+    scenes::CrowdCharacter& who = crowd.characters[0];
+    const GarmentState start = stand(crowd, 30);
+    REQUIRE(start.finite_and_bounded);
+    CAPTURE(start.max_strain);
+    auto check_recovered = [&](const std::string& what, float settle_s) {
+        const GarmentState after = stand(crowd, uint32_t(settle_s / crowd.dt_s + 0.5f));
+        INFO(what);
+        CAPTURE(after.mean_speed_m_s);
+        CAPTURE(after.max_strain);
+        CHECK(after.finite_and_bounded);
+        CHECK(after.mean_speed_m_s < 0.005);
+        CHECK(after.max_strain <= 1.1 * start.max_strain + 0.01);
+    };
+
+    // 1. Body vertices with NaN or 1e30: refused, and nothing changes (the cloths' and the body's
+    // arrays keep every bit).
+    {
+        ClothView skirt;
+        REQUIRE(view_cloth(crowd.world, who.skirt, &skirt).ok());
+        BodyView body;
+        REQUIRE(view_body(crowd.world, who.body, &body).ok());
+        const std::vector<float> x_before(skirt.x, skirt.x + skirt.asset->slot_count);
+        const std::vector<float> hull_before(body.hull, body.hull + 4 * size_t(body.vertex_count));
+        std::vector<Vec3> bad = crowd.pose;
+        REQUIRE(bad.size() == body.vertex_count);
+        for (float poison : {NAN, 1e30f, -INFINITY}) {
+            bad[bad.size() / 2].y = poison;
+            CHECK(set_body_vertices(crowd.world, who.body, bad.data(), uint32_t(bad.size())).code != ErrorCode::ok);
+            CHECK(teleport_body(crowd.world, who.body, bad.data(), uint32_t(bad.size())).code != ErrorCode::ok);
+        }
+        CHECK(std::equal(x_before.begin(), x_before.end(), skirt.x));
+        CHECK(std::equal(hull_before.begin(), hull_before.end(), body.hull));
+        check_recovered("after refused vertices", 2.0f);
+    }
+
+    // 2. The body teleported 100 m (a respawn the cloths are told of: teleport_character).
+    REQUIRE(scenes::teleport_character(crowd, 0, {{100.0f, 0.0f, 0.0f}, {}}, 0.0f).empty());
+    check_recovered("after a 100 m teleport", 2.0f);
+
+    // 3. Spinning at 10 revolutions a second about the vertical for half a second, then still.
+    {
+        bool bounded = true;
+        const uint32_t half_second = uint32_t(0.5f / crowd.dt_s + 0.5f);
+        for (uint32_t frame = 1; frame <= half_second; ++frame) {
+            who.root.rotation = turn_about_y(2.0f * 3.14159265f * 10.0f * float(frame) * crowd.dt_s);
+            REQUIRE(scenes::animate_crowd(crowd, 0.0f).empty());
+            REQUIRE(step(crowd.world, crowd.dt_s).ok());
+            bounded = bounded && garment_state(crowd).finite_and_bounded;
+        }
+        CHECK(bounded);
+        check_recovered("after spinning at 10 revolutions a second", violent_settle_s);
+    }
+
+    // 4. One frame of 0.25 s (a hitch).
+    REQUIRE(scenes::animate_crowd(crowd, 0.0f).empty());
+    REQUIRE(step(crowd.world, 0.25f).ok());
+    CHECK(garment_state(crowd).finite_and_bounded);
+    check_recovered("after a 0.25 s frame", violent_settle_s);
+
+    // 5. A cloth removed while the frame's tasks run: refused until the step ends, then removed;
+    // the other garment steps on.
+    REQUIRE(scenes::animate_crowd(crowd, 0.0f).empty());
+    REQUIRE(begin_step(crowd.world, crowd.dt_s).ok());
+    CHECK(remove_cloth(crowd.world, who.skirt).code == ErrorCode::invalid_argument);
+    for (StepStage stage : {StepStage::bodies, StepStage::cloths})
+        REQUIRE(run_step_items(crowd.world, stage, 0, step_stage_items(crowd.world, stage)).ok());
+    CHECK(remove_cloth(crowd.world, who.skirt).code == ErrorCode::invalid_argument);
+    REQUIRE(end_step(crowd.world).ok());
+    CHECK(remove_cloth(crowd.world, who.skirt).ok());
+    for (uint32_t frame = 0; frame < 30; ++frame) REQUIRE(step(crowd.world, crowd.dt_s).ok());  // the body stands
+    ClothView tee;
+    REQUIRE(view_cloth(crowd.world, who.tee, &tee).ok());
+    CHECK(metrics::bounds(tee).finite);
+    CHECK(metrics::mean_speed(tee) < 0.005);
+}
+
+}  // namespace
+
+TEST_CASE("stress: a dressed character abused as a game does (bad vertices, a 100 m teleport, 10 revolutions a second, a 0.25 s frame, a removal mid-frame) stays finite and bounded and comes back to rest") {
+    abuse_a_dressed_character(5.0f);
+}
+
+// Known to fail (2026-11-28; issue 23, point 6): 2 s after the spin and after the hitch the
+// garments, at rest, unstretched and in place, still sway at a mean 2.6 and 2.0 cm/s (9.8 and 4.5
+// m/s when the abuse ends; the fabric's damping of 1/s sets the decay; under 5 mm/s after 5 s).
+// should_fail: it reports when it holds.
+TEST_CASE("stress: a dressed character is back at rest within 2 s of a 10 revolutions a second spin and of a 0.25 s frame (known to fail)" *
+          doctest::should_fail()) {
+    abuse_a_dressed_character(2.0f);
+}
