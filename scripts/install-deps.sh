@@ -11,7 +11,7 @@ packages=(
   libcli11-dev nlohmann-json3-dev libxxhash-dev # tools: command lines, JSON, asset hashing
   clang libclang-rt-14-dev                      # fuzzing (clang -fsanitize=fuzzer)
   libbullet-dev gnuplot-nox jq                  # weft-bench sweep: the Bullet peer, the Pareto plot; bench-baseline.sh
-  libtinyobjloader-dev libtinygltf-dev          # tools/body: body meshes from OBJ and glTF
+  libtinyobjloader-dev libtinygltf-dev          # lib/body: body meshes from OBJ and glTF
   libmeshoptimizer-dev                          # weft-bench body --simplify: simplified collision hulls
   libepoxy-dev libegl-dev libegl-mesa0          # tools/render: OpenGL loader, EGL (surfaceless)
   libgl1-mesa-dri libstb-dev ffmpeg             # llvmpipe, PNG writing, weft-sim --gif/--mp4, figures

@@ -1,11 +1,14 @@
 #!/usr/bin/env bash
-# Builds and tests Weft twice: Release (build/), then AddressSanitizer + UBSan, RelWithDebInfo
-# (build-asan/); then, where clang is installed, checks the determinism hashes with a Clang build
+# Builds and tests Weft: Release (build/), then AddressSanitizer + UBSan, RelWithDebInfo
+# (build-asan/); between them, the tests without the tools (-DWEFT_BUILD_TOOLS=OFF, Release,
+# build-notools/: the runtime, cook, lib/ and the tests only, so that they stay buildable without
+# the tools); then, where clang is installed, checks the determinism hashes with a Clang build
 # (build-clang/) and fuzzes briefly (scripts/fuzz.sh, build-fuzz/).
 # Every configuration runs even when an earlier one fails, so one report shows them all.
 #   bash scripts/test.sh
 # Environment: WEFT_BUILD_DIR, WEFT_ASAN_BUILD_DIR, WEFT_FUZZ_BUILD_DIR (build directories, relative
-# to the repository), WEFT_SKIP_ASAN=1 (Release only), WEFT_SKIP_FUZZ=1, WEFT_FUZZ_SECONDS (per
+# to the repository), WEFT_NOTOOLS_BUILD_DIR (default build-notools), WEFT_SKIP_NOTOOLS=1 (no
+# tools-off build), WEFT_SKIP_ASAN=1 (no ASan build), WEFT_SKIP_FUZZ=1, WEFT_FUZZ_SECONDS (per
 # harness, default 30), WEFT_CTEST_ARGS (extra ctest arguments, e.g. "-LE slow"), WEFT_SKIP_CLANG=1
 # (no Clang determinism check), WEFT_CLANG_BUILD_DIR (default build-clang).
 # Exits non-zero when anything failed; the last line is always a one-line summary.
@@ -57,6 +60,15 @@ run_config() {  # name dir cmake-args...
 }
 
 run_config release "$build_dir" -DCMAKE_BUILD_TYPE=Release -DWEFT_SANITIZE=OFF || failed=1
+
+# The tests configure, build and pass without the tools (they need the runtime, cook and lib/ only;
+# those that need a tool are left out): a few minutes, the tools and samples are not built.
+if [[ -z "${WEFT_SKIP_NOTOOLS:-}" ]]; then
+  notools_start=$SECONDS
+  run_config tools-off "${WEFT_NOTOOLS_BUILD_DIR:-build-notools}" -DCMAKE_BUILD_TYPE=Release -DWEFT_SANITIZE=OFF \
+    -DWEFT_BUILD_TOOLS=OFF || failed=1
+  results[-1]="${results[-1]} ($((SECONDS - notools_start))s)"
+fi
 
 if [[ -z "${WEFT_SKIP_ASAN:-}" ]]; then
   export ASAN_OPTIONS=${ASAN_OPTIONS:-abort_on_error=0:halt_on_error=1:detect_stack_use_after_return=1}

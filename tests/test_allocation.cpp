@@ -295,7 +295,7 @@ TEST_CASE("stepping the sphere with contact tethers 1000 times allocates nothing
 }
 
 TEST_CASE("stepping four cloths on a thread pool of three allocates nothing, on any thread") {
-    // The pool hands the cloths stage to its workers (tools/common/thread_pool.h): the counter is
+    // The pool hands the cloths stage to its workers (lib/common/thread_pool.h): the counter is
     // global, so an allocation on a worker counts as one on the stepping thread.
     auto seed = make_scene(SeedScene::sphere, SimdPath::automatic, true, 25);
     const ClothAsset& asset = seed->asset();
@@ -340,8 +340,9 @@ TEST_CASE("stepping four cloths on a thread pool of three allocates nothing, on 
     destroy_world(world);
 }
 
+#ifdef WEFT_SAMPLE_ASSETS_DIR  // the dressed skirt and tee are baked by weft-bake: built with the tools only
 TEST_CASE("1000 despawns and spawns of a dressed character allocate nothing and leave the world's pools as they were") {
-    // Two walking characters in skirt and tee (tools/common/crowd.h); the second leaves and comes
+    // Two walking characters in skirt and tee (lib/common/crowd.h); the second leaves and comes
     // back every frame: its cloths, limb capsules and body removed, then added, bound and stepped.
     scenes::CrowdOptions o;
     o.characters = 2;
@@ -363,7 +364,7 @@ TEST_CASE("1000 despawns and spawns of a dressed character allocate nothing and 
             failures += !scenes::spawn_character(crowd, 1).empty();
             allocations += counting.allocations();
         }
-        // The game's animation (the mannequin's walk, tools/body) is not Weft's: not counted.
+        // The game's animation (the mannequin's walk, lib/body) is not Weft's: not counted.
         failures += !scenes::animate_crowd(crowd, float(cycle % 120) * crowd.dt_s).empty();
         CountingScope counting;
         failures += !step(crowd.world, crowd.dt_s).ok();
@@ -375,6 +376,7 @@ TEST_CASE("1000 despawns and spawns of a dressed character allocate nothing and 
     CHECK(world_stats(crowd.world).memory_compactions == 0);  // each comes back to the room it left
     CHECK(step_stage_items(crowd.world, StepStage::cloths) == 4);
 }
+#endif
 
 TEST_CASE("a frame's calls allocate nothing: set_wind, set_collider, step, read_positions, read_normals, view_cloth") {
     for (SeedScene scene : {SeedScene::flag, SeedScene::sphere}) {

@@ -9,7 +9,7 @@
 #include <memory>
 #include <vector>
 
-#include "test_support.h"
+#include "support/test_support.h"
 #include "weft/weft.h"
 
 using namespace weft;

@@ -2,7 +2,7 @@
 // determinism, the round trip of every field, a loaded asset stepping bit for bit like the cooked
 // one, and the loader refusing broken files (truncated, flipped, huge counts, overlapping or
 // misaligned sections, unaligned memory, other versions, big-endian) without touching its output.
-#include "test_support.h"
+#include "support/test_support.h"
 
 #include <xxhash.h>
 

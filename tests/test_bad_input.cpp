@@ -1,6 +1,6 @@
 // Bad input: every fallible call refuses it with the right ErrorCode and a message, and a refused
 // call changes nothing (the next step matches an untouched twin world bit for bit).
-#include "test_support.h"
+#include "support/test_support.h"
 
 #include <functional>
 #include <limits>

@@ -2,7 +2,7 @@
 // Embree. Procedural bodies (an icosphere, a thin slab) for the core cases; the shared mean_all body,
 // blended between its A-pose and T-pose, for the animated ones (skipped with a message when
 // ../shared/data is missing).
-#include "test_support.h"
+#include "support/test_support.h"
 
 #include <algorithm>
 #include <cstring>

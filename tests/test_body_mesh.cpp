@@ -1,4 +1,4 @@
-// Body meshes from files (tools/body/body_mesh.h): OBJ and glTF, the real bodies of ../shared, and
+// Body meshes from files (lib/body/body_mesh.h): OBJ and glTF, the real bodies of ../shared, and
 // files that must be refused.
 #include <doctest/doctest.h>
 

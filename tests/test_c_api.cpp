@@ -2,7 +2,7 @@
 // as through world.h, and bad input (null pointers, small blocks, corrupt files, dead handles) gives
 // an error code and a message, never a crash.
 #include "common/asset_writer.h"
-#include "test_support.h"
+#include "support/test_support.h"
 #include "weft/weft_c.h"
 
 using namespace weft;

@@ -1,7 +1,7 @@
 // Colliders (seed section 2): plane, capsule and finite cylinder keep particles outside their
 // inflated shape; a cylinder has no contact beyond its axis ends (eq. 6); Coulomb friction holds a
 // cloth on an incline steeper than friction 0 allows.
-#include "test_support.h"
+#include "support/test_support.h"
 
 #include <algorithm>
 

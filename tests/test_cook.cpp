@@ -1,5 +1,5 @@
 // Cooking: the seed paper's spring counts (section 3 table) and the contiguous-run layout.
-#include "test_support.h"
+#include "support/test_support.h"
 
 #include <algorithm>
 #include <array>

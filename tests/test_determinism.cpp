@@ -1,5 +1,5 @@
 // Determinism (two independent worlds, same answer bit for bit) and scalar vs AVX2 parity.
-#include "test_support.h"
+#include "support/test_support.h"
 
 using namespace weft;
 using namespace weft::test;

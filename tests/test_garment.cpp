@@ -1,6 +1,6 @@
 // The asset's garment data (texture coordinates, seam points, panels, fabric), the SIMD width an
 // asset is padded for, and the padding it costs.
-#include "test_support.h"
+#include "support/test_support.h"
 
 #include <functional>
 #include <limits>

@@ -5,7 +5,7 @@
 
 #include "body/body_mesh.h"
 #include "common/skin_binding.h"
-#include "test_support.h"
+#include "support/test_support.h"
 
 using namespace weft;
 using namespace weft::test;

@@ -1,7 +1,7 @@
 // Invariants every step keeps, on every path and budget policy: inverse masses are never changed by
 // stepping, pinned and padding slots never move, and a cloth's neighbours in the world's block are
 // never touched (a kernel that runs past the end of a cloth's arrays breaks one of these).
-#include "test_support.h"
+#include "support/test_support.h"
 
 using namespace weft;
 using namespace weft::test;

@@ -1,4 +1,4 @@
-// The project's own mannequin (tools/body): a closed, consistently oriented manifold whose girths
+// The project's own mannequin (lib/body): a closed, consistently oriented manifold whose girths
 // are the measurements it was made from, and a walk that moves its limbs and nothing else wildly.
 #include <doctest/doctest.h>
 

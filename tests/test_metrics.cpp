@@ -1,5 +1,5 @@
 // The accuracy metrics (docs/accuracy.md) on cases whose answer is known by hand.
-#include "test_support.h"
+#include "support/test_support.h"
 
 #include <limits>
 

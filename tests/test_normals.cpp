@@ -1,7 +1,7 @@
 // The step's render output (WorldDesc::normals): unit, area-weighted vertex normals in the caller's
 // particle order, the same bits on every SIMD path.
 #include "common/scene.h"
-#include "test_support.h"
+#include "support/test_support.h"
 
 namespace weft {
 namespace {

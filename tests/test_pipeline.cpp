@@ -16,7 +16,7 @@
 #include "common/metrics.h"
 #include "common/scene_json.h"
 #include "common/seed_scenes.h"
-#include "test_support.h"
+#include "support/test_support.h"
 
 namespace weft {
 namespace {

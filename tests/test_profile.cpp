@@ -1,6 +1,6 @@
 // Pay for what you use: a pass a scene does not need is not in its step at all, so its profiled time
 // is exactly zero; passes it does use are timed.
-#include "test_support.h"
+#include "support/test_support.h"
 
 using namespace weft;
 using namespace weft::test;

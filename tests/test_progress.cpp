@@ -1,4 +1,4 @@
-// The progress bar of the long commands (tools/common/progress.h): its line, its estimate, and
+// The progress bar of the long commands (lib/common/progress.h): its line, its estimate, and
 // that it stays quiet when not asked for. (That the commands draw it on a terminal only: the
 // progress.* CTest tests run them on a pseudo-terminal, with --json and through a pipe.)
 #include <doctest/doctest.h>

@@ -6,7 +6,7 @@
 #include <string>
 
 #include "common/scene_json.h"
-#include "test_support.h"
+#include "support/test_support.h"
 
 namespace weft {
 namespace {

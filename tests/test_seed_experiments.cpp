@@ -1,6 +1,6 @@
 // The seed paper's experiments (section 3) as acceptance tests: the drape comes to rest, tethers
 // hold, the flag streams out further in stronger wind, the inflated sphere keeps edges outside.
-#include "test_support.h"
+#include "support/test_support.h"
 
 #include <algorithm>
 

@@ -11,7 +11,7 @@
 #include "common/crowd.h"
 #include "common/metrics.h"
 #include "common/thread_pool.h"
-#include "test_support.h"
+#include "support/test_support.h"
 
 using namespace weft;
 using namespace weft::test;

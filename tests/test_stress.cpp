@@ -13,7 +13,7 @@
 #include <limits>
 #include <random>
 
-#include "test_support.h"
+#include "support/test_support.h"
 
 using namespace weft;
 using scenes::SeedScene;

@@ -1,7 +1,7 @@
 // Asset validation: a valid cooked asset, copied into the test's own arrays and corrupted one thing
 // at a time, must fail validate_asset with corrupt_asset, and add_cloth must refuse it without
 // changing the world.
-#include "test_support.h"
+#include "support/test_support.h"
 
 #include <functional>
 #include <limits>

@@ -11,8 +11,8 @@
 
 #include <stb_image.h>  // the implementation is in Debian's libstb
 
-#include "orbit.h"
-#include "session.h"
+#include "viewer/orbit.h"
+#include "viewer/session.h"
 
 using namespace weft;
 

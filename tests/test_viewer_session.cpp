@@ -5,8 +5,8 @@
 
 #include <cmath>
 
-#include "orbit.h"
-#include "session.h"
+#include "viewer/orbit.h"
+#include "viewer/session.h"
 
 using namespace weft;
 

@@ -26,9 +26,9 @@
 #include <imgui.h>
 
 #include "render/image.h"
-#include "orbit.h"
+#include "viewer/orbit.h"
 #include "render/renderer.h"
-#include "session.h"
+#include "viewer/session.h"
 
 namespace {
 

@@ -1,4 +1,4 @@
-#include "session.h"
+#include "viewer/session.h"
 
 #include <chrono>
 #include <cmath>

@@ -1,5 +1,5 @@
 // What the viewer simulates, without any window: a scene file or a baked asset built into a world
-// (tools/common/scene.h), the controls the panel changes, and what it shows per step: the time of
+// (lib/common/scene.h), the controls the panel changes, and what it shows per step: the time of
 // each pass (WorldStats with profiling on), the step's wall time, the live max strain and
 // penetration.
 #pragma once

@@ -1,7 +1,7 @@
 // The whole bake, pattern text to asset bytes, one call per stage:
 //   parse_pattern (pattern.h: Weft JSON or GarmentCode) -> mesh_garment (garment.h: seed 4.1,
 //   CGAL) -> cook_cloth (runtime: springs, slots, runs, colours, tethers, coarse level) ->
-//   write_asset (tools/common/asset_writer.h: docs/asset-format.md) -> load_asset_copy (the
+//   write_asset (lib/common/asset_writer.h: docs/asset-format.md) -> load_asset_copy (the
 //   runtime's validating loader reads the bytes back: what it refuses is never written).
 // weft-bake is the command line around it; tests call it directly.
 #pragma once

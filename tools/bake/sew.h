@@ -37,7 +37,7 @@
 
 namespace weft::bake {
 
-// The body to sew on: plain arrays (tools/body loads files or makes the mannequin).
+// The body to sew on: plain arrays (lib/body loads files or makes the mannequin).
 struct SewBody {
     std::vector<Vec3> positions;      // metres, Y up
     std::vector<uint32_t> triangles;  // 3 per triangle, counter-clockwise seen from outside

@@ -1,6 +1,6 @@
 // weft-bench corpus (corpus.h): every pattern of a folder through weft-bake's pipeline, flat and
 // sewn, with the figures issue 21 judges a garment by. Each garment bakes in a child process of its
-// own (tools/common/child_jobs.h; the result, one JSON line, through a pipe), so a crash, a hang or
+// own (lib/common/child_jobs.h; the result, one JSON line, through a pipe), so a crash, a hang or
 // an allocation failure in one garment is that garment's error and the batch goes on.
 #include "bench/corpus.h"
 

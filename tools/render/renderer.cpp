@@ -7,6 +7,8 @@
 #include <epoxy/gl.h>
 #include <glm/gtc/type_ptr.hpp>
 
+#include "common/mesh_normals.h"
+
 namespace weft::render {
 
 namespace {
@@ -154,22 +156,6 @@ struct Renderer::Mesh : SurfaceMesh {
     glm::vec3 front_colour{}, back_colour{};
     bool unlit = false;
 };
-
-std::vector<Vec3> smooth_normals(const std::vector<Vec3>& positions, const std::vector<uint32_t>& triangles) {
-    std::vector<glm::vec3> sum(positions.size(), glm::vec3(0.0f));
-    for (size_t t = 0; t + 2 < triangles.size(); t += 3) {
-        const glm::vec3 a = to_glm(positions[triangles[t]]), b = to_glm(positions[triangles[t + 1]]),
-                        c = to_glm(positions[triangles[t + 2]]);
-        const glm::vec3 n = glm::cross(b - a, c - a);  // length = twice the area
-        for (int k = 0; k < 3; ++k) sum[triangles[t + k]] += n;
-    }
-    std::vector<Vec3> normals(positions.size());
-    for (size_t i = 0; i < sum.size(); ++i) {
-        const float length = glm::length(sum[i]);
-        normals[i] = to_weft(length > 0.0f ? sum[i] / length : glm::vec3(0.0f, 1.0f, 0.0f));
-    }
-    return normals;
-}
 
 namespace {
 
@@ -428,7 +414,7 @@ void Renderer::draw(const Snapshot& snapshot, const Camera& camera, int width, i
     for (const BodySurface& body : snapshot.bodies) {
         Mesh mesh;
         mesh.positions = body.positions;
-        mesh.normals = smooth_normals(body.positions, body.triangles);
+        mesh.normals = scenes::smooth_normals(body.positions, body.triangles);
         mesh.indices = body.triangles;
         mesh.front_colour = mesh.back_colour = mask ? kColliderMask : kBody;
         mesh.unlit = mask;
@@ -437,7 +423,7 @@ void Renderer::draw(const Snapshot& snapshot, const Camera& camera, int width, i
     for (const ClothSurface& cloth : snapshot.cloths) {
         Mesh mesh;
         mesh.positions = cloth.positions;
-        mesh.normals = smooth_normals(cloth.positions, cloth.triangles);
+        mesh.normals = scenes::smooth_normals(cloth.positions, cloth.triangles);
         mesh.indices = cloth.triangles;
         if (mask) {
             mesh.front_colour = mesh.back_colour = glm::vec3(kClothMaskRgb[0], kClothMaskRgb[1], kClothMaskRgb[2]) / 255.0f;

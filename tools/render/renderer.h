@@ -51,9 +51,6 @@ struct SurfaceMesh {
 // centre. Drawn by the renderer, exported by weft-sim --gltf.
 SurfaceMesh collider_surface(const ColliderDesc& collider, const Box& scene);
 
-// Smooth normals: each vertex gets the normalised sum of its triangles' area-weighted normals.
-std::vector<Vec3> smooth_normals(const std::vector<Vec3>& positions, const std::vector<uint32_t>& triangles);
-
 // The smallest pixel rectangle holding every point's projection (project_to_pixels): where a
 // cloth must appear in a width x height picture (the render and viewer tests check it).
 struct PixelBox {

@@ -1,4 +1,4 @@
-// From a running scene (tools/common/scene.h) to what the renderer draws.
+// From a running scene (lib/common/scene.h) to what the renderer draws.
 #pragma once
 
 #include "render/renderer.h"

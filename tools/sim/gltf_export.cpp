@@ -6,7 +6,7 @@
 #include <stb_image_write.h>  // the implementation is in Debian's libstb
 #include <tiny_gltf.h>
 
-#include "render/renderer.h"  // smooth_normals: the same normals the pictures are lit with
+#include "common/mesh_normals.h"  // smooth_normals: the same normals the pictures are lit with
 
 namespace weft::sim {
 
@@ -174,7 +174,7 @@ std::string write_gltf(const std::string& path, const GltfRun& run,
     for (size_t c = 0; c < run.cloths.size(); ++c) {
         const GltfSurface& cloth = run.cloths[c];
         const std::vector<Vec3>& base = run.frames[0][c];
-        const std::vector<Vec3> base_normals = render::smooth_normals(base, cloth.triangles);
+        const std::vector<Vec3> base_normals = scenes::smooth_normals(base, cloth.triangles);
         tinygltf::Primitive primitive;
         primitive.mode = TINYGLTF_MODE_TRIANGLES;
         primitive.material = cloth.is_body ? collider_material : cloth_material;
@@ -187,7 +187,7 @@ std::string write_gltf(const std::string& path, const GltfRun& run,
             const std::vector<Vec3>& p = run.frames[f][c];
             primitive.targets.push_back(
                 {{"POSITION", add_vec3(&model, difference(p, base), true)},
-                 {"NORMAL", add_vec3(&model, difference(render::smooth_normals(p, cloth.triangles), base_normals), false)}});
+                 {"NORMAL", add_vec3(&model, difference(scenes::smooth_normals(p, cloth.triangles), base_normals), false)}});
             if (progress) progress(c * run.frames.size() + f, work);
         }
         const int node = add_node(&model, cloth.name, primitive, targets);

@@ -10,7 +10,7 @@
 // a later step() read out of bounds; on any error the output is left untouched.
 //
 // The format itself (header, section table, section kinds) is in weft/asset_format.h, for writers
-// (tools/common/asset_writer.h), the loader and tools that inspect files.
+// (lib/common/asset_writer.h), the loader and tools that inspect files.
 #pragma once
 
 #include <cstddef>

@@ -1,6 +1,6 @@
 // The layout of a baked asset file (docs/asset-format.md): magic, versions, the fixed header, the
 // section table, the section kinds, and the one table that maps sections to ClothAsset's arrays.
-// For writers (tools/common/asset_writer.h), the loader (runtime/src/asset/load.cpp) and tools that
+// For writers (lib/common/asset_writer.h), the loader (runtime/src/asset/load.cpp) and tools that
 // inspect files; a game loads files through weft/asset_file.h alone.
 #pragma once
 

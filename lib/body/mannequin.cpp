@@ -1,7 +1,7 @@
 // The mannequin: an implicit body (smooth union of a torso of elliptic cross-sections sized by the
 // girths, tapered capsules for neck, limbs, hands and feet, an ellipsoid head), meshed by CGAL's
 // surface mesher (make_surface_mesh with the manifold tag: closed, manifold, oriented), then
-// skinned to a skeleton of bone segments. The only CGAL translation unit of tools/body.
+// skinned to a skeleton of bone segments. The only CGAL translation unit of lib/body.
 #include "body/mannequin.h"
 
 #include <algorithm>

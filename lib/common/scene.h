@@ -66,7 +66,7 @@ struct ClothSpec {
 // back and forth between two poses of the same mesh (the shared A-pose and T-pose).
 enum class BodyAnimation : uint8_t { still, walk, blend };
 struct BodySpec {
-    bool mannequin = false;     // the project's own (tools/body/mannequin.h, default measurements)
+    bool mannequin = false;     // the project's own (lib/body/mannequin.h, default measurements)
     std::string mesh_path;      // or an OBJ/glTF file, relative to the scene file's folder
     BodyAnimation animation = BodyAnimation::still;
     std::string blend_to_path;  // blend: the second pose (same faces)
@@ -136,7 +136,7 @@ struct SceneBody {
     BodySpec spec;
     std::vector<Vec3> rest, blend_to, pose;
     std::vector<uint32_t> triangles;
-    std::shared_ptr<const void> mannequin;  // body::Mannequin for the walk (tools/body)
+    std::shared_ptr<const void> mannequin;  // body::Mannequin for the walk (lib/body)
     BodyId id{};
     std::vector<body::LimbCapsule> limb_capsules, posed_capsules;  // rest pose; at the last animate_body
     std::vector<ColliderId> limb_colliders;
