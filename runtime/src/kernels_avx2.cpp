@@ -23,7 +23,7 @@ const Kernels* avx2_kernels() {
                                      {project_run<F, true>, project_run<F, false>},
                                      {project_indexed<F, true>, project_indexed<F, false>},
                                      project_tethers<F>, collide<F>, apply_wind<F>, particle_bounds<F>, skin_frames<F>, project_skin<F>,
-                                     vertex_normals<F>};
+                                     vertex_normals<F, false>, vertex_normals<F, true>};
     return &kernels;
 }
 #else

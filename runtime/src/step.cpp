@@ -274,9 +274,12 @@ void collide_bodies(World& world, ClothInstance& cloth, uint32_t substep, uint32
 }
 
 void find_vertex_normals(World& world, ClothInstance& cloth) {
-    if (!world.desc.normals) return;
+    if (!world.desc.normals && !world.desc.tangents) return;
     PassTimer timer(world, cloth, Pass::normals);
-    world.kernels->vertex_normals(cloth.particles, *cloth.asset);
+    if (world.desc.tangents)
+        world.kernels->vertex_normals_tangents(cloth.particles, *cloth.asset);
+    else
+        world.kernels->vertex_normals(cloth.particles, *cloth.asset);
 }
 
 void step_cloth(World& world, ClothInstance& cloth, float dt) {

@@ -89,6 +89,8 @@ WorldDesc to_cpp(const WeftWorldDesc& d) {
     w.max_skin_constraints = 0;     // the C API binds no skin constraints
     w.wind = d.wind != 0;
     w.normals = d.normals != 0;
+    w.tangents = d.tangents != 0;
+    w.max_triangle_lanes = d.max_triangle_lanes;
     w.gravity_m_s2 = to_cpp(d.gravity_m_s2);
     w.air_density_kg_m3 = d.air_density_kg_m3;
     w.simd = d.simd <= WEFT_SIMD_AVX2 ? SimdPath(d.simd) : SimdPath(0xFF);  // refused by create_world
@@ -179,6 +181,7 @@ WeftWorldDesc weft_default_world_desc(void) {
     w.max_cloths = 0;  // weft_reserve_cloth counts the cloths
     w.wind = d.wind ? 1 : 0;
     w.normals = d.normals ? 1 : 0;
+    w.tangents = d.tangents ? 1 : 0;
     w.gravity_m_s2 = {d.gravity_m_s2.x, d.gravity_m_s2.y, d.gravity_m_s2.z};
     w.air_density_kg_m3 = d.air_density_kg_m3;
     w.simd = WeftSimdPath(d.simd);
@@ -194,6 +197,7 @@ WeftResult weft_reserve_cloth(WeftWorldDesc* desc, const WeftAsset* asset) {
     desc->max_particles = w.max_particles;
     desc->max_constraints = w.max_constraints;
     desc->max_coarse_nodes = w.max_coarse_nodes;
+    desc->max_triangle_lanes = w.max_triangle_lanes;
     return {};
 }
 
@@ -397,6 +401,12 @@ WeftResult weft_read_positions(const WeftWorld* world, WeftClothId cloth, WeftVe
 WeftResult weft_read_normals(const WeftWorld* world, WeftClothId cloth, WeftVec3* out, uint32_t count) {
     if (Result r = live_world(world); !r.ok()) return to_c(r);
     return to_c(read_normals(world->world, cloth_id(cloth), to_cpp(out), count));
+}
+
+WeftResult weft_read_tangents(const WeftWorld* world, WeftClothId cloth, WeftVec4* out, uint32_t count) {
+    if (Result r = live_world(world); !r.ok()) return to_c(r);
+    static_assert(sizeof(WeftVec4) == sizeof(Vec4) && alignof(WeftVec4) == alignof(Vec4));
+    return to_c(read_tangents(world->world, cloth_id(cloth), reinterpret_cast<Vec4*>(out), count));
 }
 
 }  // extern "C"

@@ -104,6 +104,7 @@ struct World {
     uint32_t particles_used = 0;
     uint32_t constraints_used = 0;
     uint32_t coarse_nodes_used = 0;
+    uint32_t triangle_lanes_used = 0;  // by the cloths' tangent uv gradients (WorldDesc::tangents)
 
     Vec3 gravity_m_s2{};
     Vec3 wind_m_s{};

@@ -59,6 +59,11 @@ typedef struct WeftVec3 {
     float x, y, z; /* metres, m/s or m/s^2 */
 } WeftVec3;
 
+/* A tangent and its handedness w (+1 or -1): bitangent = w * cross(normal, tangent). */
+typedef struct WeftVec4 {
+    float x, y, z, w;
+} WeftVec4;
+
 typedef struct WeftMemoryRequirements {
     size_t bytes;
     size_t alignment; /* the block's start must be a multiple of this */
@@ -112,6 +117,8 @@ typedef struct WeftWorldDesc {
     WeftVec3 gravity_m_s2;
     float air_density_kg_m3;     /* for the wind's drag and lift */
     WeftSimdPath simd;
+    int tangents;                /* non-zero: also unit tangents from the uv (weft_read_tangents); implies normals */
+    uint32_t max_triangle_lanes; /* weft_reserve_cloth adds the asset's; carved only with tangents */
 } WeftWorldDesc;
 
 /* No capacity, gravity (0, -9.81, 0) m/s^2, air 1.2 kg/m^3, no wind, the widest SIMD path. */
@@ -225,6 +232,9 @@ WeftResult weft_read_positions(const WeftWorld* world, WeftClothId cloth, WeftVe
 /* Unit vertex normals as of the last step (area-weighted, the asset's winding; (0, 0, 0) on no
  * triangle of non-zero area), caller order; needs WeftWorldDesc::normals. */
 WeftResult weft_read_normals(const WeftWorld* world, WeftClothId cloth, WeftVec3* out, uint32_t count);
+/* Unit tangents from the asset's uv as of the last step, w the handedness ((0, 0, 0, 1) where no
+ * triangle gives one), caller order; needs WeftWorldDesc::tangents. */
+WeftResult weft_read_tangents(const WeftWorld* world, WeftClothId cloth, WeftVec4* out, uint32_t count);
 
 #ifdef __cplusplus
 }
