@@ -142,6 +142,16 @@ struct ParticleBounds {
     Vec3 lo, hi;  // metres; lo > hi on every axis when no particle moves
 };
 
+// One cloth's driven render mesh (WorldDesc::render_meshes), by render vertex.
+struct RenderOutput {
+    float* x = nullptr;  // position, metres
+    float* y = nullptr;
+    float* z = nullptr;
+    float* normal_x = nullptr;  // unit normal
+    float* normal_y = nullptr;
+    float* normal_z = nullptr;
+};
+
 struct WindArgs;
 struct SkinFrameArgs;
 
@@ -167,6 +177,8 @@ struct Kernels {
     void (*vertex_normals)(const Particles&, const ClothAsset&);
     // The normals and, in the same triangle walk, the tangents (Particles::tangent_*).
     void (*vertex_normals_tangents)(const Particles&, const ClothAsset&);
+    // The render mesh from the particles and their vertex normals (render/render_mesh.h).
+    void (*render_mesh)(const Particles&, const ClothAsset&, const RenderOutput&);
 };
 
 const Kernels& scalar_kernels();

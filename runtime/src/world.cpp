@@ -51,6 +51,7 @@ const char* pass_name(Pass pass) {
         case Pass::collide: return "collide";
         case Pass::body: return "body";
         case Pass::normals: return "normals";
+        case Pass::render_mesh: return "render_mesh";
         case Pass::count: break;
     }
     return "unknown";
@@ -71,6 +72,7 @@ struct ClothArrayCounts {
     size_t body_order = 0;     // the body pass's slot order (a world with bodies)
     size_t plane_floats = 0;   // contact planes, per cached_planes body (a world with them)
     size_t triangle_lanes = 0; // the tangents' uv gradients (a world with tangents)
+    size_t render_vertices = 0; // the render mesh's vertices (a world with render meshes)
 };
 
 // The entries of a cloth's per-triangle arrays in the normals pass's walk: the runs' lanes, then
@@ -86,6 +88,7 @@ ClothArrayCounts cloth_array_counts(const WorldDesc& desc, const ClothAsset& ass
     n.body_order = desc.max_bodies > 0 ? asset.slot_count : 0;
     n.plane_floats = size_t(kContactPlaneArrays) * desc.max_cached_plane_bodies * asset.slot_count;
     n.triangle_lanes = desc.tangents ? triangle_lanes(asset) : 0;
+    n.render_vertices = desc.render_meshes ? asset.render.vertex_count : 0;
     return n;
 }
 
@@ -101,6 +104,7 @@ ClothArrayCounts capacity_array_counts(const WorldDesc& desc) {
     n.body_order = desc.max_bodies > 0 ? desc.max_particles : 0;
     n.plane_floats = size_t(kContactPlaneArrays) * desc.max_cached_plane_bodies * desc.max_particles;
     n.triangle_lanes = desc.tangents ? desc.max_triangle_lanes : 0;
+    n.render_vertices = desc.render_meshes ? desc.max_render_vertices : 0;
     return n;
 }
 
@@ -112,12 +116,16 @@ void visit_cloth_arrays(const WorldDesc& desc, const ClothArrayCounts& n, ClothI
     for (float** a : {&p.x, &p.y, &p.z, &p.previous_x, &p.previous_y, &p.previous_z, &p.inverse_mass}) visit(*a, n.slots);
     if (desc.wind)
         for (float** a : {&p.wind_x, &p.wind_y, &p.wind_z}) visit(*a, n.slots);
-    if (desc.normals || desc.tangents)
+    if (has_normals(desc))
         for (float** a : {&p.normal_x, &p.normal_y, &p.normal_z}) visit(*a, n.slots);
     if (desc.tangents) {
         for (float** a : {&p.tangent_x, &p.tangent_y, &p.tangent_z, &p.tangent_w, &p.bitangent_x, &p.bitangent_y, &p.bitangent_z})
             visit(*a, n.slots);
         for (float*& a : p.uv_gradient) visit(a, n.triangle_lanes);
+    }
+    if (n.render_vertices > 0) {
+        RenderOutput& r = cloth.render;
+        for (float** a : {&r.x, &r.y, &r.z, &r.normal_x, &r.normal_y, &r.normal_z}) visit(*a, n.render_vertices);
     }
     CoarseState& c = cloth.coarse;
     for (float** a : {&c.x, &c.y, &c.z, &c.dx, &c.dy, &c.dz}) visit(*a, n.node_lanes);
@@ -172,7 +180,8 @@ Result check_world_desc(const WorldDesc& desc) {
         desc.max_particles > (1u << 28) || desc.max_constraints > (1u << 30) ||
         desc.max_coarse_nodes > (1u << 28) || desc.max_bodies > (1u << 10) ||
         desc.max_body_vertices > (1u << 26) || desc.max_body_triangles > (1u << 26) ||
-        desc.max_skin_constraints > (1u << 28) || desc.max_triangle_lanes > (1u << 28))
+        desc.max_skin_constraints > (1u << 28) || desc.max_triangle_lanes > (1u << 28) ||
+        desc.max_render_vertices > (1u << 28))
         return make_error(ErrorCode::out_of_range, "a capacity is absurdly large");
     if (!is_finite(desc.gravity_m_s2) || !std::isfinite(desc.air_density_kg_m3))
         return make_error(ErrorCode::non_finite, "gravity or air density is not finite");
@@ -371,6 +380,7 @@ void place_at_start(const Kernels& kernels, ClothInstance& cloth) {
         kernels.vertex_normals_tangents(p, a);
     else if (p.normal_x != nullptr)
         kernels.vertex_normals(p, a);
+    if (cloth.render.x != nullptr) kernels.render_mesh(p, a, cloth.render);
     cloth.previous_substep_s = 0.0f;
 }
 
@@ -500,6 +510,7 @@ void reserve_cloth(WorldDesc& desc, const ClothAsset& asset) {
     desc.max_coarse_nodes += asset.coarse_slot_count;
     desc.max_skin_constraints += asset.skin.count;
     desc.max_triangle_lanes += triangle_lanes(asset);
+    desc.max_render_vertices += asset.render.vertex_count;
 }
 
 MemoryRequirements world_memory_requirements(const WorldDesc& desc) {
@@ -577,6 +588,10 @@ Result add_cloth(World* world, const ClothDesc& desc, ClothId* out_cloth) {
     if (tangent_lanes > world->desc.max_triangle_lanes - world->triangle_lanes_used)
         return make_error(ErrorCode::capacity_exceeded, "cloth needs %u triangle lanes (tangents), %u left",
                           tangent_lanes, world->desc.max_triangle_lanes - world->triangle_lanes_used);
+    const uint32_t render_vertices = world->desc.render_meshes ? asset.render.vertex_count : 0;
+    if (render_vertices > world->desc.max_render_vertices - world->render_vertices_used)
+        return make_error(ErrorCode::capacity_exceeded, "cloth needs %u render mesh vertices, %u left", render_vertices,
+                          world->desc.max_render_vertices - world->render_vertices_used);
     if (world->desc.tangents && asset.uv == nullptr)
         return make_error(ErrorCode::invalid_argument, "the world has tangents but the asset has no texture coordinates");
     if (Result r = validate_asset_with_scratch(asset, world->validation_scratch, validation_scratch_count(world->desc));
@@ -612,6 +627,7 @@ Result add_cloth(World* world, const ClothDesc& desc, ClothId* out_cloth) {
     place_at_start(*world->kernels, cloth);
     world->particles_used += asset.slot_count;
     world->triangle_lanes_used += tangent_lanes;
+    world->render_vertices_used += render_vertices;
     world->constraints_used += asset.lane_count;
     world->coarse_nodes_used += asset.coarse_slot_count;
     world->cloth_slots = std::max(world->cloth_slots, index + 1);
@@ -628,6 +644,7 @@ Result remove_cloth(World* world, ClothId id) {
     world->constraints_used -= asset.lane_count;
     world->coarse_nodes_used -= asset.coarse_slot_count;
     if (world->desc.tangents) world->triangle_lanes_used -= triangle_lanes(asset);
+    if (world->desc.render_meshes) world->render_vertices_used -= asset.render.vertex_count;
     world->cloths_live -= 1;
     const InstanceSlot slot = cloth.slot;
     cloth = ClothInstance();  // its regions (arrays, skin constraints) are free with it
@@ -755,6 +772,22 @@ Result read_normals(const World* world, ClothId cloth, Vec3* out, uint32_t count
     if (p.normal_x == nullptr)
         return make_error(ErrorCode::invalid_argument, "world was created without the normals feature");
     return read_by_particle(world->cloths[cloth.index], p.normal_x, p.normal_y, p.normal_z, out, count);
+}
+
+Result read_render_mesh(const World* world, ClothId cloth, Vec3* positions, Vec3* normals, uint32_t count) {
+    if (Result r = find_cloth(world, cloth); !r.ok()) return r;
+    if (!world->desc.render_meshes)
+        return make_error(ErrorCode::invalid_argument, "world was created without the render_meshes feature");
+    const ClothInstance& c = world->cloths[cloth.index];
+    const RenderOutput& r = c.render;
+    if (r.x == nullptr) return make_error(ErrorCode::invalid_argument, "the cloth's asset has no render mesh");
+    if (positions == nullptr) return make_error(ErrorCode::invalid_argument, "positions is null");
+    if (count != c.asset->render.vertex_count)
+        return make_error(ErrorCode::out_of_range, "count %u, render mesh has %u vertices", count, c.asset->render.vertex_count);
+    for (uint32_t v = 0; v < count; ++v) positions[v] = {r.x[v], r.y[v], r.z[v]};
+    if (normals != nullptr)
+        for (uint32_t v = 0; v < count; ++v) normals[v] = {r.normal_x[v], r.normal_y[v], r.normal_z[v]};
+    return {};
 }
 
 Result read_tangents(const World* world, ClothId cloth, Vec4* out, uint32_t count) {

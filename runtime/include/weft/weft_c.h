@@ -93,11 +93,17 @@ WeftResult weft_load_asset(const void* file, size_t size, void* memory, size_t m
 typedef struct WeftAssetInfo {
     uint32_t particle_count; /* positions and normals are read in this count, the caller's order */
     uint32_t triangle_count;
+    uint32_t render_vertex_count;   /* the render mesh (weft-bake --render-mesh); 0: none */
+    uint32_t render_triangle_count;
 } WeftAssetInfo;
 WeftResult weft_asset_info(const WeftAsset* asset, WeftAssetInfo* out);
 
 /* The triangles as particle indices (caller order, the asset's winding): 3 * triangle_count values. */
 WeftResult weft_asset_triangles(const WeftAsset* asset, uint32_t* out_indices, uint32_t index_count);
+/* The render mesh's triangles (3 * render_triangle_count render vertex indices) and texture
+ * coordinates (2 * render_vertex_count floats); either output may be null. */
+WeftResult weft_asset_render_mesh(const WeftAsset* asset, uint32_t* out_indices, uint32_t index_count, float* out_uv,
+                                  uint32_t uv_count);
 /* The start pose, metres, caller order: particle_count values. */
 WeftResult weft_asset_start_positions(const WeftAsset* asset, WeftVec3* out, uint32_t count);
 
@@ -119,6 +125,8 @@ typedef struct WeftWorldDesc {
     WeftSimdPath simd;
     int tangents;                /* non-zero: also unit tangents from the uv (weft_read_tangents); implies normals */
     uint32_t max_triangle_lanes; /* weft_reserve_cloth adds the asset's; carved only with tangents */
+    int render_meshes;           /* non-zero: each step drives the cloths' render meshes (weft_read_render_mesh) */
+    uint32_t max_render_vertices; /* weft_reserve_cloth adds the asset's */
 } WeftWorldDesc;
 
 /* No capacity, gravity (0, -9.81, 0) m/s^2, air 1.2 kg/m^3, no wind, the widest SIMD path. */
@@ -235,6 +243,10 @@ WeftResult weft_read_normals(const WeftWorld* world, WeftClothId cloth, WeftVec3
 /* Unit tangents from the asset's uv as of the last step, w the handedness ((0, 0, 0, 1) where no
  * triangle gives one), caller order; needs WeftWorldDesc::tangents. */
 WeftResult weft_read_tangents(const WeftWorld* world, WeftClothId cloth, WeftVec4* out, uint32_t count);
+/* The render mesh's vertices and unit normals as of the last step (render_vertex_count each, the
+ * asset's render vertex order; `normals` may be null); needs WeftWorldDesc::render_meshes. */
+WeftResult weft_read_render_mesh(const WeftWorld* world, WeftClothId cloth, WeftVec3* positions, WeftVec3* normals,
+                                 uint32_t count);
 
 #ifdef __cplusplus
 }

@@ -78,6 +78,9 @@ struct WorldDesc {
     // the cloths; reserve_cloth adds the asset's. Only a world with `tangents` carves them (16 bytes
     // each: the uv gradients of tangent_uv_gradients).
     uint32_t max_triangle_lanes = 0;
+    // Render mesh vertices (ClothAsset::render) summed over the cloths; reserve_cloth adds the
+    // asset's. Only a world with `render_meshes` carves them (24 bytes each).
+    uint32_t max_render_vertices = 0;
 
     // Features: a pass that is not enabled is not in the step at all (and costs nothing).
     bool wind = false;
@@ -87,6 +90,9 @@ struct WorldDesc {
     // `normals`. Costs 7 arrays a particle slot and 4 floats a triangle lane; add_cloth refuses an
     // asset without uv.
     bool tangents = false;
+    // The step also drives each cloth's render mesh, if its asset has one (read_render_mesh);
+    // implies `normals`.
+    bool render_meshes = false;
 
     Vec3 gravity_m_s2{0.0f, -9.81f, 0.0f};
     float air_density_kg_m3 = 1.2f;  // rho in equations (2) and (3)
@@ -266,6 +272,11 @@ Result read_normals(const World* world, ClothId cloth, Vec3* out, uint32_t count
 // mirrored panel): bitangent = w * cross(normal, tangent). (0, 0, 0, 1) where no triangle gives
 // one. A seam particle takes each triangle's own panel's uv. Needs WorldDesc::tangents.
 Result read_tangents(const World* world, ClothId cloth, Vec4* out, uint32_t count);
+// The render mesh's vertices (ClothAsset::render, in its vertex order) as of the last step,
+// add_cloth or reset_cloth: each its bound point of the cloth's surface moved its offset along the
+// interpolated normal, and that unit normal. count = asset.render.vertex_count; `normals` may be
+// null. Needs WorldDesc::render_meshes and an asset with a render mesh.
+Result read_render_mesh(const World* world, ClothId cloth, Vec3* positions, Vec3* normals, uint32_t count);
 Result set_particle(World* world, ClothId cloth, uint32_t particle, Vec3 position_m,
                     float inverse_mass_per_kg);
 // Puts the cloth back at its start pose, at rest.
