@@ -71,6 +71,9 @@ struct TriangleGrid {
     int64_t index(double v) const { return int64_t(std::floor(v / cell)); }
 };
 
+// A render vertex further than this from its reconstruction at rest is refused, m.
+constexpr double kMaxRenderBindError_m = 1e-3;
+
 }  // namespace
 
 Result subdivide_cloth_mesh(const ClothAsset& a, uint32_t levels, RenderMeshSource* out) {
@@ -246,7 +249,12 @@ Result bind_render_mesh(const RenderMeshDesc& mesh, CookedCloth* cloth, double* 
         if (std::fabs(d) > 1.0)
             return make_error(ErrorCode::out_of_range, "render vertex %u lies %.3f m off the cloth (is it authored on the start pose?)", v, d);
         const D3 back = point(best_t, b) + d * normal_at(best_t, b);
-        worst = std::max(worst, std::sqrt(dot(back - p, back - p)));
+        const double error = std::sqrt(dot(back - p, back - p));
+        if (error > kMaxRenderBindError_m)  // past the cloth's edge: weights on the triangle cannot reach it
+            return make_error(ErrorCode::out_of_range,
+                              "render vertex %u cannot be bound: %.4f m from where its triangle puts it (past the cloth's edge? "
+                              "authored on another pose?)", v, error);
+        worst = std::max(worst, error);
         bound[v] = best_t, w1[v] = float(b.y), w2[v] = float(b.z), offset[v] = float(d);
     }
 

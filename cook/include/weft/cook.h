@@ -192,7 +192,9 @@ Result subdivide_cloth_mesh(const ClothAsset& asset, uint32_t levels, RenderMesh
 // Binds each render vertex to the closest cloth triangle on the start pose (a uniform grid over the
 // triangles): its barycentric weights there and its signed offset along the interpolated vertex
 // normal (the normals pass's, area-weighted), refined twice so that the runtime's reconstruction
-// lands back on the vertex. Stores the mesh in `cloth` (refresh_asset is called).
+// lands back on the vertex. A vertex whose reconstruction misses it by more than 1 mm (past the
+// cloth's edge) or that lies more than 1 m off the cloth is refused. Stores the mesh in `cloth`
+// (refresh_asset is called).
 // `max_error_m` (optional): the largest distance between a vertex and its reconstruction at rest.
 Result bind_render_mesh(const RenderMeshDesc& mesh, CookedCloth* cloth, double* max_error_m = nullptr);
 
