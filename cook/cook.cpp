@@ -112,6 +112,17 @@ void CookedCloth::refresh_asset(uint32_t particle_count, uint32_t colour_count, 
     a.attached_triangle = attached_triangle.empty() ? nullptr : attached_triangle.data();
     a.attached_weight = attached_weight.empty() ? nullptr : attached_weight.data();
     a.skin = skin.constraints();
+    RenderMesh& r = a.render;
+    r.vertex_count = uint32_t(render_cloth_triangle.size());
+    if (r.vertex_count > 0) {
+        r.cloth_triangle = render_cloth_triangle.data();
+        r.weight_1 = render_weight_1.data();
+        r.weight_2 = render_weight_2.data();
+        r.offset_m = render_offset.data();
+        r.uv = render_uv.data();
+        r.triangle_count = uint32_t(render_triangles.size() / 3);
+        r.triangles = render_triangles.empty() ? nullptr : render_triangles.data();
+    }
 }
 
 namespace {

@@ -419,6 +419,60 @@ TEST_CASE("a frame's calls allocate nothing: set_wind, set_collider, step, read_
     }
 }
 
+TEST_CASE("a frame with tangents and a render mesh allocates nothing: step, read_normals, read_tangents, read_render_mesh") {
+    const scenes::GridMesh grid = scenes::make_grid(24, 1.0f, 1.0f, false, 1.0f);
+    std::vector<float> uv;
+    for (const Vec3& x : grid.positions) uv.insert(uv.end(), {x.x, x.z});
+    ClothMeshDesc mesh = grid.desc();
+    mesh.uv = uv.data();
+    CookedCloth cooked;
+    REQUIRE(cook_cloth(mesh, CookOptions{}, &cooked).ok());
+    RenderMeshSource fine;
+    REQUIRE(subdivide_cloth_mesh(cooked.asset(), 1, &fine).ok());
+    REQUIRE(bind_render_mesh(fine.desc(), &cooked).ok());
+    const uint32_t render_vertices = cooked.asset().render.vertex_count;
+    for (SimdPath path : available_paths()) {
+        WorldDesc desc;
+        desc.max_cloths = 0;
+        reserve_cloth(desc, cooked.asset());
+        desc.max_colliders = 1;
+        desc.tangents = true;
+        desc.render_meshes = true;
+        desc.simd = path;
+        const MemoryRequirements need = world_memory_requirements(desc);
+        std::unique_ptr<void, decltype(&std::free)> block(std::aligned_alloc(need.alignment, (need.bytes + need.alignment - 1) / need.alignment * need.alignment), std::free);
+        World* world = nullptr;
+        REQUIRE(create_world(desc, block.get(), need.bytes, &world).ok());
+        ClothDesc cloth_desc;
+        cloth_desc.asset = &cooked.asset();
+        ClothId cloth;
+        REQUIRE(add_cloth(world, cloth_desc, &cloth).ok());
+        ColliderDesc sphere;
+        sphere.p0 = {0.1f, 0.5f, 0.05f};
+        sphere.radius_m = 0.3f;
+        ColliderId collider;
+        REQUIRE(add_collider(world, sphere, &collider).ok());
+        std::vector<Vec3> normals(mesh.particle_count);
+        std::vector<Vec4> tangents(mesh.particle_count);
+        std::vector<Vec3> render_x(render_vertices), render_n(render_vertices);
+        uint32_t failures = 0;
+        uint64_t allocations = 0;
+        {
+            CountingScope counting;
+            for (uint32_t i = 0; i < 300; ++i) {
+                failures += !step(world, 1.0f / 60.0f).ok();
+                failures += !read_normals(world, cloth, normals.data(), mesh.particle_count).ok();
+                failures += !read_tangents(world, cloth, tangents.data(), mesh.particle_count).ok();
+                failures += !read_render_mesh(world, cloth, render_x.data(), render_n.data(), render_vertices).ok();
+            }
+            allocations = counting.allocations();
+        }
+        destroy_world(world);
+        CHECK(failures == 0);
+        CHECK(allocations == 0);
+    }
+}
+
 TEST_CASE("reset_cloth and set_cloth_settings between frames allocate nothing") {
     auto w = make_scene(SeedScene::drape, SimdPath::automatic, false, 25);
     ClothDesc settings;

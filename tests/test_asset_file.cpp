@@ -74,9 +74,13 @@ void fix_checksum(Bytes& file) {
              uint64_t(XXH64(file.data() + kAssetChecksumStart, file.size() - kAssetChecksumStart, 0)));
 }
 
-size_t entry_offset(uint32_t i) { return sizeof(AssetFileHeader) + i * sizeof(AssetSectionEntry); }
-AssetSectionEntry entry(const Bytes& file, uint32_t i) { return read_at<AssetSectionEntry>(file, entry_offset(i)); }
-void set_entry(Bytes& file, uint32_t i, const AssetSectionEntry& e) { write_at(file, entry_offset(i), e); }
+// The table starts at the file's header_size: 216 bytes in a 1.2 file (every asset without a render
+// mesh), 224 in a 1.3 file.
+size_t entry_offset(const Bytes& file, uint32_t i) {
+    return read_at<uint32_t>(file, offsetof(AssetFileHeader, header_size)) + i * sizeof(AssetSectionEntry);
+}
+AssetSectionEntry entry(const Bytes& file, uint32_t i) { return read_at<AssetSectionEntry>(file, entry_offset(file, i)); }
+void set_entry(Bytes& file, uint32_t i, const AssetSectionEntry& e) { write_at(file, entry_offset(file, i), e); }
 uint32_t section_count(const Bytes& file) { return read_at<uint32_t>(file, offsetof(AssetFileHeader, section_count)); }
 
 // The loader's output before a call, to check that a failed load left it as it was.
@@ -247,7 +251,7 @@ TEST_CASE("read_asset_header reports the version, counts, checksum and sections"
     AssetFileInfo info;
     REQUIRE(read_asset_header(bytes.data(), bytes.size(), &info).ok());
     CHECK(info.version_major == kAssetVersionMajor);
-    CHECK(info.version_minor == kAssetVersionMinor);
+    CHECK(info.version_minor == 2);  // no render mesh: written as a 1.2 file
     CHECK(info.file_size == file.size());
     CHECK(info.checksum == XXH64(file.data() + kAssetChecksumStart, file.size() - kAssetChecksumStart, 0));
     CHECK(info.counts.simd_width == kSimdWidth);
@@ -392,7 +396,7 @@ TEST_CASE("versions: another major is refused by name, a newer minor loads and s
         write_at(other, offsetof(AssetFileHeader, version_major), uint16_t(3));
         fix_checksum(other);
         CHECK(expect_refused(other, ErrorCode::unsupported) ==
-              "asset format version 3." + std::to_string(kAssetVersionMinor) + " is not supported by this runtime (1.x)");
+              "asset format version 3.2 is not supported by this runtime (1.x)");  // no render mesh: a 1.2 file
     }
     SUBCASE("major 0") {
         Bytes other = file;
@@ -403,14 +407,15 @@ TEST_CASE("versions: another major is refused by name, a newer minor loads and s
               "asset format version 0.9 is not supported by this runtime (1.x)");
     }
     SUBCASE("a newer minor with a longer header and an unknown section") {
-        // The next minor as a future writer might make it: 16 more header bytes, a section of kind 1000.
-        // Every section moves 128 bytes on (room for the longer header and one more table entry).
-        const uint32_t extra_header = 16, shift = 128, sections = section_count(file);
+        // The next minor as a future writer might make it: 1.3's 8 header bytes (no render mesh: 0),
+        // 16 more, a section of kind 1000. Every section moves 128 bytes on (room for the longer
+        // header and one more table entry).
+        const uint32_t extra_header = 24, shift = 128, sections = section_count(file);
         const uint64_t first = entry(file, 0).offset;
         Bytes newer(file.size() + shift, std::byte{0});
-        std::memcpy(newer.data(), file.data(), sizeof(AssetFileHeader));
-        for (uint32_t i = 0; i < extra_header; ++i) newer[sizeof(AssetFileHeader) + i] = std::byte(0xA0 + i);
-        const uint32_t header_size = sizeof(AssetFileHeader) + extra_header;
+        std::memcpy(newer.data(), file.data(), kAssetHeaderSize_1_2);
+        for (uint32_t i = 8; i < extra_header; ++i) newer[kAssetHeaderSize_1_2 + i] = std::byte(0xA0 + i);
+        const uint32_t header_size = kAssetHeaderSize_1_2 + extra_header;
         for (uint32_t i = 0; i < sections; ++i) {
             AssetSectionEntry e = entry(file, i);
             e.offset += shift;
@@ -450,10 +455,10 @@ TEST_CASE("versions: another major is refused by name, a newer minor loads and s
             CAPTURE(o.minor);
             Bytes older = file;
             const uint32_t sections = section_count(file);
-            std::memmove(older.data() + o.header_size, file.data() + sizeof(AssetFileHeader),
+            std::memmove(older.data() + o.header_size, file.data() + kAssetHeaderSize_1_2,
                          sections * sizeof(AssetSectionEntry));
             std::memset(older.data() + o.header_size + sections * sizeof(AssetSectionEntry), 0,
-                        sizeof(AssetFileHeader) - o.header_size);
+                        kAssetHeaderSize_1_2 - o.header_size);
             write_at(older, offsetof(AssetFileHeader, version_minor), o.minor);
             write_at(older, offsetof(AssetFileHeader, header_size), o.header_size);
             fix_checksum(older);
@@ -542,6 +547,80 @@ TEST_CASE("skin constraints: their sections round-trip, and a corrupt one is ref
     write_at(more, offsetof(AssetFileHeader, skin_constraint_count), uint32_t(3));
     fix_checksum(more);
     CHECK(expect_refused(more, ErrorCode::corrupt_asset).find("the header implies") != std::string::npos);
+}
+
+// Format 1.3's render mesh: a 6 x 6 grid's triangles subdivided once, bound back to the grid.
+CookedCloth render_grid(uint32_t n) {
+    CookedCloth cooked = cook(scenes::make_grid(n, 1.0f, 1.0f, false, 1.0f).desc());
+    RenderMeshSource fine;
+    REQUIRE(subdivide_cloth_mesh(cooked.asset(), 1, &fine).ok());
+    REQUIRE(bind_render_mesh(fine.desc(), &cooked).ok());
+    return cooked;
+}
+
+TEST_CASE("render mesh: its sections round-trip in a 1.3 file, an asset without one stays a 1.2 file, a corrupt one is refused by name") {
+    const CookedCloth cooked = render_grid(6);
+    const Bytes file = write(cooked.asset());
+    CHECK(read_at<uint16_t>(file, offsetof(AssetFileHeader, version_minor)) == 3);
+    CHECK(read_at<uint32_t>(file, offsetof(AssetFileHeader, header_size)) == sizeof(AssetFileHeader));
+    const LoadedAsset loaded = load_copy(file);
+    check_same_asset(cooked.asset(), loaded.asset);
+    REQUIRE(loaded.asset.render.vertex_count == cooked.asset().render.vertex_count);
+    CHECK(loaded.asset.render.triangle_count == 4 * cooked.asset().triangle_count);
+    // Without a render mesh: the 1.2 header, as every file written before 1.3.
+    const Source plain(6);
+    const Bytes plain_file = write(plain.asset());
+    CHECK(read_at<uint16_t>(plain_file, offsetof(AssetFileHeader, version_minor)) == 2);
+    CHECK(read_at<uint32_t>(plain_file, offsetof(AssetFileHeader, header_size)) == kAssetHeaderSize_1_2);
+    Bytes claims = plain_file;  // a 1.3 file must carry the whole header
+    write_at(claims, offsetof(AssetFileHeader, version_minor), uint16_t(3));
+    fix_checksum(claims);
+    CHECK(expect_refused(claims, ErrorCode::corrupt_asset) == "bad header size 216");
+
+    using K = AssetSectionKind;
+    const float nan = std::numeric_limits<float>::quiet_NaN();
+    struct Corruption {
+        const char* name;
+        K kind;
+        uint32_t element;
+        std::function<void(Bytes&, size_t)> write;
+        const char* words;
+    };
+    const uint32_t triangles = cooked.asset().triangle_count, vertices = cooked.asset().render.vertex_count;
+    const Corruption cases[] = {
+        {"cloth triangle past the cloth's", K::render_cloth_triangle, 3, [&](Bytes& f, size_t at) { write_at(f, at, triangles); },
+         "is bound to triangle"},
+        {"weight not finite", K::render_weight_1, 2, [&](Bytes& f, size_t at) { write_at(f, at, nan); }, "not finite"},
+        {"weight far outside", K::render_weight_2, 2, [&](Bytes& f, size_t at) { write_at(f, at, 7.0f); }, "out of range"},
+        {"offset not finite", K::render_offset, 0,
+         [&](Bytes& f, size_t at) { write_at(f, at, std::numeric_limits<float>::infinity()); }, "not finite"},
+        {"render triangle past the vertices", K::render_triangles, 5, [&](Bytes& f, size_t at) { write_at(f, at, vertices); },
+         "names vertex"},
+        {"uv not finite", K::render_uv, 1, [&](Bytes& f, size_t at) { write_at(f, at, nan); }, "not finite"},
+    };
+    for (const Corruption& c : cases) {
+        CAPTURE(c.name);
+        Bytes broken = file;
+        bool found = false;
+        for (uint32_t i = 0; i < section_count(broken); ++i) {
+            const AssetSectionEntry e = entry(broken, i);
+            if (e.kind != uint32_t(c.kind)) continue;
+            c.write(broken, e.offset + size_t(c.element) * e.element_size);
+            found = true;
+        }
+        REQUIRE(found);
+        fix_checksum(broken);
+        const std::string message = expect_refused(broken, ErrorCode::corrupt_asset);
+        CHECK(message.find(c.words) != std::string::npos);
+    }
+    Bytes more = file;
+    write_at(more, offsetof(AssetFileHeader, render_vertex_count), vertices + 1);
+    fix_checksum(more);
+    CHECK(expect_refused(more, ErrorCode::corrupt_asset).find("the header implies") != std::string::npos);
+    Bytes missing = file;
+    write_at(missing, offsetof(AssetFileHeader, render_triangle_count), uint32_t(0));
+    fix_checksum(missing);
+    CHECK(expect_refused(missing, ErrorCode::corrupt_asset) == "section render_triangles is present, the header implies none");
 }
 
 TEST_CASE("big-endian files are refused with a message") {

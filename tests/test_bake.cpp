@@ -17,6 +17,7 @@
 #include "bake/garment.h"
 #include "bake/outline.h"
 #include "bake/pattern.h"
+#include "body/body_mesh.h"
 #include "weft/cloth_asset.h"
 #include "weft/cook.h"
 
@@ -181,6 +182,46 @@ TEST_CASE("bake: the sample patterns mesh, sew and cook") {
         report(name, b);
         check_contiguous(name, b.garment, true);
     }
+}
+
+TEST_CASE("bake: a render mesh from --render-subdivide, or read from an OBJ, is bound to the cloth and stored in the asset") {
+    const std::string text = read_text(kSamples / "skirt.json");
+    BakeOptions options;
+    options.render_subdivide = 1;
+    Baked sub;
+    REQUIRE(bake_pattern(text, options, &sub).ok());
+    const RenderMesh& m = sub.cooked.asset().render;
+    CHECK(m.triangle_count == 4 * sub.cooked.asset().triangle_count);
+    CHECK(sub.render_bind_error_m < 1e-6);
+    // The same mesh through an OBJ file (tools/body's reader, as weft-bake --render-mesh reads it).
+    RenderMeshSource fine;
+    REQUIRE(subdivide_cloth_mesh(sub.cooked.asset(), 1, &fine).ok());
+    const std::string path = (std::filesystem::temp_directory_path() / "weft_test_render_mesh.obj").string();
+    REQUIRE(body::save_obj(path, fine.positions, fine.triangles, fine.uv).empty());
+    body::BodyMesh read;
+    REQUIRE(body::load_body_mesh(path, &read).empty());
+    std::filesystem::remove(path);
+    RenderMeshSource from_file;
+    from_file.positions = read.positions, from_file.triangles = read.triangles, from_file.uv = read.uv;
+    options.render_subdivide = -1;
+    options.render_mesh = &from_file;
+    Baked obj;
+    REQUIRE(bake_pattern(text, options, &obj).ok());
+    const RenderMesh& o = obj.cooked.asset().render;
+    REQUIRE(o.vertex_count == m.vertex_count);
+    CHECK(o.triangle_count == m.triangle_count);
+    CHECK(obj.render_bind_error_m < 1e-5);
+    double worst_uv = 0;
+    for (uint32_t v = 0; v < 2 * o.vertex_count; ++v) worst_uv = std::max(worst_uv, std::fabs(double(o.uv[v]) - m.uv[v]));
+    CHECK(worst_uv < 1e-5);
+    // A render mesh far from the cloth is refused.
+    RenderMeshSource far = from_file;
+    for (Vec3& x : far.positions) x.x += 5.0f, x.y += 5.0f, x.z += 5.0f;
+    options.render_mesh = &far;
+    Baked refused;
+    const Status s = bake_pattern(text, options, &refused);
+    CHECK_FALSE(s.ok());
+    CHECK(s.error.find("render mesh") != std::string::npos);
 }
 
 TEST_CASE("bake: the GarmentCode patterns match the reference areas") {

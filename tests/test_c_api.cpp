@@ -160,6 +160,78 @@ TEST_CASE("C API: normals of a flat square point along its winding's normal, are
     }
 }
 
+TEST_CASE("C API: tangents and a render mesh read the same bits as through world.h") {
+    const scenes::GridMesh grid = scenes::make_grid(12, 1.0f, 1.0f, false, 1.0f);
+    std::vector<float> uv;
+    for (const Vec3& x : grid.positions) uv.insert(uv.end(), {x.x, x.z});
+    ClothMeshDesc mesh = grid.desc();
+    mesh.uv = uv.data();
+    CookedCloth cooked;
+    REQUIRE(cook_cloth(mesh, CookOptions{}, &cooked).ok());
+    RenderMeshSource fine;
+    REQUIRE(subdivide_cloth_mesh(cooked.asset(), 1, &fine).ok());
+    REQUIRE(bind_render_mesh(fine.desc(), &cooked).ok());
+    const ClothAsset& a = cooked.asset();
+
+    // C: the file loaded, a world with tangents and render meshes.
+    const assets::AlignedBytes file = file_of(a);
+    WeftMemoryRequirements need{};
+    REQUIRE_WEFT_OK(weft_asset_memory_requirements(file.data(), file.size(), &need));
+    Block asset_block = alloc_block(need);
+    WeftAsset* asset = nullptr;
+    REQUIRE_WEFT_OK(weft_load_asset(file.data(), file.size(), asset_block.get(), need.bytes, &asset));
+    WeftAssetInfo info{};
+    REQUIRE_WEFT_OK(weft_asset_info(asset, &info));
+    CHECK(info.render_vertex_count == a.render.vertex_count);
+    CHECK(info.render_triangle_count == a.render.triangle_count);
+    std::vector<uint32_t> indices(3 * size_t(info.render_triangle_count));
+    std::vector<float> render_uv(2 * size_t(info.render_vertex_count));
+    REQUIRE_WEFT_OK(weft_asset_render_mesh(asset, indices.data(), uint32_t(indices.size()), render_uv.data(), uint32_t(render_uv.size())));
+    CHECK(std::memcmp(indices.data(), a.render.triangles, indices.size() * sizeof(uint32_t)) == 0);
+    CHECK(std::memcmp(render_uv.data(), a.render.uv, render_uv.size() * sizeof(float)) == 0);
+    CHECK_WEFT_ERROR(weft_asset_render_mesh(asset, indices.data(), 3, nullptr, 0), WEFT_OUT_OF_RANGE);
+    WeftWorldDesc desc = weft_default_world_desc();
+    REQUIRE_WEFT_OK(weft_reserve_cloth(&desc, asset));
+    desc.tangents = 1;
+    desc.render_meshes = 1;
+    REQUIRE_WEFT_OK(weft_world_memory_requirements(&desc, &need));
+    Block world_block = alloc_block(need);
+    WeftWorld* world = nullptr;
+    REQUIRE_WEFT_OK(weft_create_world(&desc, world_block.get(), need.bytes, &world));
+    const WeftClothDesc cloth_desc = weft_default_cloth_desc(asset);
+    WeftClothId cloth = 0;
+    REQUIRE_WEFT_OK(weft_add_cloth(world, &cloth_desc, &cloth));
+
+    // C++: the cooked asset, the same features.
+    WorldDesc cpp_desc;
+    cpp_desc.max_cloths = 0;
+    reserve_cloth(cpp_desc, a);
+    cpp_desc.tangents = cpp_desc.render_meshes = true;
+    OwnedWorld cpp;
+    REQUIRE(make_world(cpp_desc, &cpp).ok());
+    ClothDesc cd;
+    cd.asset = &a;
+    ClothId id;
+    REQUIRE(add_cloth(cpp.world, cd, &id).ok());
+    for (int frame = 0; frame < 30; ++frame) {
+        REQUIRE_WEFT_OK(weft_step(world, 1.0f / 60.0f));
+        REQUIRE(step(cpp.world, 1.0f / 60.0f).ok());
+    }
+    std::vector<WeftVec4> t_c(info.particle_count);
+    std::vector<Vec4> t_cpp(info.particle_count);
+    REQUIRE_WEFT_OK(weft_read_tangents(world, cloth, t_c.data(), info.particle_count));
+    REQUIRE(read_tangents(cpp.world, id, t_cpp.data(), info.particle_count).ok());
+    CHECK(std::memcmp(t_c.data(), t_cpp.data(), t_c.size() * sizeof(Vec4)) == 0);
+    std::vector<Vec3> x_c(info.render_vertex_count), n_c(x_c.size()), x_cpp(x_c.size()), n_cpp(x_c.size());
+    REQUIRE_WEFT_OK(weft_read_render_mesh(world, cloth, reinterpret_cast<WeftVec3*>(x_c.data()), reinterpret_cast<WeftVec3*>(n_c.data()),
+                                          info.render_vertex_count));
+    REQUIRE(read_render_mesh(cpp.world, id, x_cpp.data(), n_cpp.data(), info.render_vertex_count).ok());
+    CHECK(same_bits(x_c, x_cpp));
+    CHECK(same_bits(n_c, n_cpp));
+    CHECK_WEFT_ERROR(weft_read_render_mesh(world, cloth, reinterpret_cast<WeftVec3*>(x_c.data()), nullptr, 1), WEFT_OUT_OF_RANGE);
+    weft_destroy_world(world);
+}
+
 TEST_CASE("C API: null pointers, small blocks and bad descriptions are refused with a message") {
     auto cpp = make_scene(SeedScene::drape, scene_options(8));
     auto c = make_c_world(cpp->asset(), WEFT_SIMD_AUTOMATIC, {});

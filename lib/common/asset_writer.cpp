@@ -35,9 +35,11 @@ Result write_asset(const ClothAsset& asset, std::vector<std::byte>* out) {
     AssetFileHeader header{};  // no padding inside (load.cpp asserts the offsets): every byte is set
     std::memcpy(header.magic, kAssetMagic, sizeof(kAssetMagic));
     header.version_major = kAssetVersionMajor;
-    header.version_minor = kAssetVersionMinor;
+    // Without a render mesh the file is a 1.2 file, byte for byte what the writer wrote before 1.3.
+    const bool render = asset.render.vertex_count > 0;
+    header.version_minor = render ? kAssetVersionMinor : 2;
     header.endian_marker = kAssetEndianMarker;
-    header.header_size = sizeof(AssetFileHeader);
+    header.header_size = render ? uint32_t(sizeof(AssetFileHeader)) : kAssetHeaderSize_1_2;
     pair_asset_scalars(header, asset, [](auto& to, const auto& from) { to = from; });
     header.has_uv = asset.uv != nullptr;
 
@@ -74,7 +76,7 @@ Result write_asset(const ClothAsset& asset, std::vector<std::byte>* out) {
                     sizeof(AssetSectionEntry));
         std::memcpy(file.data() + sections[i].entry.offset, sections[i].data, sections[i].entry.size);
     }
-    std::memcpy(file.data(), &header, sizeof(header));
+    std::memcpy(file.data(), &header, header.header_size);
     header.checksum = XXH64(file.data() + kAssetChecksumStart, file.size() - kAssetChecksumStart, 0);
     std::memcpy(file.data() + offsetof(AssetFileHeader, checksum), &header.checksum, sizeof(header.checksum));
     *out = std::move(file);

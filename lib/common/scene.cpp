@@ -281,6 +281,8 @@ std::string build_scene(const Scene& scene, SceneWorld* out, const std::vector<s
     wd.air_density_kg_m3 = scene.air_density_kg_m3;
     wd.simd = scene.simd;
     wd.normals = scene.normals;
+    wd.tangents = scene.tangents;
+    wd.render_meshes = scene.render_meshes;
     wd.scheduler = scene.scheduler;
     if (std::string e = create_world_in_block(wd, &out->memory, &out->world); !e.empty()) return e;
     out->memory_bytes = world_memory_requirements(wd).bytes;

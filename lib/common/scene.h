@@ -99,6 +99,8 @@ struct Scene {
     SimdPath simd = SimdPath::automatic;
     bool profile = false;
     bool normals = false;  // the step ends with vertex normals (WorldDesc::normals): a renderer's cost
+    bool tangents = false;       // and tangents (WorldDesc::tangents)
+    bool render_meshes = false;  // and drives the assets' render meshes (WorldDesc::render_meshes)
     StepScheduler scheduler;  // not in scene files: the running tool's thread pool (WorldDesc::scheduler)
     std::vector<ClothSpec> cloths;
     std::vector<ColliderDesc> colliders;

@@ -26,6 +26,20 @@ struct Particles {
     float* normal_x = nullptr;      // unit vertex normal at the end of the step (normals feature only)
     float* normal_y = nullptr;
     float* normal_z = nullptr;
+    // Tangents feature only (render/normals.h): the unit tangent along +u, Gram-Schmidt against the
+    // normal, and w = +1 or -1, the side dP/dv lies on (Lengyel's handedness), per slot.
+    float* tangent_x = nullptr;
+    float* tangent_y = nullptr;
+    float* tangent_z = nullptr;
+    float* tangent_w = nullptr;
+    float* bitangent_x = nullptr;  // the pass's sum of dP/dv, per slot (scratch)
+    float* bitangent_y = nullptr;
+    float* bitangent_z = nullptr;
+    // Per triangle lane, in the walk's order (as ClothAsset::wind_rest_area: the runs' lanes, then
+    // the triangles done one at a time): dP/du = g0 e1 + g1 e2 and dP/dv = g2 e1 + g3 e2, with
+    // e1 = P1 - P0, e2 = P2 - P0, each times the triangle's uv area (Lengyel's solve, weighted by
+    // area: the 1/det cancels). Found at add_cloth from the asset's uv (tangent_uv_gradients).
+    float* uv_gradient[4] = {};
 };
 
 // What the distance kernels move: positions and inverse masses by slot. A cloth's particles, or
@@ -128,6 +142,16 @@ struct ParticleBounds {
     Vec3 lo, hi;  // metres; lo > hi on every axis when no particle moves
 };
 
+// One cloth's driven render mesh (WorldDesc::render_meshes), by render vertex.
+struct RenderOutput {
+    float* x = nullptr;  // position, metres
+    float* y = nullptr;
+    float* z = nullptr;
+    float* normal_x = nullptr;  // unit normal
+    float* normal_y = nullptr;
+    float* normal_z = nullptr;
+};
+
 struct WindArgs;
 struct SkinFrameArgs;
 
@@ -151,6 +175,10 @@ struct Kernels {
     void (*skin_frames)(const SkinState&, const SkinFrameArgs&);
     void (*project_skin)(const Particles&, const SkinState&, float t);
     void (*vertex_normals)(const Particles&, const ClothAsset&);
+    // The normals and, in the same triangle walk, the tangents (Particles::tangent_*).
+    void (*vertex_normals_tangents)(const Particles&, const ClothAsset&);
+    // The render mesh from the particles and their vertex normals (render/render_mesh.h).
+    void (*render_mesh)(const Particles&, const ClothAsset&, const RenderOutput&);
 };
 
 const Kernels& scalar_kernels();

@@ -8,6 +8,7 @@
 #include "integrate/verlet.h"
 #include "kernels.h"
 #include "render/normals.h"
+#include "render/render_mesh.h"
 
 #if defined(WEFT_SIMD_REQUIRE_AVX2) && !WEFT_HAVE_AVX2
 #error "WEFT_SIMD=avx2 but this file is not compiled for AVX2 + FMA"
@@ -23,7 +24,7 @@ const Kernels* avx2_kernels() {
                                      {project_run<F, true>, project_run<F, false>},
                                      {project_indexed<F, true>, project_indexed<F, false>},
                                      project_tethers<F>, collide<F>, apply_wind<F>, particle_bounds<F>, skin_frames<F>, project_skin<F>,
-                                     vertex_normals<F>};
+                                     vertex_normals<F, false>, vertex_normals<F, true>, render_mesh<F>};
     return &kernels;
 }
 #else

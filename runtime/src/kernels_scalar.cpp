@@ -9,6 +9,7 @@
 #include "integrate/verlet.h"
 #include "kernels.h"
 #include "render/normals.h"
+#include "render/render_mesh.h"
 
 namespace weft {
 
@@ -18,7 +19,7 @@ const Kernels& scalar_kernels() {
                                      {project_run<F, true>, project_run<F, false>},
                                      {project_indexed<F, true>, project_indexed<F, false>},
                                      project_tethers<F>, collide<F>, apply_wind<F>, particle_bounds<F>, skin_frames<F>, project_skin<F>,
-                                     vertex_normals<F>};
+                                     vertex_normals<F, false>, vertex_normals<F, true>, render_mesh<F>};
     return kernels;
 }
 

@@ -10,7 +10,8 @@
 //   4. collision test and response against the inflated colliders, then the bodies' offset hulls
 //      (section 4.2; a body the game moved is refitted once at the start of the step; a
 //      skin_constraints body skips both for the cloths its skin constraints bind)
-//   5. after the last substep, the render output (the normals feature): vertex normals
+//   5. after the last substep, the render output (the normals feature): vertex normals (and
+//      tangents), then the render mesh driven by them
 // 3a runs before 2 on the coarse nodes' own Verlet prediction, so that its correction rides along
 // in the integration pass (one trip through the particle arrays instead of two).
 //
@@ -274,9 +275,18 @@ void collide_bodies(World& world, ClothInstance& cloth, uint32_t substep, uint32
 }
 
 void find_vertex_normals(World& world, ClothInstance& cloth) {
-    if (!world.desc.normals) return;
-    PassTimer timer(world, cloth, Pass::normals);
-    world.kernels->vertex_normals(cloth.particles, *cloth.asset);
+    if (!has_normals(world.desc)) return;
+    {
+        PassTimer timer(world, cloth, Pass::normals);
+        if (world.desc.tangents)
+            world.kernels->vertex_normals_tangents(cloth.particles, *cloth.asset);
+        else
+            world.kernels->vertex_normals(cloth.particles, *cloth.asset);
+    }
+    if (cloth.render.x != nullptr) {
+        PassTimer timer(world, cloth, Pass::render_mesh);
+        world.kernels->render_mesh(cloth.particles, *cloth.asset, cloth.render);
+    }
 }
 
 void step_cloth(World& world, ClothInstance& cloth, float dt) {

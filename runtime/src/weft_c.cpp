@@ -89,6 +89,10 @@ WorldDesc to_cpp(const WeftWorldDesc& d) {
     w.max_skin_constraints = 0;     // the C API binds no skin constraints
     w.wind = d.wind != 0;
     w.normals = d.normals != 0;
+    w.tangents = d.tangents != 0;
+    w.max_triangle_lanes = d.max_triangle_lanes;
+    w.render_meshes = d.render_meshes != 0;
+    w.max_render_vertices = d.max_render_vertices;
     w.gravity_m_s2 = to_cpp(d.gravity_m_s2);
     w.air_density_kg_m3 = d.air_density_kg_m3;
     w.simd = d.simd <= WEFT_SIMD_AVX2 ? SimdPath(d.simd) : SimdPath(0xFF);  // refused by create_world
@@ -169,6 +173,25 @@ WeftResult weft_asset_info(const WeftAsset* asset, WeftAssetInfo* out) {
     for (int k = 0; k < 3; ++k) out->compliance_m_per_n[k] = v.fabric.compliance_m_per_n[k];
     out->attachment_count = v.attachment_count;
     out->skin_constraint_count = v.skin_constraint_count;
+    out->render_vertex_count = v.render_vertex_count;
+    out->render_triangle_count = v.render_triangle_count;
+    return {};
+}
+
+WeftResult weft_asset_render_mesh(const WeftAsset* asset, uint32_t* out_indices, uint32_t index_count, float* out_uv,
+                                  uint32_t uv_count) {
+    if (Result r = live_asset(asset); !r.ok()) return to_c(r);
+    const AssetView v = view_asset(asset->asset);
+    if (out_indices != nullptr && uint64_t(index_count) != 3 * uint64_t(v.render_triangle_count))
+        return to_c(make_error(ErrorCode::out_of_range, "index_count %u, render mesh has %u triangles (3 indices each)",
+                               index_count, v.render_triangle_count));
+    if (out_uv != nullptr && uint64_t(uv_count) != 2 * uint64_t(v.render_vertex_count))
+        return to_c(make_error(ErrorCode::out_of_range, "uv_count %u, render mesh has %u vertices (2 floats each)", uv_count,
+                               v.render_vertex_count));
+    if (out_indices != nullptr)
+        for (uint32_t k = 0; k < index_count; ++k) out_indices[k] = v.render_triangles[k];
+    if (out_uv != nullptr)
+        for (uint32_t k = 0; k < uv_count; ++k) out_uv[k] = v.render_uv[k];
     return {};
 }
 
@@ -190,6 +213,8 @@ WeftWorldDesc weft_default_world_desc(void) {
     w.max_cloths = 0;  // weft_reserve_cloth counts the cloths
     w.wind = d.wind ? 1 : 0;
     w.normals = d.normals ? 1 : 0;
+    w.tangents = d.tangents ? 1 : 0;
+    w.render_meshes = d.render_meshes ? 1 : 0;
     w.gravity_m_s2 = {d.gravity_m_s2.x, d.gravity_m_s2.y, d.gravity_m_s2.z};
     w.air_density_kg_m3 = d.air_density_kg_m3;
     w.simd = WeftSimdPath(d.simd);
@@ -205,6 +230,8 @@ WeftResult weft_reserve_cloth(WeftWorldDesc* desc, const WeftAsset* asset) {
     desc->max_particles = w.max_particles;
     desc->max_constraints = w.max_constraints;
     desc->max_coarse_nodes = w.max_coarse_nodes;
+    desc->max_triangle_lanes = w.max_triangle_lanes;
+    desc->max_render_vertices = w.max_render_vertices;
     return {};
 }
 
@@ -408,6 +435,18 @@ WeftResult weft_read_positions(const WeftWorld* world, WeftClothId cloth, WeftVe
 WeftResult weft_read_normals(const WeftWorld* world, WeftClothId cloth, WeftVec3* out, uint32_t count) {
     if (Result r = live_world(world); !r.ok()) return to_c(r);
     return to_c(read_normals(world->world, cloth_id(cloth), to_cpp(out), count));
+}
+
+WeftResult weft_read_render_mesh(const WeftWorld* world, WeftClothId cloth, WeftVec3* positions, WeftVec3* normals,
+                                 uint32_t count) {
+    if (Result r = live_world(world); !r.ok()) return to_c(r);
+    return to_c(read_render_mesh(world->world, cloth_id(cloth), to_cpp(positions), to_cpp(normals), count));
+}
+
+WeftResult weft_read_tangents(const WeftWorld* world, WeftClothId cloth, WeftVec4* out, uint32_t count) {
+    if (Result r = live_world(world); !r.ok()) return to_c(r);
+    static_assert(sizeof(WeftVec4) == sizeof(Vec4) && alignof(WeftVec4) == alignof(Vec4));
+    return to_c(read_tangents(world->world, cloth_id(cloth), reinterpret_cast<Vec4*>(out), count));
 }
 
 }  // extern "C"

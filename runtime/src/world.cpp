@@ -51,6 +51,7 @@ const char* pass_name(Pass pass) {
         case Pass::collide: return "collide";
         case Pass::body: return "body";
         case Pass::normals: return "normals";
+        case Pass::render_mesh: return "render_mesh";
         case Pass::count: break;
     }
     return "unknown";
@@ -70,7 +71,13 @@ struct ClothArrayCounts {
     size_t column_floats = 0;  // the coarse level's interpolated rows (CoarseState::column_rows)
     size_t body_order = 0;     // the body pass's slot order (a world with bodies)
     size_t plane_floats = 0;   // contact planes, per cached_planes body (a world with them)
+    size_t triangle_lanes = 0; // the tangents' uv gradients (a world with tangents)
+    size_t render_vertices = 0; // the render mesh's vertices (a world with render meshes)
 };
+
+// The entries of a cloth's per-triangle arrays in the normals pass's walk: the runs' lanes, then
+// one per triangle done one at a time (as ClothAsset::wind_rest_area).
+uint32_t triangle_lanes(const ClothAsset& a) { return a.wind_lane_count + a.triangle_count - a.wind_run_triangles; }
 
 ClothArrayCounts cloth_array_counts(const WorldDesc& desc, const ClothAsset& asset) {
     ClothArrayCounts n;
@@ -80,6 +87,8 @@ ClothArrayCounts cloth_array_counts(const WorldDesc& desc, const ClothAsset& ass
     n.column_floats = size_t(kCoarseColumnRows) * coarse_column_stride(asset.lattice_plane_cols);
     n.body_order = desc.max_bodies > 0 ? asset.slot_count : 0;
     n.plane_floats = size_t(kContactPlaneArrays) * desc.max_cached_plane_bodies * asset.slot_count;
+    n.triangle_lanes = desc.tangents ? triangle_lanes(asset) : 0;
+    n.render_vertices = desc.render_meshes ? asset.render.vertex_count : 0;
     return n;
 }
 
@@ -94,6 +103,8 @@ ClothArrayCounts capacity_array_counts(const WorldDesc& desc) {
     n.column_floats = kCoarseColumnRows * (size_t(desc.max_particles) / 4 + 2 * kSimdWidth * cloths);
     n.body_order = desc.max_bodies > 0 ? desc.max_particles : 0;
     n.plane_floats = size_t(kContactPlaneArrays) * desc.max_cached_plane_bodies * desc.max_particles;
+    n.triangle_lanes = desc.tangents ? desc.max_triangle_lanes : 0;
+    n.render_vertices = desc.render_meshes ? desc.max_render_vertices : 0;
     return n;
 }
 
@@ -105,8 +116,17 @@ void visit_cloth_arrays(const WorldDesc& desc, const ClothArrayCounts& n, ClothI
     for (float** a : {&p.x, &p.y, &p.z, &p.previous_x, &p.previous_y, &p.previous_z, &p.inverse_mass}) visit(*a, n.slots);
     if (desc.wind)
         for (float** a : {&p.wind_x, &p.wind_y, &p.wind_z}) visit(*a, n.slots);
-    if (desc.normals)
+    if (has_normals(desc))
         for (float** a : {&p.normal_x, &p.normal_y, &p.normal_z}) visit(*a, n.slots);
+    if (desc.tangents) {
+        for (float** a : {&p.tangent_x, &p.tangent_y, &p.tangent_z, &p.tangent_w, &p.bitangent_x, &p.bitangent_y, &p.bitangent_z})
+            visit(*a, n.slots);
+        for (float*& a : p.uv_gradient) visit(a, n.triangle_lanes);
+    }
+    if (n.render_vertices > 0) {
+        RenderOutput& r = cloth.render;
+        for (float** a : {&r.x, &r.y, &r.z, &r.normal_x, &r.normal_y, &r.normal_z}) visit(*a, n.render_vertices);
+    }
     CoarseState& c = cloth.coarse;
     for (float** a : {&c.x, &c.y, &c.z, &c.dx, &c.dy, &c.dz}) visit(*a, n.node_lanes);
     visit(c.column_rows, n.column_floats);
@@ -160,7 +180,8 @@ Result check_world_desc(const WorldDesc& desc) {
         desc.max_particles > (1u << 28) || desc.max_constraints > (1u << 30) ||
         desc.max_coarse_nodes > (1u << 28) || desc.max_bodies > (1u << 10) ||
         desc.max_body_vertices > (1u << 26) || desc.max_body_triangles > (1u << 26) ||
-        desc.max_skin_constraints > (1u << 28))
+        desc.max_skin_constraints > (1u << 28) || desc.max_triangle_lanes > (1u << 28) ||
+        desc.max_render_vertices > (1u << 28))
         return make_error(ErrorCode::out_of_range, "a capacity is absurdly large");
     if (!is_finite(desc.gravity_m_s2) || !std::isfinite(desc.air_density_kg_m3))
         return make_error(ErrorCode::non_finite, "gravity or air density is not finite");
@@ -267,6 +288,76 @@ void clear_contact_anchors(ClothInstance& cloth) {
 
 }  // namespace
 
+// Particles::uv_gradient for every triangle lane of the walk (render/normals.h). With e1, e2 the
+// edges P1 - P0, P2 - P0 and (s1, t1), (s2, t2) their uv deltas, Lengyel's solve gives
+// dP/du = (t2 e1 - t1 e2) / r and dP/dv = (s1 e2 - s2 e1) / r, r = s1 t2 - s2 t1; weighted by the uv
+// area |r| / 2 the division goes away (the constant 1/2 changes no direction). A corner on a sewn
+// seam has one uv per panel (ClothAsset::sewn_uv): the triangle takes the combination whose uv
+// edge lengths best match its start pose's (its own panel's; another panel's lies elsewhere in the
+// pattern). Padding lanes and triangles of no uv area get 0. Runs once, at add_cloth.
+static void tangent_uv_gradients(const ClothAsset& a, const Particles& p) {
+    // Scratch until the first pass: bitangent_x[slot] = 1 + the slot's sewn point, or 0 (exact in
+    // a float: fewer than 2^24 points).
+    for (uint32_t i = 0; i < a.slot_count; ++i) p.bitangent_x[i] = 0.0f;
+    for (uint32_t k = 0; k < a.sewn_point_count; ++k) p.bitangent_x[a.slot_of_particle[a.sewn_particle[k]]] = float(k + 1);
+    auto gradient = [&](const uint32_t (&slot)[3], uint32_t g) {
+        const float* option[3];  // each corner's uv choices, `count` pairs
+        uint32_t count[3];
+        for (int k = 0; k < 3; ++k) {
+            const uint32_t s = slot[k], sewn = uint32_t(p.bitangent_x[s]);
+            if (sewn == 0) {
+                option[k] = a.uv + 2 * size_t(a.particle_of_slot[s]), count[k] = 1;
+            } else {
+                option[k] = a.sewn_uv + 2 * size_t(a.sewn_uv_first[sewn - 1]);
+                count[k] = a.sewn_uv_first[sewn] - a.sewn_uv_first[sewn - 1];
+            }
+        }
+        double length[3];  // start pose edge lengths: 01, 12, 20
+        for (int k = 0; k < 3; ++k) {
+            const uint32_t i = slot[k], j = slot[(k + 1) % 3];
+            length[k] = std::hypot(double(a.start_x[j]) - a.start_x[i], double(a.start_y[j]) - a.start_y[i],
+                                   double(a.start_z[j]) - a.start_z[i]);
+        }
+        const float* uv[3] = {option[0], option[1], option[2]};
+        double best = std::numeric_limits<double>::infinity();
+        for (uint32_t i0 = 0; i0 < count[0]; ++i0)
+            for (uint32_t i1 = 0; i1 < count[1]; ++i1)
+                for (uint32_t i2 = 0; i2 < count[2]; ++i2) {
+                    const float* c[3] = {option[0] + 2 * i0, option[1] + 2 * i1, option[2] + 2 * i2};
+                    double misfit = 0.0;
+                    for (int k = 0; k < 3; ++k) {
+                        const float* u = c[k];
+                        const float* v = c[(k + 1) % 3];
+                        const double d = std::hypot(double(v[0]) - u[0], double(v[1]) - u[1]) - length[k];
+                        misfit += d * d;
+                    }
+                    if (misfit < best) best = misfit, uv[0] = c[0], uv[1] = c[1], uv[2] = c[2];
+                }
+        const float s1 = uv[1][0] - uv[0][0], t1 = uv[1][1] - uv[0][1];
+        const float s2 = uv[2][0] - uv[0][0], t2 = uv[2][1] - uv[0][1];
+        const float r = s1 * t2 - s2 * t1;
+        const float sign = r > 0.0f ? 1.0f : r < 0.0f ? -1.0f : 0.0f;  // |r| / r
+        p.uv_gradient[0][g] = sign * t2, p.uv_gradient[1][g] = -sign * t1;
+        p.uv_gradient[2][g] = -sign * s2, p.uv_gradient[3][g] = sign * s1;
+    };
+    for (uint32_t r = 0; r < a.wind_run_count; ++r) {
+        const TriangleRun& run = a.wind_runs[r];
+        for (uint32_t k = 0; k < run.lane_count; ++k) {
+            const uint32_t g = run.first_lane + k;
+            if (a.wind_lane_weight[g] == 0.0f) {
+                for (float* array : p.uv_gradient) array[g] = 0.0f;
+                continue;
+            }
+            const uint32_t slot[3] = {run.a0 + k, run.b0 + k, run.c0 + k};
+            gradient(slot, g);
+        }
+    }
+    for (uint32_t t = a.wind_run_triangles; t < a.triangle_count; ++t) {
+        const uint32_t slot[3] = {a.triangles[3 * t], a.triangles[3 * t + 1], a.triangles[3 * t + 2]};
+        gradient(slot, a.wind_lane_count + t - a.wind_run_triangles);
+    }
+}
+
 void place_at_start(const Kernels& kernels, ClothInstance& cloth) {
     const ClothAsset& a = *cloth.asset;
     const Particles& p = cloth.particles;
@@ -285,7 +376,11 @@ void place_at_start(const Kernels& kernels, ClothInstance& cloth) {
         std::memset(p.wind_y, 0, sizeof(float) * a.slot_count);
         std::memset(p.wind_z, 0, sizeof(float) * a.slot_count);
     }
-    if (p.normal_x != nullptr) kernels.vertex_normals(p, a);
+    if (p.tangent_x != nullptr)
+        kernels.vertex_normals_tangents(p, a);
+    else if (p.normal_x != nullptr)
+        kernels.vertex_normals(p, a);
+    if (cloth.render.x != nullptr) kernels.render_mesh(p, a, cloth.render);
     cloth.previous_substep_s = 0.0f;
 }
 
@@ -414,6 +509,8 @@ void reserve_cloth(WorldDesc& desc, const ClothAsset& asset) {
     desc.max_constraints += asset.lane_count;
     desc.max_coarse_nodes += asset.coarse_slot_count;
     desc.max_skin_constraints += asset.skin.count;
+    desc.max_triangle_lanes += triangle_lanes(asset);
+    desc.max_render_vertices += asset.render.vertex_count;
 }
 
 MemoryRequirements world_memory_requirements(const WorldDesc& desc) {
@@ -487,6 +584,16 @@ Result add_cloth(World* world, const ClothDesc& desc, ClothId* out_cloth) {
     if (asset.coarse_slot_count > world->desc.max_coarse_nodes - world->coarse_nodes_used)
         return make_error(ErrorCode::capacity_exceeded, "cloth needs %u coarse node slots, %u left",
                           asset.coarse_slot_count, world->desc.max_coarse_nodes - world->coarse_nodes_used);
+    const uint32_t tangent_lanes = world->desc.tangents ? triangle_lanes(asset) : 0;
+    if (tangent_lanes > world->desc.max_triangle_lanes - world->triangle_lanes_used)
+        return make_error(ErrorCode::capacity_exceeded, "cloth needs %u triangle lanes (tangents), %u left",
+                          tangent_lanes, world->desc.max_triangle_lanes - world->triangle_lanes_used);
+    const uint32_t render_vertices = world->desc.render_meshes ? asset.render.vertex_count : 0;
+    if (render_vertices > world->desc.max_render_vertices - world->render_vertices_used)
+        return make_error(ErrorCode::capacity_exceeded, "cloth needs %u render mesh vertices, %u left", render_vertices,
+                          world->desc.max_render_vertices - world->render_vertices_used);
+    if (world->desc.tangents && asset.uv == nullptr)
+        return make_error(ErrorCode::invalid_argument, "the world has tangents but the asset has no texture coordinates");
     if (Result r = validate_asset_with_scratch(asset, world->validation_scratch, validation_scratch_count(world->desc));
         !r.ok())
         return r;
@@ -516,8 +623,11 @@ Result add_cloth(World* world, const ClothDesc& desc, ClothId* out_cloth) {
     c.column_stride = coarse_column_stride(asset.lattice_plane_cols);
     for (float* node_array : {c.x, c.y, c.z, c.dx, c.dy, c.dz})  // the padding is read, never used
         for (uint32_t i = 0; i < asset.coarse_slot_count + kCoarseNodePadding; ++i) node_array[i] = 0.0f;
+    if (cloth.particles.tangent_x != nullptr) tangent_uv_gradients(asset, cloth.particles);
     place_at_start(*world->kernels, cloth);
     world->particles_used += asset.slot_count;
+    world->triangle_lanes_used += tangent_lanes;
+    world->render_vertices_used += render_vertices;
     world->constraints_used += asset.lane_count;
     world->coarse_nodes_used += asset.coarse_slot_count;
     world->cloth_slots = std::max(world->cloth_slots, index + 1);
@@ -533,6 +643,8 @@ Result remove_cloth(World* world, ClothId id) {
     world->particles_used -= asset.slot_count;
     world->constraints_used -= asset.lane_count;
     world->coarse_nodes_used -= asset.coarse_slot_count;
+    if (world->desc.tangents) world->triangle_lanes_used -= triangle_lanes(asset);
+    if (world->desc.render_meshes) world->render_vertices_used -= asset.render.vertex_count;
     world->cloths_live -= 1;
     const InstanceSlot slot = cloth.slot;
     cloth = ClothInstance();  // its regions (arrays, skin constraints) are free with it
@@ -660,6 +772,39 @@ Result read_normals(const World* world, ClothId cloth, Vec3* out, uint32_t count
     if (p.normal_x == nullptr)
         return make_error(ErrorCode::invalid_argument, "world was created without the normals feature");
     return read_by_particle(world->cloths[cloth.index], p.normal_x, p.normal_y, p.normal_z, out, count);
+}
+
+Result read_render_mesh(const World* world, ClothId cloth, Vec3* positions, Vec3* normals, uint32_t count) {
+    if (Result r = find_cloth(world, cloth); !r.ok()) return r;
+    if (!world->desc.render_meshes)
+        return make_error(ErrorCode::invalid_argument, "world was created without the render_meshes feature");
+    const ClothInstance& c = world->cloths[cloth.index];
+    const RenderOutput& r = c.render;
+    if (r.x == nullptr) return make_error(ErrorCode::invalid_argument, "the cloth's asset has no render mesh");
+    if (positions == nullptr) return make_error(ErrorCode::invalid_argument, "positions is null");
+    if (count != c.asset->render.vertex_count)
+        return make_error(ErrorCode::out_of_range, "count %u, render mesh has %u vertices", count, c.asset->render.vertex_count);
+    for (uint32_t v = 0; v < count; ++v) positions[v] = {r.x[v], r.y[v], r.z[v]};
+    if (normals != nullptr)
+        for (uint32_t v = 0; v < count; ++v) normals[v] = {r.normal_x[v], r.normal_y[v], r.normal_z[v]};
+    return {};
+}
+
+Result read_tangents(const World* world, ClothId cloth, Vec4* out, uint32_t count) {
+    if (Result r = find_cloth(world, cloth); !r.ok()) return r;
+    const ClothInstance& c = world->cloths[cloth.index];
+    const Particles& p = c.particles;
+    if (p.tangent_x == nullptr)
+        return make_error(ErrorCode::invalid_argument, "world was created without the tangents feature");
+    if (out == nullptr) return make_error(ErrorCode::invalid_argument, "out is null");
+    if (count != c.asset->particle_count)
+        return make_error(ErrorCode::out_of_range, "count %u, cloth has %u particles", count, c.asset->particle_count);
+    const uint32_t* slot = c.asset->slot_of_particle;
+    for (uint32_t i = 0; i < count; ++i) {
+        const uint32_t s = slot[i];
+        out[i] = {p.tangent_x[s], p.tangent_y[s], p.tangent_z[s], p.tangent_w[s]};
+    }
+    return {};
 }
 
 Result set_particle(World* world, ClothId cloth, uint32_t particle, Vec3 position_m, float inverse_mass_per_kg) {

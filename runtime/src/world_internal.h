@@ -20,6 +20,9 @@ struct ClothStepCounts {
     BodyPassCounts body;
 };
 
+// Vertex normals are computed when asked for, or needed by tangents or render meshes.
+inline bool has_normals(const WorldDesc& d) { return d.normals || d.tangents || d.render_meshes; }
+
 struct alignas(64) ClothInstance {  // a cache line of its own: cloths step on different threads
     InstanceSlot slot;
     const ClothAsset* asset = nullptr;
@@ -27,6 +30,7 @@ struct alignas(64) ClothInstance {  // a cache line of its own: cloths step on d
     SolverSplit split;  // settings after the budget policy: what the step runs
     Particles particles;
     CoarseState coarse;
+    RenderOutput render;  // WorldDesc::render_meshes and an asset with a render mesh, else null
     float previous_substep_s = 0.0f;  // h_prev of time-corrected Verlet; 0 before the first step
     uint32_t own_body = ~0u;          // set_cloth_body: the one body it collides with (~0u: every body)
     uint32_t attached_body = ~0u;     // the body the asset's attachments follow (weft/attachments.h)
@@ -105,6 +109,8 @@ struct World {
     uint32_t particles_used = 0;
     uint32_t constraints_used = 0;
     uint32_t coarse_nodes_used = 0;
+    uint32_t triangle_lanes_used = 0;
+    uint32_t render_vertices_used = 0;  // by the cloths' tangent uv gradients (WorldDesc::tangents)
 
     Vec3 gravity_m_s2{};
     Vec3 wind_m_s{};

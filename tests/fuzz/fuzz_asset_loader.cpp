@@ -29,6 +29,8 @@ void step_a_little(const ClothAsset& asset, bool scalar) {
     desc.max_cloths = 0;
     reserve_cloth(desc, asset);
     desc.wind = true;
+    desc.tangents = asset.uv != nullptr;  // the render output too: tangents, the render mesh
+    desc.render_meshes = true;
     desc.simd = scalar ? SimdPath::scalar : SimdPath::automatic;
     const MemoryRequirements need = world_memory_requirements(desc);
     if (need.bytes == 0) return;
@@ -44,6 +46,8 @@ void step_a_little(const ClothAsset& asset, bool scalar) {
             for (int i = 0; i < 3; ++i) step(world, 0.033f);
             std::vector<Vec3> positions(asset.particle_count);
             read_positions(world, id, positions.data(), asset.particle_count);
+            std::vector<Vec3> render(asset.render.vertex_count);
+            if (!render.empty()) read_render_mesh(world, id, render.data(), nullptr, asset.render.vertex_count);
         }
     }
     std::free(memory);

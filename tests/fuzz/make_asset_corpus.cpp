@@ -29,9 +29,10 @@ bool save(const std::string& path, uint8_t mode, const Bytes& file) {
 // A grid of n x n with two pinned corners; garment data, lattice and options as asked; `sewn`:
 // format 1.1's sewn seams and body attachments (a made-up seam on the first row's two particles,
 // the pinned corners attached to body triangles 0 and 1); `skinned`: format 1.2's skin constraints
-// (the first row's two free particles bound to body triangles 2 and 3, one without a max distance).
+// (the first row's two free particles bound to body triangles 2 and 3, one without a max distance);
+// `render_levels` (not ~0u): format 1.3's render mesh, the grid's triangles subdivided that often.
 Bytes grid_asset(uint32_t n, bool garment, bool lattice, const CookOptions& options, bool pinned = true,
-                 bool sewn = false, bool skinned = false) {
+                 bool sewn = false, bool skinned = false, uint32_t render_levels = ~0u) {
     scenes::GridMesh grid = scenes::make_grid(n, 1.0f, 1.0f, false, 1.0f);
     if (pinned) {
         grid.masses[grid.index(0, 0)] = 0.0f;
@@ -69,7 +70,13 @@ Bytes grid_asset(uint32_t n, bool garment, bool lattice, const CookOptions& opti
     }
     CookedCloth cooked;
     Bytes file;
-    if (!cook_cloth(desc, options, &cooked).ok() || !assets::write_asset(cooked.asset(), &file).ok()) return {};
+    if (!cook_cloth(desc, options, &cooked).ok()) return {};
+    if (render_levels != ~0u) {  // format 1.3's render mesh: the grid subdivided, bound back to it
+        RenderMeshSource fine;
+        if (!subdivide_cloth_mesh(cooked.asset(), render_levels, &fine).ok() || !bind_render_mesh(fine.desc(), &cooked).ok())
+            return {};
+    }
+    if (!assets::write_asset(cooked.asset(), &file).ok()) return {};
     return file;
 }
 
@@ -97,6 +104,7 @@ int main(int argc, char** argv) {
         {"grid4_bare_unpinned", grid_asset(4, false, true, bare, false)},
         {"grid4_sewn_attached", grid_asset(4, true, true, {}, true, true)},
         {"grid4_sewn_skinned", grid_asset(4, true, true, {}, true, true, true)},
+        {"grid4_render_subdivided", grid_asset(4, true, true, {}, true, false, false, 1)},
     };
     bool ok = true;
     for (const Seed& s : valid) {

@@ -183,6 +183,15 @@ Status bake_pattern(std::string_view text, const BakeOptions& options, Baked* ou
         if (Result r = cook_sewn(out->sewn.desc, &out->cooked); !r.ok()) return {r.message};
         out->cook_options = *sewn_runs;
     }
+    if (options.render_mesh != nullptr || options.render_subdivide >= 0) {
+        RenderMeshSource subdivided;
+        if (options.render_mesh == nullptr)
+            if (Result r = subdivide_cloth_mesh(out->cooked.asset(), uint32_t(options.render_subdivide), &subdivided); !r.ok())
+                return {std::string("render mesh: ") + r.message};
+        const RenderMeshSource& render = options.render_mesh != nullptr ? *options.render_mesh : subdivided;
+        if (Result r = bind_render_mesh(render.desc(), &out->cooked, &out->render_bind_error_m); !r.ok())
+            return {std::string("render mesh: ") + r.message};
+    }
     stage("writing", 3);
     if (Result r = assets::write_asset(out->cooked.asset(), &out->bytes); !r.ok()) return {r.message};
     assets::LoadedAsset check;

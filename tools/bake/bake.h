@@ -32,6 +32,11 @@ struct BakeOptions {
     // Sew the garment onto this body and store the dressed pose (sew.h); null: the flat bake.
     const SewBody* body = nullptr;
     SewOptions sew;
+    // A render mesh bound to the cooked cloth (bind_render_mesh), authored in the space of the
+    // asset's start pose (the flat layout, or the dressed pose with `body`); null: none, unless
+    // render_subdivide >= 0 makes one from the cloth's own triangles (subdivide_cloth_mesh).
+    const RenderMeshSource* render_mesh = nullptr;
+    int render_subdivide = -1;
 };
 
 // Run shapes the baker tries (BakeOptions::choose_runs): {min_run_lanes, max_run_gap}.
@@ -81,6 +86,7 @@ struct Baked {
     SewnGarment sewn;              // with BakeOptions::body: the sewn, dressed garment
     SewReport sew_report;
     CookOptions cook_options;      // what `cooked` was cooked with (BakeOptions::choose_runs)
+    double render_bind_error_m = 0.0;  // with a render mesh: the largest vertex - reconstruction at rest
     std::vector<std::byte> bytes;  // the asset file
 };
 

@@ -23,6 +23,8 @@ struct BatchEntry {
     uint32_t sweeps = 8;
     std::array<double, 3> offset_m{};  // added to every panel's placement (GarmentCode v1)
     std::string manifest;  // the manifest that names it (a depfile dependency); empty for a folder
+    std::string render_mesh;   // OBJ / glTF render mesh in the start pose's space (one pattern only)
+    int render_subdivide = -1;  // >= 0: the cloth's triangles subdivided that often as the render mesh
 };
 
 // Whether `text` is a manifest: a JSON object whose "format" is "weft-bake-manifest".

@@ -157,6 +157,17 @@ std::string bake_asset(const bake::BatchEntry& e, const bake::SewBody* body, con
     options.cook.simd_width = e.simd_width;
     options.body = body;
     options.sew.sweeps = e.sweeps;
+    RenderMeshSource render;
+    if (!e.render_mesh.empty()) {
+        body::BodyMesh m;
+        if (std::string error = body::load_body_mesh(e.render_mesh, &m); !error.empty())
+            return "--render-mesh " + e.render_mesh + ": " + error;
+        render.positions = std::move(m.positions);
+        render.triangles = std::move(m.triangles);
+        render.uv = std::move(m.uv);
+        options.render_mesh = &render;
+    }
+    options.render_subdivide = e.render_subdivide;
     if (configure) configure(options);
     if (bar != nullptr) options.on_stage = [&](const char* stage, uint32_t index, uint32_t) { bar->update(index, stage); };
     bake::Baked baked;
@@ -179,6 +190,7 @@ std::string bake_asset(const bake::BatchEntry& e, const bake::SewBody* body, con
         std::ofstream d(depfile);
         d << depfile_path(out_path) << ": " << depfile_path(e.pattern);
         if (!e.body.empty() && e.body != "mannequin") d << " " << depfile_path(e.body);
+        if (!e.render_mesh.empty()) d << " " << depfile_path(e.render_mesh);
         if (!e.manifest.empty()) d << " " << depfile_path(e.manifest);
         d << "\n";
         if (!d) return "cannot write '" + depfile + "'";
@@ -205,6 +217,11 @@ std::string bake_asset(const bake::BatchEntry& e, const bake::SewBody* body, con
     (*j)["pinned"] = garment.pinned.size();
     (*j)["min_run_lanes"] = baked.cook_options.min_run_lanes;
     (*j)["max_run_gap"] = baked.cook_options.max_run_gap;
+    if (const RenderMesh& m = baked.cooked.asset().render; m.vertex_count > 0) {
+        (*j)["render_vertices"] = m.vertex_count;
+        (*j)["render_triangles"] = m.triangle_count;
+        (*j)["render_bind_error_m"] = baked.render_bind_error_m;
+    }
     if (body != nullptr) {
         const bake::SewReport& r = baked.sew_report;
         (*j)["body"] = e.body;
@@ -343,6 +360,12 @@ int main(int argc, char** argv) {
     app.add_option("--info", info_path, "describe an asset file (loaded through the runtime's validating loader)");
     app.add_option("--body", defaults.body,
                    "sew the garment onto this body (OBJ, glTF, or 'mannequin': the project's own) and store it dressed");
+    app.add_option("--render-mesh", defaults.render_mesh,
+                   "bind this render mesh (OBJ or glTF, authored on the asset's start pose: the flat layout, or the "
+                   "dressed pose with --body) to the cloth and store it in the asset (docs/asset-format.md)");
+    app.add_option("--render-subdivide", defaults.render_subdivide,
+                   "store the cloth's own triangles cut into four N times as its render mesh (0..4; 0: the cloth's mesh)")
+        ->check(CLI::Range(0, 4));
     app.add_flag("--json", as_json, "one JSON object instead of the human summary (a batch: one per asset, then the summary)");
     app.add_flag("--runs", runs, "also print where the constraints off SIMD runs and the padding lanes come from (stderr)");
     app.add_option("--sweeps", defaults.sweeps,
@@ -364,6 +387,8 @@ int main(int argc, char** argv) {
     CLI11_PARSE(app, argc, argv);
 
     if (!info_path.empty()) return info(info_path, as_json);
+    if (!defaults.render_mesh.empty() && defaults.render_subdivide >= 0)
+        return fail("--render-mesh and --render-subdivide: one render mesh or the other");
     if (pattern_path.empty() || out_path.empty()) return fail("need PATTERN and -o OUT.weft (or --info FILE)");
     for (size_t k = 0; k < offset.size(); ++k) defaults.offset_m[k] = offset[k];
 
@@ -374,6 +399,8 @@ int main(int argc, char** argv) {
     if (folder || bake::is_manifest(text)) {
         if (!depfile.empty()) return fail("--depfile is for one pattern; a batch writes one per asset with --depfiles");
         if (!sewing_frames.empty() || runs) return fail("--sewing-frames and --runs are for one pattern");
+        if (!defaults.render_mesh.empty() || defaults.render_subdivide >= 0)
+            return fail("--render-mesh and --render-subdivide are for one pattern");
         std::vector<bake::BatchEntry> entries;
         const std::string error = folder ? bake::read_folder(pattern_path, defaults, &entries)
                                          : bake::read_manifest(pattern_path, text, defaults, &entries);

@@ -186,6 +186,7 @@ std::string dress_scene(const std::string& scene_file, const std::string& patter
     bake::BakeOptions options;
     options.body = &body;
     options.sew.sweeps = scene->cloths[0].desc.sweeps;  // dressed at the budget the scene runs it at
+    options.render_subdivide = 1;  // a render mesh of 4 triangles a cloth triangle: the render world's
     if (bake::Status s = bake::bake_pattern(read_text(pattern), options, baked); !s.ok()) return pattern + ": " + s.error;
     std::filesystem::create_directories(dir);
     std::ofstream f((dir / scene->cloths[0].asset_path).string(), std::ios::binary);
@@ -259,6 +260,21 @@ int run_garment(uint32_t steps, bool as_json, const std::vector<GarmentModel>& a
             if (std::string e = scenes::build_scene(scene, &runs[m].sw, {dir.string()}); !e.empty())
                 return std::fprintf(stderr, "weft-bench garment: %s: %s\n", scene.name.c_str(), e.c_str()), 1;
         }
+        // The render output a game would also ask for, in one more world of the first model: tangents
+        // (the normals pass with them, against the first model's without) and the render mesh.
+        Run render;
+        render.model = models[0];
+        {
+            scenes::Scene with = scene;
+            with.body->collision = models[0].collision;
+            with.body->limb_capsules.clear();
+            if (models[0].limb_capsules)
+                with.body->limb_capsules = scene_capsules.empty() ? std::vector<std::string>{"thigh.L", "thigh.R"} : scene_capsules;
+            with.tangents = with.render_meshes = true;
+            if (std::string e = scenes::build_scene(with, &render.sw, {dir.string()}); !e.empty())
+                return std::fprintf(stderr, "weft-bench garment: %s: %s\n", scene.name.c_str(), e.c_str()), 1;
+        }
+        std::vector<double> render_us;
         BodyView view;
         view_body(runs[0].sw.world, runs[0].sw.body->id, &view);
         PlainPass plain;
@@ -304,7 +320,17 @@ int run_garment(uint32_t steps, bool as_json, const std::vector<GarmentModel>& a
                 r.queried += double(after.body_queried);
                 r.projections = after.run_projections + after.indexed_projections;
             }
+            scenes::SceneWorld& rw = render.sw;
+            scenes::animate_body(rw, float(f) * scene.dt_s);
+            const WorldStats before = world_stats(rw.world);
+            step(rw.world, scene.dt_s);
+            const WorldStats after = world_stats(rw.world);
+            if (f <= warmup) continue;
+            render.normals_us.push_back(double(after.pass_ns[int(Pass::normals)] - before.pass_ns[int(Pass::normals)]) / 1e3);
+            render_us.push_back(double(after.pass_ns[int(Pass::render_mesh)] - before.pass_ns[int(Pass::render_mesh)]) / 1e3);
         }
+        const uint32_t render_vertices = render.sw.cloths[0].asset->render.vertex_count;
+        const double tangents_us = median(render.normals_us) - median(runs[0].normals_us);
         const double plain_us = median(runs[0].plain_us);
         const Run* exact = nullptr;
         for (const Run& r : runs)
@@ -332,6 +358,12 @@ int run_garment(uint32_t steps, bool as_json, const std::vector<GarmentModel>& a
                                 {"limb_capsules_us", median(r.capsules_us)},
                                 {"body_share", step_us > 0 ? body_us / step_us : 0.0},
                                 {"normals_us", median(r.normals_us)},
+                                // The render output, measured once per scene in the render world (above).
+                                {"normals_with_tangents_us", median(render.normals_us)},
+                                {"tangents_us", tangents_us},
+                                {"render_vertices", render_vertices},
+                                {"render_us", median(render_us)},
+                                {"ns_per_render_vertex", render_vertices > 0 ? 1e3 * median(render_us) / render_vertices : 0.0},
                                 {"other_us", median(r.other_us)},
                                 {"baseline_point_query_us", plain_us},
                                 {"body_vs_baseline", plain_us > 0 ? body_us / plain_us : 0.0},
@@ -351,11 +383,13 @@ int run_garment(uint32_t steps, bool as_json, const std::vector<GarmentModel>& a
             } else {
                 std::printf("  %-18s %-13s %5u particles, %5zu body triangles: step %7.0f (integrate %5.0f, constraints %5.0f, "
                             "body %6.0f, normals %4.0f, other %5.0f); plain rtcPointQuery pass %6.0f; deepest %.2f mm; strain max %.1f%% "
-                            "mean %.2f%%; %.0f particles searched a step\n",
+                            "mean %.2f%%; %.0f particles searched a step; render output: tangents %.0f (normals with them %.0f), "
+                            "%u render vertices %.0f (%.2f ns each)\n",
                             scene.name.c_str(), garment_model_name(r.model).c_str(), sw.cloths[0].asset->particle_count,
                             sw.body->triangles.size() / 3, step_us, median(r.integrate_us), median(r.constraints_us), body_us,
                             median(r.normals_us), median(r.other_us), plain_us, r.deepest * 1e3, 100.0 * r.max_strain,
-                            100.0 * r.strain_sum / double(steps), r.queried / double(steps));
+                            100.0 * r.strain_sum / double(steps), r.queried / double(steps), tangents_us, median(render.normals_us),
+                            render_vertices, median(render_us), render_vertices > 0 ? 1e3 * median(render_us) / render_vertices : 0.0);
             }
         }
         std::fflush(stdout);

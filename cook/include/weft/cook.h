@@ -139,6 +139,9 @@ public:
     std::vector<uint32_t> attached_particle, attached_triangle;
     std::vector<float> attached_weight;
     SkinBinding skin;
+    // The render mesh (bind_render_mesh fills them; ClothAsset::render documents them).
+    std::vector<uint32_t> render_cloth_triangle, render_triangles;
+    std::vector<float> render_weight_1, render_weight_2, render_offset, render_uv;
 
     // Points asset() at the vectors; call after changing them.
     void refresh_asset(uint32_t particle_count, uint32_t colour_count, const uint32_t counts[3],
@@ -157,6 +160,43 @@ private:
 // section 1.1), orders particles for contiguous runs, colours the constraints into batches and
 // computes tethers. Fails with a message on malformed meshes (bad indices, NaN, negative mass).
 Result cook_cloth(const ClothMeshDesc& mesh, const CookOptions& options, CookedCloth* out);
+
+// ---------------------------------------------------------------------------------------------
+// Render meshes (ClothAsset::render): a finer mesh authored in the space of the cloth's start pose
+// (the flat layout, or the dressed pose of weft-bake --body), bound to the cloth's triangles.
+
+struct RenderMeshDesc {
+    uint32_t vertex_count = 0;
+    const Vec3* positions = nullptr;      // [vertex_count] metres, the start pose's space
+    const float* uv = nullptr;            // [2 * vertex_count]; null: zeros
+    uint32_t triangle_count = 0;
+    const uint32_t* triangles = nullptr;  // [3 * triangle_count] render vertices
+};
+
+// Owns the arrays of a render mesh made in memory (subdivide_cloth_mesh, an OBJ reader).
+struct RenderMeshSource {
+    std::vector<Vec3> positions;
+    std::vector<float> uv;
+    std::vector<uint32_t> triangles;
+    RenderMeshDesc desc() const {
+        return {uint32_t(positions.size()), positions.data(), uv.empty() ? nullptr : uv.data(),
+                uint32_t(triangles.size() / 3), triangles.data()};
+    }
+};
+
+// The cloth's own mesh on its start pose, every triangle cut into four at its edges' midpoints
+// `levels` times (0: the cloth's mesh itself). A vertex is split where its triangles' uv differ (a
+// sewn seam particle: each triangle takes its own panel's uv, as the tangents do).
+Result subdivide_cloth_mesh(const ClothAsset& asset, uint32_t levels, RenderMeshSource* out);
+
+// Binds each render vertex to the closest cloth triangle on the start pose (a uniform grid over the
+// triangles): its barycentric weights there and its signed offset along the interpolated vertex
+// normal (the normals pass's, area-weighted), refined twice so that the runtime's reconstruction
+// lands back on the vertex. A vertex whose reconstruction misses it by more than 1 mm (past the
+// cloth's edge) or that lies more than 1 m off the cloth is refused. Stores the mesh in `cloth`
+// (refresh_asset is called).
+// `max_error_m` (optional): the largest distance between a vertex and its reconstruction at rest.
+Result bind_render_mesh(const RenderMeshDesc& mesh, CookedCloth* cloth, double* max_error_m = nullptr);
 
 // ---------------------------------------------------------------------------------------------
 // Skin constraints: weft-bake --body runs it on the dressed garment and stores the result in the

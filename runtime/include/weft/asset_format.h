@@ -16,11 +16,14 @@ namespace weft {
 
 inline constexpr char kAssetMagic[8] = {'W', 'E', 'F', 'T', 'A', 'S', 'E', 'T'};
 inline constexpr uint16_t kAssetVersionMajor = 1;  // a different major is refused
-inline constexpr uint16_t kAssetVersionMinor = 2;  // a newer minor loads (unknown sections skipped)
+inline constexpr uint16_t kAssetVersionMinor = 3;  // a newer minor loads (unknown sections skipped)
 // 1.1 appended sewn_point_count and sewn_uv_count to the header: a 1.0 file's is this long (read as 0).
 inline constexpr uint32_t kAssetHeaderSize_1_0 = 192;
 // 1.2 appended skin_constraint_count: a 1.1 file's header is this long (read as 0).
 inline constexpr uint32_t kAssetHeaderSize_1_1 = 208;
+// 1.3 appended the render mesh's counts: a 1.2 file's header is this long (read as 0). The writer
+// still writes a 1.2 file (this header) for an asset without a render mesh: the same bytes as before.
+inline constexpr uint32_t kAssetHeaderSize_1_2 = 216;
 // Written as a little-endian uint32: the bytes 04 03 02 01. A big-endian writer gives 01 02 03 04.
 inline constexpr uint32_t kAssetEndianMarker = 0x01020304u;
 // Every section starts at a multiple of this (a cache line; also enough for any SIMD load).
@@ -80,6 +83,9 @@ struct AssetFileHeader {
     // 1.2: skin constraints (ClothAsset::skin).
     uint32_t skin_constraint_count;
     uint32_t reserved_1_2;  // 0: keeps the header a multiple of 8 bytes
+    // 1.3: the render mesh (ClothAsset::render).
+    uint32_t render_vertex_count;
+    uint32_t render_triangle_count;
 };
 
 // One entry of the section table (header_size + i * 32).
@@ -158,8 +164,14 @@ enum class AssetSectionKind : uint32_t {
     skin_rest_offset,
     skin_max_distance,
     skin_backstop,  // 64
+    render_cloth_triangle,  // 65 (1.3)
+    render_weight_1,
+    render_weight_2,
+    render_offset,
+    render_triangles,
+    render_uv,  // 70
 };
-inline constexpr uint32_t kAssetSectionKindCount = 64;  // known kinds: 1..kAssetSectionKindCount
+inline constexpr uint32_t kAssetSectionKindCount = 70;  // known kinds: 1..kAssetSectionKindCount
 
 // Name of a section kind ("unknown" for kinds this runtime does not know).
 const char* asset_section_name(uint32_t kind);
@@ -229,6 +241,13 @@ void visit_asset_sections(const AssetFileHeader& h, Asset& a, Visit&& visit) {
     visit(K::skin_rest_offset, a.skin.rest_offset_m, skin);
     visit(K::skin_max_distance, a.skin.max_distance_m, skin);
     visit(K::skin_backstop, a.skin.backstop_m, skin);
+    const uint64_t render = h.render_vertex_count;
+    visit(K::render_cloth_triangle, a.render.cloth_triangle, render);
+    visit(K::render_weight_1, a.render.weight_1, render);
+    visit(K::render_weight_2, a.render.weight_2, render);
+    visit(K::render_offset, a.render.offset_m, render);
+    visit(K::render_triangles, a.render.triangles, 3 * uint64_t(h.render_triangle_count));
+    visit(K::render_uv, a.render.uv, 2 * render);
 }
 
 // Copies ClothAsset's scalar fields between the header and an asset, in either direction:
@@ -269,6 +288,8 @@ void pair_asset_scalars(Header& h, Asset& a, Copy&& copy) {
     copy(h.attachment_count, a.attachment_count);
     copy(h.tether_anchor_lane_count, a.tether_anchor_lane_count);
     copy(h.skin_constraint_count, a.skin.count);
+    copy(h.render_vertex_count, a.render.vertex_count);
+    copy(h.render_triangle_count, a.render.triangle_count);
 }
 
 }  // namespace weft

@@ -41,6 +41,11 @@ struct AssetView {
     const float* sewn_uv = nullptr;
     uint32_t attachment_count = 0;       // particles bound to a body (attach_cloth_to_body)
     uint32_t skin_constraint_count = 0;  // baked skin constraints (bind_asset_skin_constraints)
+    // The finer render mesh weft-bake bound to the cloth (read_render_mesh drives it); 0: none.
+    uint32_t render_vertex_count = 0;
+    uint32_t render_triangle_count = 0;
+    const uint32_t* render_triangles = nullptr;  // [3 * render_triangle_count] render vertices
+    const float* render_uv = nullptr;            // [2 * render_vertex_count] texture coordinates
 };
 AssetView view_asset(const ClothAsset& asset);
 

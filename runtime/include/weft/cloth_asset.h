@@ -106,6 +106,24 @@ struct SkinConstraints {
 // hanging off the body, a panel the pattern lets swing: docs/pattern-format.md, "skin").
 inline constexpr float kSkinNoMaxDistance_m = 1e3f;
 
+// A finer mesh for rendering, bound to the cloth's triangles by weft-bake (--render-mesh,
+// --render-subdivide) as APEX and Chaos bind theirs: render vertex v is the point of cloth triangle
+// cloth_triangle[v] (an index into ClothAsset::triangles) at barycentric weights
+// (1 - weight_1 - weight_2, weight_1, weight_2) of its corners, moved offset_m[v] along the
+// normalised interpolated vertex normal there; its normal is that interpolated normal. Bound on the
+// asset's start pose (the render mesh is authored in that space). Stored and validated; the step
+// drives it in a world with WorldDesc::render_meshes (read_render_mesh).
+struct RenderMesh {
+    uint32_t vertex_count = 0;
+    const uint32_t* cloth_triangle = nullptr;  // [vertex_count] < ClothAsset::triangle_count
+    const float* weight_1 = nullptr;           // [vertex_count] barycentric weight of corner 1
+    const float* weight_2 = nullptr;           // [vertex_count] of corner 2
+    const float* offset_m = nullptr;           // [vertex_count] along the normal, metres
+    uint32_t triangle_count = 0;
+    const uint32_t* triangles = nullptr;       // [3 * triangle_count] render vertices, wound as the cloth
+    const float* uv = nullptr;                 // [2 * vertex_count] texture coordinates
+};
+
 // The asset proper. Every array is indexed by internal particle slot unless said otherwise; slots
 // are the order chosen at cook time so that constraint batches become contiguous runs.
 struct ClothAsset {
@@ -231,6 +249,8 @@ struct ClothAsset {
     // Skin constraints baked on the dressed pose against the body's rest pose (weft-bake --body),
     // bound by weft/attachments.h: bind_asset_skin_constraints. skin.count 0: none.
     SkinConstraints skin;
+    // A finer render mesh driven by the cloth (RenderMesh); vertex_count 0: none.
+    RenderMesh render;
 
     uint32_t total_constraints() const {
         return constraint_count[0] + constraint_count[1] + constraint_count[2];

@@ -14,7 +14,8 @@ namespace weft {
 // `coarse`, which runs before `integrate` on the nodes' own prediction (runtime/src/step.cpp).
 // `body`: the body colliders (refit of moved bodies, closest-point queries, tunnelling rays).
 // `normals`: the vertex normals the step ends with (WorldDesc::normals).
-enum class Pass : uint8_t { wind = 0, integrate, coarse, constraints, tethers, collide, body, normals, count };
+// normals: the vertex normals (and tangents, WorldDesc::tangents); render_mesh: the render meshes.
+enum class Pass : uint8_t { wind = 0, integrate, coarse, constraints, tethers, collide, body, normals, render_mesh, count };
 const char* pass_name(Pass pass);
 
 struct WorldStats {

@@ -11,6 +11,11 @@ struct Vec3 {
     float x = 0.0f, y = 0.0f, z = 0.0f;
 };
 
+// A direction with a fourth component: a tangent and its handedness w (+1 or -1; read_tangents).
+struct Vec4 {
+    float x = 0.0f, y = 0.0f, z = 0.0f, w = 0.0f;
+};
+
 // A rotation as a unit quaternion (x, y, z: the vector part; w: the scalar part).
 struct Quat {
     float x = 0.0f, y = 0.0f, z = 0.0f, w = 1.0f;

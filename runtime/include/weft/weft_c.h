@@ -59,6 +59,11 @@ typedef struct WeftVec3 {
     float x, y, z; /* metres, m/s or m/s^2 */
 } WeftVec3;
 
+/* A tangent and its handedness w (+1 or -1): bitangent = w * cross(normal, tangent). */
+typedef struct WeftVec4 {
+    float x, y, z, w;
+} WeftVec4;
+
 typedef struct WeftMemoryRequirements {
     size_t bytes;
     size_t alignment; /* the block's start must be a multiple of this */
@@ -101,11 +106,17 @@ typedef struct WeftAssetInfo {
     float compliance_m_per_n[3];    /* stretch, shear, bend */
     uint32_t attachment_count;      /* particles bound to the body the garment was dressed on */
     uint32_t skin_constraint_count; /* baked skin constraints */
+    uint32_t render_vertex_count;   /* the render mesh (weft-bake --render-mesh); 0: none */
+    uint32_t render_triangle_count;
 } WeftAssetInfo;
 WeftResult weft_asset_info(const WeftAsset* asset, WeftAssetInfo* out);
 
 /* The triangles as particle indices (caller order, the asset's winding): 3 * triangle_count values. */
 WeftResult weft_asset_triangles(const WeftAsset* asset, uint32_t* out_indices, uint32_t index_count);
+/* The render mesh's triangles (3 * render_triangle_count render vertex indices) and texture
+ * coordinates (2 * render_vertex_count floats); either output may be null. */
+WeftResult weft_asset_render_mesh(const WeftAsset* asset, uint32_t* out_indices, uint32_t index_count, float* out_uv,
+                                  uint32_t uv_count);
 /* The start pose, metres, caller order: particle_count values. */
 WeftResult weft_asset_start_positions(const WeftAsset* asset, WeftVec3* out, uint32_t count);
 
@@ -125,6 +136,10 @@ typedef struct WeftWorldDesc {
     WeftVec3 gravity_m_s2;
     float air_density_kg_m3;     /* for the wind's drag and lift */
     WeftSimdPath simd;
+    int tangents;                /* non-zero: also unit tangents from the uv (weft_read_tangents); implies normals */
+    uint32_t max_triangle_lanes; /* weft_reserve_cloth adds the asset's; carved only with tangents */
+    int render_meshes;           /* non-zero: each step drives the cloths' render meshes (weft_read_render_mesh) */
+    uint32_t max_render_vertices; /* weft_reserve_cloth adds the asset's */
 } WeftWorldDesc;
 
 /* No capacity, gravity (0, -9.81, 0) m/s^2, air 1.2 kg/m^3, no wind, the widest SIMD path. */
@@ -238,6 +253,13 @@ WeftResult weft_read_positions(const WeftWorld* world, WeftClothId cloth, WeftVe
 /* Unit vertex normals as of the last step (area-weighted, the asset's winding; (0, 0, 0) on no
  * triangle of non-zero area), caller order; needs WeftWorldDesc::normals. */
 WeftResult weft_read_normals(const WeftWorld* world, WeftClothId cloth, WeftVec3* out, uint32_t count);
+/* Unit tangents from the asset's uv as of the last step, w the handedness ((0, 0, 0, 1) where no
+ * triangle gives one), caller order; needs WeftWorldDesc::tangents. */
+WeftResult weft_read_tangents(const WeftWorld* world, WeftClothId cloth, WeftVec4* out, uint32_t count);
+/* The render mesh's vertices and unit normals as of the last step (render_vertex_count each, the
+ * asset's render vertex order; `normals` may be null); needs WeftWorldDesc::render_meshes. */
+WeftResult weft_read_render_mesh(const WeftWorld* world, WeftClothId cloth, WeftVec3* positions, WeftVec3* normals,
+                                 uint32_t count);
 
 #ifdef __cplusplus
 }

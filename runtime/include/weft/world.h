@@ -73,11 +73,25 @@ struct WorldDesc {
     // Skin constraints (weft/attachments.h) summed over the cloths that bind them; reserve_cloth
     // adds the asset's. Each costs 76 bytes; a cloth rebound to more than it holds takes new room.
     uint32_t max_skin_constraints = 0;
+    // Triangle lanes (ClothAsset: wind_lane_count + triangle_count - wind_run_triangles) summed over
+    // the cloths; reserve_cloth adds the asset's. Only a world with `tangents` carves them (16 bytes
+    // each: the uv gradients of tangent_uv_gradients).
+    uint32_t max_triangle_lanes = 0;
+    // Render mesh vertices (ClothAsset::render) summed over the cloths; reserve_cloth adds the
+    // asset's. Only a world with `render_meshes` carves them (24 bytes each).
+    uint32_t max_render_vertices = 0;
 
     // Features: a pass that is not enabled is not in the step at all (and costs nothing).
     bool wind = false;
     // The step ends with each cloth's vertex normals, for rendering (read_normals, ClothView).
     bool normals = false;
+    // The step also ends with unit tangents from the texture coordinates (read_tangents); implies
+    // `normals`. Costs 7 arrays a particle slot and 4 floats a triangle lane; add_cloth refuses an
+    // asset without uv.
+    bool tangents = false;
+    // The step also drives each cloth's render mesh, if its asset has one (read_render_mesh);
+    // implies `normals`.
+    bool render_meshes = false;
 
     Vec3 gravity_m_s2{0.0f, -9.81f, 0.0f};
     float air_density_kg_m3 = 1.2f;  // rho in equations (2) and (3)
@@ -246,6 +260,17 @@ Result read_positions(const World* world, ClothId cloth, Vec3* out, uint32_t cou
 // last step, add_cloth or reset_cloth; (0, 0, 0) for a particle with no triangle of non-zero area.
 // Needs WorldDesc::normals.
 Result read_normals(const World* world, ClothId cloth, Vec3* out, uint32_t count);
+// Unit vertex tangents as of the last step, add_cloth or reset_cloth: dP/du (u: the asset's first
+// texture coordinate) summed over each particle's triangles weighted by their uv area, made
+// orthogonal to the normal; w = +1, or -1 where dP/dv points against cross(normal, tangent) (a
+// mirrored panel): bitangent = w * cross(normal, tangent). (0, 0, 0, 1) where no triangle gives
+// one. A seam particle takes each triangle's own panel's uv. Needs WorldDesc::tangents.
+Result read_tangents(const World* world, ClothId cloth, Vec4* out, uint32_t count);
+// The render mesh's vertices (ClothAsset::render, in its vertex order) as of the last step,
+// add_cloth or reset_cloth: each its bound point of the cloth's surface moved its offset along the
+// interpolated normal, and that unit normal. count = asset.render.vertex_count; `normals` may be
+// null. Needs WorldDesc::render_meshes and an asset with a render mesh.
+Result read_render_mesh(const World* world, ClothId cloth, Vec3* positions, Vec3* normals, uint32_t count);
 Result set_particle(World* world, ClothId cloth, uint32_t particle, Vec3 position_m,
                     float inverse_mass_per_kg);
 // Puts the cloth back at its start pose, at rest.

@@ -142,4 +142,34 @@ Result check_fabric(const Fabric& f) {
     return {};
 }
 
+Result check_render_mesh(const RenderMesh& m, uint32_t cloth_triangle_count) {
+    if (m.vertex_count == 0) {
+        if (m.triangle_count != 0) return make_error(ErrorCode::invalid_argument, "render triangles without render vertices");
+        return {};
+    }
+    if (m.vertex_count > (1u << 26) || m.triangle_count > (1u << 26))
+        return make_error(ErrorCode::out_of_range, "render mesh of %u vertices, %u triangles is absurd", m.vertex_count,
+                          m.triangle_count);
+    if (m.cloth_triangle == nullptr || m.weight_1 == nullptr || m.weight_2 == nullptr || m.offset_m == nullptr ||
+        m.uv == nullptr || (m.triangle_count > 0 && m.triangles == nullptr))
+        return make_error(ErrorCode::invalid_argument, "render mesh is missing an array");
+    for (uint32_t v = 0; v < m.vertex_count; ++v) {
+        if (m.cloth_triangle[v] >= cloth_triangle_count)
+            return make_error(ErrorCode::out_of_range, "render vertex %u is bound to triangle %u of %u", v,
+                              m.cloth_triangle[v], cloth_triangle_count);
+        const float w1 = m.weight_1[v], w2 = m.weight_2[v], offset = m.offset_m[v];
+        if (!std::isfinite(w1) || !std::isfinite(w2) || !std::isfinite(offset) || !std::isfinite(m.uv[2 * v]) ||
+            !std::isfinite(m.uv[2 * v + 1]))
+            return make_error(ErrorCode::non_finite, "render vertex %u has a weight, offset or uv that is not finite", v);
+        if (w1 < -0.5f || w1 > 1.5f || w2 < -0.5f || w2 > 1.5f || std::fabs(offset) > 1.0f)
+            return make_error(ErrorCode::out_of_range, "render vertex %u: weights (%g, %g) or offset %g m out of range", v,
+                              w1, w2, offset);
+    }
+    for (uint64_t k = 0; k < 3 * uint64_t(m.triangle_count); ++k)
+        if (m.triangles[k] >= m.vertex_count)
+            return make_error(ErrorCode::out_of_range, "render triangle %llu names vertex %u of %u",
+                              (unsigned long long)(k / 3), m.triangles[k], m.vertex_count);
+    return {};
+}
+
 }  // namespace weft

@@ -38,6 +38,11 @@ Result check_attachments(uint32_t count, const uint32_t* particle, const uint32_
 Result check_skin_constraints(const SkinConstraints& skin, uint32_t particle_count, const uint32_t* slot_of_particle,
                               const float* pin_weight, uint32_t* seen);
 
+// The render mesh: every cloth triangle below cloth_triangle_count, weights and offsets finite
+// (weights within [-0.5, 1.5]: a point near its triangle; offsets within 1 m), every render
+// triangle's vertex below vertex_count, every uv finite.
+Result check_render_mesh(const RenderMesh& render, uint32_t cloth_triangle_count);
+
 // Every value finite and >= 0.
 Result check_fabric(const Fabric& fabric);
 

@@ -44,7 +44,8 @@ static_assert(offsetof(AssetFileHeader, checksum) == 8 && offsetof(AssetFileHead
               offsetof(AssetFileHeader, has_uv) == 140 && offsetof(AssetFileHeader, fabric) == 148 &&
               offsetof(AssetFileHeader, coarse_slot_count) == 176 &&
               offsetof(AssetFileHeader, sewn_point_count) == kAssetHeaderSize_1_0 &&
-              offsetof(AssetFileHeader, skin_constraint_count) == kAssetHeaderSize_1_1 && sizeof(AssetFileHeader) == 216);
+              offsetof(AssetFileHeader, skin_constraint_count) == kAssetHeaderSize_1_1 &&
+              offsetof(AssetFileHeader, render_vertex_count) == kAssetHeaderSize_1_2 && sizeof(AssetFileHeader) == 224);
 static_assert(sizeof(AssetSectionEntry) == 32 && offsetof(AssetSectionEntry, offset) == 8 &&
               offsetof(AssetSectionEntry, size) == 16 && offsetof(AssetSectionEntry, element_count) == 24);
 static_assert(kAssetChecksumStart == offsetof(AssetFileHeader, checksum) + sizeof(uint64_t));
@@ -62,7 +63,8 @@ const char* asset_section_name(uint32_t kind) {
         "coarse_slot_of_node", "coarse_node_of_slot", "coarse_rest_length", "coarse_lane_weight", "coarse_index_a",
         "coarse_index_b", "coarse_batches", "wind_rest_area", "sewn_particle", "sewn_uv_first", "sewn_uv", "attached_particle", "attached_triangle", "attached_weight",
         "tether_anchor_0", "tether_anchor_1", "skin_particle", "skin_triangle", "skin_weight", "skin_rest_offset",
-        "skin_max_distance", "skin_backstop"};
+        "skin_max_distance", "skin_backstop", "render_cloth_triangle", "render_weight_1", "render_weight_2",
+        "render_offset", "render_triangles", "render_uv"};
     return kind <= kAssetSectionKindCount ? names[kind] : names[0];
 }
 
@@ -128,10 +130,11 @@ Result check_file(const void* bytes, size_t size, AssetFileInfo& info, AssetFile
         return make_error(ErrorCode::unsupported, "asset format version %u.%u is not supported by this runtime (%u.x)",
                           version[0], version[1], kAssetVersionMajor);
 
-    // An older minor's header ends before the later fields (1.0: sewn seams, 1.1: skin constraints):
-    // they read as 0.
+    // An older minor's header ends before the later fields (1.0: sewn seams, 1.1: skin constraints,
+    // 1.2: the render mesh): they read as 0.
     const uint32_t least_header = version[1] == 0   ? kAssetHeaderSize_1_0
                                   : version[1] == 1 ? kAssetHeaderSize_1_1
+                                  : version[1] == 2 ? kAssetHeaderSize_1_2
                                                     : uint32_t(sizeof(AssetFileHeader));
     if (size < least_header)
         return make_error(ErrorCode::corrupt_asset, "asset file of %zu bytes is shorter than its header", size);

@@ -19,6 +19,10 @@ AssetView view_asset(const ClothAsset& a) {
     v.sewn_uv = a.sewn_uv;
     v.attachment_count = a.attachment_count;
     v.skin_constraint_count = a.skin.count;
+    v.render_vertex_count = a.render.vertex_count;
+    v.render_triangle_count = a.render.triangle_count;
+    v.render_triangles = a.render.triangles;
+    v.render_uv = a.render.uv;
     return v;
 }
 

@@ -339,6 +339,7 @@ Result check_garment(const ClothAsset& a, uint32_t* scratch) {
     if (r.ok() && a.sewn_point_count == 0 && a.sewn_uv_count != 0)
         r = make_error(ErrorCode::corrupt_asset, "sewn uvs without sewn points");
     if (r.ok()) r = check_fabric(a.fabric);
+    if (r.ok()) r = check_render_mesh(a.render, a.triangle_count);
     if (!r.ok()) r.code = ErrorCode::corrupt_asset;
     return r;
 }
