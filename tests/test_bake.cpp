@@ -193,7 +193,7 @@ TEST_CASE("bake: a render mesh from --render-subdivide, or read from an OBJ, is 
     const RenderMesh& m = sub.cooked.asset().render;
     CHECK(m.triangle_count == 4 * sub.cooked.asset().triangle_count);
     CHECK(sub.render_bind_error_m < 1e-6);
-    // The same mesh through an OBJ file (tools/body's reader, as weft-bake --render-mesh reads it).
+    // The same mesh through an OBJ file (lib/body's reader, as weft-bake --render-mesh reads it).
     RenderMeshSource fine;
     REQUIRE(subdivide_cloth_mesh(sub.cooked.asset(), 1, &fine).ok());
     const std::string path = (std::filesystem::temp_directory_path() / "weft_test_render_mesh.obj").string();

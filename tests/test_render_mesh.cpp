@@ -4,7 +4,7 @@
 #include <algorithm>
 
 #include "common/scene.h"
-#include "test_support.h"
+#include "support/test_support.h"
 
 namespace weft {
 namespace {
@@ -217,9 +217,9 @@ TEST_CASE("render mesh: refused without the feature, without a render mesh or wi
 
     // A world without the feature: refused, no render pass, and no bytes for it.
     WorldDesc desc = test::world_for({&w.cooked.asset()});
-    desc.profile = true;
     OwnedWorld plain;
     REQUIRE(test::make_world(desc, &plain).ok());
+    REQUIRE(set_profiling(plain.world, true).ok());
     ClothDesc cloth;
     cloth.asset = &w.cooked.asset();
     ClothId id;
