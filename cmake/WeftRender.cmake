@@ -1,17 +1,18 @@
-# Finds the renderer's libraries (tools/render): libepoxy (OpenGL and EGL loader) and stb
-# (PNG writing). Sets WEFT_HAVE_RENDER when WEFT_RENDER is on and both are there; without them
-# weft-sim builds without --png, --gif and --mp4 (ffmpeg is only needed at run time).
-option(WEFT_RENDER "Build the renderer (weft-sim --png/--gif/--mp4, the figures) when its libraries are found" ON)
+# Finds the tools' picture libraries: stb (PNG writing: the glTF export's texture and the pictures;
+# required) and libepoxy (the OpenGL and EGL loader of tools/render's renderer). Sets
+# WEFT_HAVE_RENDER when WEFT_RENDER is on and libepoxy is there; without it weft-sim builds without
+# --png, --gif and --mp4 and still exports --gltf (ffmpeg is only needed at run time).
+option(WEFT_RENDER "Build the renderer (weft-sim --png/--gif/--mp4, the figures) when libepoxy is found" ON)
+find_package(PkgConfig REQUIRED)
+pkg_check_modules(STB REQUIRED IMPORTED_TARGET GLOBAL stb)
+find_package(glm REQUIRED)
 set(WEFT_HAVE_RENDER OFF)
 if(WEFT_RENDER)
-  find_package(PkgConfig REQUIRED)
   pkg_check_modules(EPOXY IMPORTED_TARGET GLOBAL epoxy)
-  pkg_check_modules(STB IMPORTED_TARGET GLOBAL stb)
-  find_package(glm REQUIRED)
-  if(EPOXY_FOUND AND STB_FOUND)
+  if(EPOXY_FOUND)
     set(WEFT_HAVE_RENDER ON)
   else()
-    message(STATUS "weft: renderer off (needs pkg-config epoxy and stb: libepoxy-dev, libstb-dev)")
+    message(STATUS "weft: renderer off (needs pkg-config epoxy: libepoxy-dev); weft-sim --gltf still works")
   endif()
 endif()
 

@@ -76,17 +76,19 @@ if [[ -z "${WEFT_SKIP_ASAN:-}" ]]; then
   run_config asan "$asan_dir" -DCMAKE_BUILD_TYPE=RelWithDebInfo -DWEFT_SANITIZE=ON || failed=1
 fi
 
-# Clang, Release: the determinism hashes (tests/determinism.txt) from a second compiler. Only what
-# that test needs is built (the runtime, cook, the tools that bake the sample skirt).
+# Clang, Release, renderer off: the determinism hashes (tests/determinism.txt) from a second
+# compiler, and weft-sim --gltf built without OpenGL. Only what those tests need is built (the
+# runtime, cook, the tools that bake the sample skirt, weft-sim).
 if [[ -z "${WEFT_SKIP_CLANG:-}" ]]; then
   if command -v clang++ >/dev/null; then
     clang_dir=${WEFT_CLANG_BUILD_DIR:-build-clang}
     mkdir -p "$clang_dir"
-    echo "== clang: configure, build and run the determinism hashes ($clang_dir)"
-    if CC=clang CXX=clang++ cmake -S "$root" -B "$clang_dir" -G Ninja -DCMAKE_BUILD_TYPE=Release >"$clang_dir/configure.log" 2>&1 &&
-       ninja -C "$clang_dir" -j "$jobs" weft_determinism_tests >"$clang_dir/build.log" 2>&1 &&
-       (cd "$clang_dir" && ctest --output-on-failure --no-tests=error -R 'committed value'); then
-      results+=("clang: determinism hashes as committed")
+    echo "== clang: configure, build and run the determinism hashes and the glTF export ($clang_dir)"
+    if CC=clang CXX=clang++ cmake -S "$root" -B "$clang_dir" -G Ninja -DCMAKE_BUILD_TYPE=Release -DWEFT_RENDER=OFF \
+         >"$clang_dir/configure.log" 2>&1 &&
+       ninja -C "$clang_dir" -j "$jobs" weft_determinism_tests weft-sim weft_gltf_export_tests >"$clang_dir/build.log" 2>&1 &&
+       (cd "$clang_dir" && ctest --output-on-failure --no-tests=error -R 'committed value|gltf|glTF'); then
+      results+=("clang: determinism hashes as committed, --gltf without the renderer")
     else
       grep -E -A5 'error|FAILED' "$clang_dir/configure.log" "$clang_dir/build.log" 2>/dev/null | head -n 40 || true
       results+=("clang: determinism FAILED")

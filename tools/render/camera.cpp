@@ -49,4 +49,14 @@ glm::vec2 project_to_pixels(const Camera& camera, const glm::vec3& p, int width,
     return {0.5f * (ndc.x + 1.0f) * float(width), 0.5f * (1.0f - ndc.y) * float(height)};
 }
 
+PixelBox projected_box(const Camera& camera, const std::vector<Vec3>& points, int width, int height) {
+    PixelBox box;
+    for (const Vec3& p : points) {
+        const glm::vec2 q = project_to_pixels(camera, glm::vec3(p.x, p.y, p.z), width, height);
+        box.min = glm::min(box.min, q);
+        box.max = glm::max(box.max, q);
+    }
+    return box;
+}
+
 }  // namespace weft::render

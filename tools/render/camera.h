@@ -5,7 +5,11 @@
 
 #include <limits>
 
+#include <vector>
+
 #include <glm/glm.hpp>
+
+#include "weft/types.h"
 
 namespace weft::render {
 
@@ -47,5 +51,12 @@ Camera frame_box(const Box& box, const CameraAngles& angles, float aspect);
 // Pixel coordinates of a world point in a width x height picture: x to the right, y down from the
 // top-left corner (the order of the rows in a PNG), pixel centres at half-integers.
 glm::vec2 project_to_pixels(const Camera& camera, const glm::vec3& p, int width, int height);
+
+// The smallest pixel rectangle holding every point's projection (project_to_pixels): where a
+// cloth must appear in a width x height picture (the render and viewer tests check it).
+struct PixelBox {
+    glm::vec2 min{1e9f}, max{-1e9f};
+};
+PixelBox projected_box(const Camera& camera, const std::vector<Vec3>& points, int width, int height);
 
 }  // namespace weft::render

@@ -10,57 +10,10 @@
 #include <vector>
 
 #include "render/camera.h"
+#include "render/scene_snapshot.h"
 #include "weft/weft.h"
 
 namespace weft::render {
-
-// One cloth as drawn: its particles and triangles in caller order.
-struct ClothSurface {
-    std::vector<Vec3> positions;
-    std::vector<uint32_t> triangles;  // 3 caller particle indices per triangle, counter-clockwise seen from the front
-    std::vector<float> uv;            // 2 per particle, metres on the flat cloth (the checker's coordinates)
-};
-
-// A body collider (weft/body.h) as drawn: its vertices in the pose of the picture.
-struct BodySurface {
-    std::vector<Vec3> positions;
-    std::vector<uint32_t> triangles;  // 3 per triangle, counter-clockwise seen from outside
-};
-
-// Everything one picture shows.
-struct Snapshot {
-    std::vector<ClothSurface> cloths;
-    std::vector<ColliderDesc> colliders;
-    std::vector<BodySurface> bodies;
-};
-
-// Box around the cloths, the bodies and the bounded colliders (planes are infinite: only a floor's
-// point under the cloths is in).
-Box bounds(const Snapshot& snapshot);
-// Box around the cloths only (the render test projects it).
-Box cloth_bounds(const Snapshot& snapshot);
-
-// Triangles with a normal per vertex, in metres: a collider's surface (collider_surface) or a cloth's.
-struct SurfaceMesh {
-    std::vector<Vec3> positions, normals;
-    std::vector<uint32_t> indices;  // 3 per triangle, counter-clockwise seen from outside
-};
-
-// The collider's shape as the solver sees it without the inflation (a skin the cloth keeps above it:
-// seed figure 8); a plane as a square three scene sizes wide around the point nearest `scene`'s
-// centre. Drawn by the renderer, exported by weft-sim --gltf.
-SurfaceMesh collider_surface(const ColliderDesc& collider, const Box& scene);
-
-// The smallest pixel rectangle holding every point's projection (project_to_pixels): where a
-// cloth must appear in a width x height picture (the render and viewer tests check it).
-struct PixelBox {
-    glm::vec2 min{1e9f}, max{-1e9f};
-};
-PixelBox projected_box(const Camera& camera, const std::vector<Vec3>& points, int width, int height);
-
-// Texture coordinates for a cloth without any: its rest positions projected on the plane of their two
-// widest extents, so the checker is fixed to the cloth and follows it as it moves.
-std::vector<float> planar_uv(const std::vector<Vec3>& rest_positions);
 
 enum class Look : uint8_t {
     shaded,      // lit, checkered cloth (front and back in different colours), grey colliders, a pale body

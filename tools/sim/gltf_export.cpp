@@ -7,6 +7,7 @@
 #include <tiny_gltf.h>
 
 #include "common/mesh_normals.h"  // smooth_normals: the same normals the pictures are lit with
+#include "common/progress.h"
 
 namespace weft::sim {
 
@@ -214,5 +215,29 @@ std::string write_gltf(const std::string& path, const GltfRun& run,
     if (!writer.WriteGltfSceneToFile(&model, path, true, true, false, true)) return "cannot write " + path;
     return {};
 }
+
+std::string export_scene_gltf(const std::string& path, const scenes::Scene& scene, const render::Snapshot& snapshot,
+                        const std::vector<std::vector<std::vector<Vec3>>>& frames, const std::vector<float>& times_s,
+                        bool show_progress) {
+    GltfRun run;
+    run.frames = frames;
+    run.times_s = times_s;
+    render::Box box;  // around every recorded frame: a plane collider's square is sized by it
+    for (size_t i = 0; i < snapshot.cloths.size(); ++i) {
+        run.cloths.push_back({scene.cloths[i].name, snapshot.cloths[i].triangles, snapshot.cloths[i].uv});
+        for (const auto& frame : frames)
+            for (const Vec3& p : frame[i]) box.add({p.x, p.y, p.z});
+    }
+    if (!snapshot.bodies.empty() && !frames.empty() && frames[0].size() > snapshot.cloths.size())
+        run.cloths.push_back({"body", snapshot.bodies[0].triangles, {}, true});  // posed per frame (pictures.cpp)
+    for (size_t i = 0; i < snapshot.colliders.size(); ++i) {
+        render::SurfaceMesh m = render::collider_surface(snapshot.colliders[i], box);
+        run.stills.push_back({"collider " + std::to_string(i), std::move(m.positions), std::move(m.normals),
+                              std::move(m.indices)});
+    }
+    progress::Bar bar("weft-sim: writing " + path, run.cloths.size() * frames.size(), show_progress);
+    return write_gltf(path, run, [&](size_t done, size_t) { bar.update(done); });
+}
+
 
 }  // namespace weft::sim

@@ -11,6 +11,7 @@
 #include <string>
 #include <vector>
 
+#include "render/scene_snapshot.h"
 #include "weft/weft.h"
 
 namespace weft::sim {
@@ -40,5 +41,11 @@ struct GltfRun {
 // Returns the error (empty when written).
 std::string write_gltf(const std::string& path, const GltfRun& run,
                        const std::function<void(size_t done, size_t total)>& progress = {});
+
+// The run of `scene` as recorded by weft-sim (frames[f][c]: cloth c's positions, then the body's,
+// at times_s[f]), its surfaces and colliders from `snapshot`, written to `path`. Returns the error.
+std::string export_scene_gltf(const std::string& path, const scenes::Scene& scene, const render::Snapshot& snapshot,
+                              const std::vector<std::vector<std::vector<Vec3>>>& frames,
+                              const std::vector<float>& times_s, bool show_progress);
 
 }  // namespace weft::sim

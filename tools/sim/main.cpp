@@ -133,8 +133,8 @@ int main(int argc, char** argv) {
             return 1;
         }
     }
-    if (pictures.wanted() && !sim::renderer_built_in()) {
-        std::fprintf(stderr, "weft-sim: --png, --gif, --mp4 and --gltf need the renderer, and this weft-sim was built without it\n");
+    if ((!pictures.png.empty() || !pictures.animation.empty()) && !sim::renderer_built_in()) {
+        std::fprintf(stderr, "weft-sim: --png, --gif and --mp4 need the renderer, and this weft-sim was built without it (--gltf does not)\n");
         return 1;
     }
 

@@ -2,6 +2,9 @@
 
 #include <cstdio>
 
+#include "render/scene_snapshot.h"
+#include "sim/gltf_export.h"
+
 namespace weft::sim {
 
 std::string parse_camera(const std::string& text, PictureOptions* options) {
@@ -43,6 +46,16 @@ void PictureRecorder::after_frame(uint32_t frame, const scenes::SceneWorld& worl
         if (world.body) gltf_frames_.back().push_back(world.body->pose.empty() ? world.body->rest : world.body->pose);
         gltf_times_s_.push_back(float(frame) * dt_s_);
     }
+}
+
+std::string PictureRecorder::write(const scenes::Scene& scene, const scenes::SceneWorld& world, bool show_progress) const {
+    render::Snapshot snapshot = render::snapshot_of_scene(scene, world);
+    if (!options_.gltf.empty())
+        if (std::string e = export_scene_gltf(options_.gltf, scene, snapshot, gltf_frames_, gltf_times_s_, show_progress);
+            !e.empty())
+            return e;
+    if (options_.png.empty() && options_.animation.empty()) return {};
+    return draw(scene, std::move(snapshot), show_progress);
 }
 
 }  // namespace weft::sim

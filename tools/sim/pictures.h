@@ -1,13 +1,15 @@
 // weft-sim's pictures and exports: --png (one frame), --gif / --mp4 (the animation), --gltf (the
 // run as one glTF binary, gltf_export.h). While the scene runs the recorder keeps the positions of
 // the frames it needs; at the end it renders or exports them with tools/render's geometry.
-// Built without the renderer (its libraries missing), `write` only says so.
+// The glTF export needs no OpenGL; built without the renderer (libepoxy missing), the pictures
+// are refused with the reason.
 #pragma once
 
 #include <string>
 #include <vector>
 
 #include "common/scene.h"
+#include "render/scene_snapshot.h"
 
 namespace weft::sim {
 
@@ -48,6 +50,8 @@ private:
         std::vector<Vec3> body;  // the body's pose (empty: no body, or still at rest)
     };
     static Frame frame_of(const scenes::SceneWorld& world);
+    // Draws --png and --gif / --mp4 (pictures_render.cpp; pictures_none.cpp refuses).
+    std::string draw(const scenes::Scene& scene, render::Snapshot snapshot, bool show_progress) const;
     PictureOptions options_;
     uint32_t png_frame_ = 0;
     Frame png_frame_state_;

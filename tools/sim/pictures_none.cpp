@@ -1,12 +1,12 @@
-// weft-sim built without tools/render (libepoxy or stb missing): no pictures.
+// weft-sim built without the renderer (libepoxy missing): no pictures; --gltf still works.
 #include "sim/pictures.h"
 
 namespace weft::sim {
 
 bool renderer_built_in() { return false; }
 
-std::string PictureRecorder::write(const scenes::Scene&, const scenes::SceneWorld&, bool) const {
-    return "this weft-sim was built without the renderer (install libepoxy-dev and libstb-dev, then reconfigure)";
+std::string PictureRecorder::draw(const scenes::Scene&, render::Snapshot, bool) const {
+    return "this weft-sim was built without the renderer (install libepoxy-dev, then reconfigure)";
 }
 
 }  // namespace weft::sim
