@@ -63,35 +63,19 @@ struct WorldDesc {
     uint32_t max_constraints = 0;  // summed constraint lanes the step may project per sweep
     uint32_t max_colliders = 0;
     uint32_t max_coarse_nodes = 0;  // summed ClothAsset::coarse_slot_count (node slots) of the cloths
-    // Body colliders (weft/body.h). With max_bodies > 0, create_world creates an Embree device;
-    // a world without bodies never does.
-    uint32_t max_bodies = 0;
+    uint32_t max_bodies = 0;          // body colliders (weft/body.h); > 0 creates an Embree device
     uint32_t max_body_vertices = 0;   // summed over bodies
     uint32_t max_body_triangles = 0;  // summed over bodies
-    // Bodies that may use BodyCollision::cached_planes (<= max_bodies): 76 bytes a cloth's particle slot each.
-    uint32_t max_cached_plane_bodies = 0;
-    // Skin constraints (weft/attachments.h) summed over the cloths that bind them; reserve_cloth
-    // adds the asset's. Each costs 76 bytes; a cloth rebound to more than it holds takes new room.
-    uint32_t max_skin_constraints = 0;
-    // Triangle lanes (ClothAsset: wind_lane_count + triangle_count - wind_run_triangles) summed over
-    // the cloths; reserve_cloth adds the asset's. Only a world with `tangents` carves them (16 bytes
-    // each: the uv gradients of tangent_uv_gradients).
-    uint32_t max_triangle_lanes = 0;
-    // Render mesh vertices (ClothAsset::render) summed over the cloths; reserve_cloth adds the
-    // asset's. Only a world with `render_meshes` carves them (24 bytes each).
-    uint32_t max_render_vertices = 0;
+    uint32_t max_cached_plane_bodies = 0;  // bodies that may use BodyCollision::cached_planes
+    uint32_t max_skin_constraints = 0;     // summed over the cloths (weft/attachments.h); reserve_cloth adds
+    uint32_t max_triangle_lanes = 0;       // summed over the cloths, for `tangents`; reserve_cloth adds
+    uint32_t max_render_vertices = 0;      // summed over the cloths, for `render_meshes`; reserve_cloth adds
 
     // Features: a pass that is not enabled is not in the step at all (and costs nothing).
     bool wind = false;
-    // The step ends with each cloth's vertex normals, for rendering (read_normals, ClothView).
-    bool normals = false;
-    // The step also ends with unit tangents from the texture coordinates (read_tangents); implies
-    // `normals`. Costs 7 arrays a particle slot and 4 floats a triangle lane; add_cloth refuses an
-    // asset without uv.
-    bool tangents = false;
-    // The step also drives each cloth's render mesh, if its asset has one (read_render_mesh);
-    // implies `normals`.
-    bool render_meshes = false;
+    bool normals = false;        // vertex normals at the end of each step (read_normals)
+    bool tangents = false;       // and tangents from the uv (read_tangents; needs assets with uv)
+    bool render_meshes = false;  // and each asset's render mesh driven (read_render_mesh)
 
     Vec3 gravity_m_s2{0.0f, -9.81f, 0.0f};
     float air_density_kg_m3 = 1.2f;  // rho in equations (2) and (3)
@@ -137,8 +121,7 @@ struct ClothDesc {
     // Used with BudgetPolicy::explicit_split (sweeps is then substeps * iterations):
     uint32_t substeps = 1;     // Verlet steps per step() call (1..64)
     uint32_t iterations = 3;   // constraint sweeps per substep (0..1000)
-    float relaxation = 1.0f;   // scales every spring correction; 1 = the seed's full correction
-                               // (kMinRelaxation..kMaxRelaxation: what measured stable)
+    float relaxation = 1.0f;   // scales every correction, kMinRelaxation..kMaxRelaxation; 1 = the seed's
     CoarseLevel coarse_level = CoarseLevel::automatic;  // when the asset has one
     uint32_t coarse_iterations = 1;  // coarse-level sweeps per substep (1..16; the policy uses 1)
     SpringProjection projection = SpringProjection::exact;
@@ -146,32 +129,21 @@ struct ClothDesc {
     // XPBD compliance (inverse stiffness) per constraint kind, m/N. 0 = hard (the seed's method).
     float compliance_m_per_n[kConstraintKindCount] = {0.0f, 0.0f, 0.0f};
 
-    // Velocity damping, 1/s: dv/dt = -damping * v (the seed's F_damp). Independent of the budget.
-    // 1/s brings the seed's hanging drape to rest (mean speed < 1 cm/s) in about 8 s.
-    float damping_per_s = 1.0f;
+    float damping_per_s = 1.0f;  // velocity damping, 1/s: dv/dt = -damping v (the seed's F_damp)
 
-    bool tethers = true;          // use the asset's long-range attachments (either policy)
-    // Also project the tethers before the sweeps, not only after them: the springs then start from
-    // positions within reach of the pins (less strain for one more tether pass; docs/solver.md).
-    bool tethers_before_sweeps = false;
-    float tether_slack = 0.0f;    // allowed extension before a tether acts, fraction of its length
-    // Contact tethers (wherever the coarse level runs: the automatic policy's collider-held cloths,
-    // or an explicit split with coarse_level): every coarse node is kept within its rest distance,
-    // along the coarse edges, of the nearest node that holds the cloth (in contact with a collider
-    // that has friction at the end of the last step, or pinned): a cloth draped over a collider
-    // does not slide off it (docs/solver.md, "Contact tethers").
-    bool contact_tethers = true;
+    bool tethers = true;                 // the asset's long-range attachments (either policy)
+    bool tethers_before_sweeps = false;  // also project them before the sweeps (docs/solver.md)
+    float tether_slack = 0.0f;           // extension before a tether acts, fraction of its length
+    bool contact_tethers = true;         // coarse nodes held near a node in contact (docs/solver.md)
 
     // Wind (only when the world has the wind feature): drag and lift coefficients of (2), (3).
     float drag_coefficient = 0.1f;
     float lift_coefficient = 0.1f;
 
-    // Character motion (set_cloth_root): the share of the root's motion the cloth feels as inertia,
-    // 0..1 (1: simulated in world space, it lags and swings; 0: carried rigidly with the root), and
-    // the fastest root motion it feels, m/s (beyond it the root carries the cloth rigidly).
-    float linear_inertia = 1.0f;
-    float angular_inertia = 1.0f;
-    float max_inertial_speed_m_s = 1000.0f;
+    // Character motion (set_cloth_root; docs/architecture.md, "Character motion").
+    float linear_inertia = 1.0f;              // share of the root's motion felt, 0..1 (0: carried rigidly)
+    float angular_inertia = 1.0f;             // the same for its rotation
+    float max_inertial_speed_m_s = 1000.0f;   // root motion beyond this speed carries the cloth rigidly
 };
 
 // Ids name a place in the world's instance array and the generation of what holds it: removing an
