@@ -7,31 +7,14 @@ namespace weft {
 namespace {
 
 using test::OwnedWorld;
+using NormalsWorld = test::OneClothWorld;
 
 // A cloth of one cooked mesh in a world with the normals feature (and, optionally, a sphere).
-struct NormalsWorld {
-    CookedCloth cooked;
-    OwnedWorld owned;
-    ClothId cloth;
-};
-
 void make_normals_world(const ClothMeshDesc& mesh, SimdPath path, bool sphere, NormalsWorld& out) {
     out.cooked = test::cook(mesh);
-    WorldDesc desc = test::world_for({&out.cooked.asset()}, sphere ? 1 : 0, path);
+    WorldDesc desc = test::world_for({&out.cooked.asset()}, 0, path);
     desc.normals = true;
-    REQUIRE(test::make_world(desc, &out.owned).ok());
-    ClothDesc cloth;
-    cloth.asset = &out.cooked.asset();
-    REQUIRE(add_cloth(out.owned.world, cloth, &out.cloth).ok());
-    if (sphere) {
-        ColliderDesc c;
-        c.shape = ColliderShape::sphere;
-        c.p0 = {0.1f, 0.5f, 0.05f};  // off-centre: the cloth slides and folds
-        c.radius_m = 0.3f;
-        c.inflation_m = 0.01f;
-        ColliderId id;
-        REQUIRE(add_collider(out.owned.world, c, &id).ok());
-    }
+    test::make_one_cloth_world(desc, sphere, out);
 }
 
 std::vector<Vec3> normals_of(const NormalsWorld& w) {
@@ -160,30 +143,14 @@ std::vector<float> grid_uv(const scenes::GridMesh& grid, float sign_v) {
     return uv;
 }
 
-struct TangentWorld {
-    CookedCloth cooked;
-    OwnedWorld owned;
-    ClothId cloth;
-};
+using TangentWorld = test::OneClothWorld;
 
 void make_tangent_world(const ClothMeshDesc& mesh, SimdPath path, bool sphere, TangentWorld& out, bool tangents = true) {
     out.cooked = test::cook(mesh);
-    WorldDesc desc = test::world_for({&out.cooked.asset()}, sphere ? 1 : 0, path);
+    WorldDesc desc = test::world_for({&out.cooked.asset()}, 0, path);
     desc.normals = true;
     desc.tangents = tangents;
-    REQUIRE(test::make_world(desc, &out.owned).ok());
-    ClothDesc cloth;
-    cloth.asset = &out.cooked.asset();
-    REQUIRE(add_cloth(out.owned.world, cloth, &out.cloth).ok());
-    if (sphere) {
-        ColliderDesc c;
-        c.shape = ColliderShape::sphere;
-        c.p0 = {0.1f, 0.5f, 0.05f};
-        c.radius_m = 0.3f;
-        c.inflation_m = 0.01f;
-        ColliderId id;
-        REQUIRE(add_collider(out.owned.world, c, &id).ok());
-    }
+    test::make_one_cloth_world(desc, sphere, out);
 }
 
 std::vector<Vec4> tangents_of(const TangentWorld& w) {

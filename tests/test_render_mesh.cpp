@@ -13,10 +13,7 @@ using test::OwnedWorld;
 
 // A grid cloth with a render mesh (its triangles subdivided `levels` times), in a world with render
 // meshes, optionally over a sphere.
-struct RenderWorld {
-    CookedCloth cooked;
-    OwnedWorld owned;
-    ClothId cloth;
+struct RenderWorld : test::OneClothWorld {
     uint32_t vertices = 0;
 };
 
@@ -28,21 +25,9 @@ void make_render_world(const ClothMeshDesc& mesh, uint32_t levels, SimdPath path
     REQUIRE(bind_render_mesh(fine.desc(), &out.cooked, &error_m).ok());
     CHECK(error_m < 1e-6);
     out.vertices = out.cooked.asset().render.vertex_count;
-    WorldDesc desc = test::world_for({&out.cooked.asset()}, sphere ? 1 : 0, path);
+    WorldDesc desc = test::world_for({&out.cooked.asset()}, 0, path);
     desc.render_meshes = true;
-    REQUIRE(test::make_world(desc, &out.owned).ok());
-    ClothDesc cloth;
-    cloth.asset = &out.cooked.asset();
-    REQUIRE(add_cloth(out.owned.world, cloth, &out.cloth).ok());
-    if (sphere) {
-        ColliderDesc c;
-        c.shape = ColliderShape::sphere;
-        c.p0 = {0.1f, 0.5f, 0.05f};  // off-centre: the cloth slides and folds
-        c.radius_m = 0.3f;
-        c.inflation_m = 0.01f;
-        ColliderId id;
-        REQUIRE(add_collider(out.owned.world, c, &id).ok());
-    }
+    test::make_one_cloth_world(desc, sphere, out);
 }
 
 void read_render(const RenderWorld& w, std::vector<Vec3>& x, std::vector<Vec3>& n) {

@@ -3,6 +3,7 @@
 
 #include <doctest/doctest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <cstdlib>
 #include <cstring>
@@ -154,6 +155,33 @@ inline CookedCloth cook(const ClothMeshDesc& mesh, const CookOptions& options = 
     INFO(r.message);
     REQUIRE(r.ok());
     return cooked;
+}
+
+// One cooked cloth in a world the test owns (the render output's tests).
+struct OneClothWorld {
+    CookedCloth cooked;
+    OwnedWorld owned;
+    ClothId cloth;
+};
+
+// Creates `out`'s world from `desc` (world_for the cooked asset, plus the features under test) with
+// the cloth at its start pose and, with `sphere`, an off-centre ball under it that the cloth slides
+// and folds on. `out.cooked` must be filled first.
+inline void make_one_cloth_world(WorldDesc desc, bool sphere, OneClothWorld& out) {
+    desc.max_colliders = std::max(desc.max_colliders, sphere ? 1u : 0u);
+    REQUIRE(make_world(desc, &out.owned).ok());
+    ClothDesc cloth;
+    cloth.asset = &out.cooked.asset();
+    REQUIRE(add_cloth(out.owned.world, cloth, &out.cloth).ok());
+    if (sphere) {
+        ColliderDesc c;
+        c.shape = ColliderShape::sphere;
+        c.p0 = {0.1f, 0.5f, 0.05f};
+        c.radius_m = 0.3f;
+        c.inflation_m = 0.01f;
+        ColliderId id;
+        REQUIRE(add_collider(out.owned.world, c, &id).ok());
+    }
 }
 
 // Unconnected particles (no triangles, no springs), 10 g each, in caller order.
