@@ -7,24 +7,9 @@
 //   every frame: set_body_vertices(world, id, skinned, V); step(world, dt);
 //   at the end: destroy_world(world) (releases Embree's device), then free the block.
 //
-// The collision surface is the seed's offset hull: every body vertex pushed out along its
-// area-weighted normal by `thickness_m`, recomputed whenever the vertices move. Each substep every
-// particle looks for the closest hull point within thickness + margin + the motion of the nearby
-// body vertices at this step (a moving arm sweeps over resting cloth), through a box hierarchy of
-// Weft's own over the hull (refitted when the body moves, docs/garments.md); a
-// particle inside the hull is projected back onto it along the contact normal, with friction
-// relative to the moving surface, then searched once more and projected again (no friction) if
-// that landed it inside another part of the hull (a crease: between the thighs, the armpit). A
-// particle that moved further than the thickness in one substep is also checked by a ray from its
-// old to its new position, so it cannot cross a thin limb.
-//
-// The rays go through Embree, whose BVH is refitted only at a step that casts one.
-//
-// Memory: Weft's part (the hull, its normals, the previous pose, the triangles, the hierarchy) is
-// carved from the world's block; Embree's device is created by create_world (only when
-// max_bodies > 0) and each body's BVH by add_body. Refitting Embree's BVH (dynamic scene, refit
-// quality) takes no memory of Weft's, and inside Embree 3.13.5 at most one small transient heap
-// allocation per commit (tests/test_allocation.cpp). A still body costs no refit.
+// The collision surface is the seed's offset hull (every vertex pushed out `thickness_m` along its
+// normal); how each collision model searches and answers it, and what it costs in memory and time:
+// docs/garments.md, "Body colliders" and "Collision models".
 #pragma once
 
 #include "weft/types.h"
@@ -36,32 +21,21 @@ struct World;
 
 // How the step finds and answers contacts with a body (docs/garments.md, "Collision models").
 enum class BodyCollision : uint8_t {
-    // Every substep, every particle: the closest offset-hull point, the tunnelling ray, the crease rounds.
-    exact,
-    // The exact search at a step's first substep; later substeps project each particle onto its
-    // cached contact plane (Chaos Cloth's planar constraints) and search again only one that moved
-    // 2 mm or more. Needs WorldDesc::max_cached_plane_bodies.
-    cached_planes,
-    // A cloth bound to this body by skin constraints (weft/attachments.h) collides through their
-    // backstop and max distance only, no search; any other cloth gets the exact pass.
-    skin_constraints,
+    exact,             // every substep, every particle: the closest hull point, tunnelling ray, creases
+    cached_planes,     // exact at the first substep, then its contact plane (needs max_cached_plane_bodies)
+    skin_constraints,  // a cloth bound by skin constraints: their ball and backstop only, no search
 };
 
 struct BodyDesc {
-    // Rest pose: `vertex_count` positions (metres) and `triangle_count` triangles of three vertex
-    // indices each, wound counter-clockwise seen from outside (the normals point out). Copied into
-    // the world; the caller's arrays may go away after add_body.
-    const Vec3* positions = nullptr;
+    const Vec3* positions = nullptr;      // [vertex_count] rest pose, metres; copied by add_body
     uint32_t vertex_count = 0;
-    const uint32_t* triangles = nullptr;  // [3 * triangle_count]
+    const uint32_t* triangles = nullptr;  // [3 * triangle_count], counter-clockwise seen from outside
     uint32_t triangle_count = 0;
 
     float thickness_m = 0.005f;  // offset of the hull from the skin: the cloth's thickness
     float margin_m = 0.002f;     // query reach beyond the thickness (deeper particles go by the ray)
     float friction = 0.5f;       // Coulomb coefficient against the moving surface; 0 = frictionless
-    // exact by default: weft-bake's sewing and the tests' brute-force comparisons expect it; the
-    // scene files' default for a dressed garment is cached_planes (docs/scene-format.md).
-    BodyCollision collision = BodyCollision::exact;
+    BodyCollision collision = BodyCollision::exact;  // scene files choose per garment (docs/scene-format.md)
 };
 
 struct BodyId {  // as ClothId (weft/world.h): a place and its generation
@@ -102,6 +76,5 @@ struct BodyContact {
 };
 // `reach_m` > 0 looks that far instead (a metric's depth of particles deeper than the step reaches).
 Result query_body(const World* world, BodyId body, Vec3 point, BodyContact* out, float reach_m = 0.0f);
-
 
 }  // namespace weft
