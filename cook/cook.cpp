@@ -21,6 +21,7 @@
 #include "cook/lanes.h"
 #include "asset/garment_checks.h"
 #include "error.h"
+#include "weft/asset_format.h"
 #include "weft/cook.h"
 
 namespace weft {
@@ -29,100 +30,47 @@ void CookedCloth::refresh_asset(uint32_t particle_count, uint32_t colour_count, 
                                 uint32_t on_runs, uint32_t tethered_particles) {
     ClothAsset& a = asset_;
     a = ClothAsset();
+    // Every array, by the table of the file's sections (weft/asset_format.h).
+#define WEFT_ASSET_POINT(kind, number, type, field, storage, count) a.field = storage.empty() ? nullptr : storage.data();
+    WEFT_ASSET_SECTIONS(WEFT_ASSET_POINT)
+#undef WEFT_ASSET_POINT
+    // The counts and the other scalars.
     a.particle_count = particle_count;
     a.slot_count = uint32_t(particle_of_slot.size());
-    a.slot_of_particle = slot_of_particle.data();
-    a.particle_of_slot = particle_of_slot.data();
-    a.start_x = start_x.data();
-    a.start_y = start_y.data();
-    a.start_z = start_z.data();
-    a.inverse_mass = inverse_mass.data();
     a.lane_count = uint32_t(rest_length.size());
-    a.rest_length = rest_length.data();
-    a.lane_weight = lane_weight.data();
-    a.index_a = index_a.data();
-    a.index_b = index_b.data();
     a.batch_count = uint32_t(batches.size());
-    a.batches = batches.data();
     a.colour_count = colour_count;
     for (uint32_t k = 0; k < kConstraintKindCount; ++k) a.constraint_count[k] = counts[k];
     a.constraints_on_runs = on_runs;
     a.tether_lane_count = uint32_t(tether_rest[0].size());
-    a.tether_rest[0] = tether_rest[0].data();
-    a.tether_rest[1] = tether_rest[1].data();
     a.tether_batch_count = uint32_t(tether_batches.size());
-    a.tether_batches = tether_batches.data();
     a.tethered_particles = tethered_particles;
     a.tether_anchor_lane_count = uint32_t(tether_anchor[0].size());
-    a.tether_anchor[0] = tether_anchor[0].data();
-    a.tether_anchor[1] = tether_anchor[1].data();
     a.triangle_count = uint32_t(triangles.size() / 3);
-    a.triangles = triangles.data();
     a.wind_run_count = uint32_t(wind_runs.size());
-    a.wind_runs = wind_runs.data();
     a.wind_lane_count = uint32_t(wind_lane_weight.size());
-    a.wind_lane_weight = wind_lane_weight.data();
-    a.wind_rest_area = wind_rest_area.data();
     a.wind_run_triangles = wind_run_triangles;
     a.coarse_node_count = uint32_t(coarse_node_slot.size());
-    a.coarse_node_slot = coarse_node_slot.data();
     a.coarse_slot_count = uint32_t(coarse_node_of_slot.size());
-    a.coarse_slot_of_node = coarse_slot_of_node.data();
-    a.coarse_node_of_slot = coarse_node_of_slot.data();
-    a.coarse_inverse_mass = coarse_inverse_mass.data();
     a.coarse_constraint_count = coarse_constraint_count;
     a.coarse_lane_count = uint32_t(coarse_rest_length.size());
-    a.coarse_rest_length = coarse_rest_length.data();
-    a.coarse_lane_weight = coarse_lane_weight.data();
-    a.coarse_index_a = coarse_index_a.data();
-    a.coarse_index_b = coarse_index_b.data();
     a.coarse_batch_count = uint32_t(coarse_batches.size());
-    a.coarse_batches = coarse_batches.data();
     a.coarse_colour_count = coarse_colour_count;
-    for (uint32_t k = 0; k < kCoarseWeights; ++k) {
-        a.coarse_weight_node[k] = coarse_weight_node[k].data();
-        a.coarse_weight[k] = coarse_weight[k].data();
-    }
     a.coarse_lattice_cols = coarse_lattice_cols;
     a.lattice_plane_rows = lattice_plane_rows;
     a.lattice_plane_cols = lattice_plane_cols;
-    for (uint32_t parity = 0; parity < 2; ++parity) {
-        a.coarse_row_node[parity] = coarse_row_node[parity].data();
-        a.coarse_row_frac[parity] = coarse_row_frac[parity].data();
-        a.coarse_col_node[parity] = coarse_col_node[parity].data();
-        a.coarse_col_frac[parity] = coarse_col_frac[parity].data();
-    }
     a.simd_width = simd_width;
-    a.uv = uv.empty() ? nullptr : uv.data();
     a.seam_point_count = seam_first.empty() ? 0 : uint32_t(seam_first.size() - 1);
-    a.seam_first = seam_first.empty() ? nullptr : seam_first.data();
     a.seam_source_count = uint32_t(seam_source.size());
-    a.seam_source = seam_source.empty() ? nullptr : seam_source.data();
     a.panel_count = panel_count;
-    a.panel = panel.empty() ? nullptr : panel.data();
     a.has_fabric = has_fabric;
     a.fabric = fabric;
     a.sewn_point_count = uint32_t(sewn_particle.size());
-    a.sewn_particle = sewn_particle.empty() ? nullptr : sewn_particle.data();
-    a.sewn_uv_first = sewn_uv_first.empty() ? nullptr : sewn_uv_first.data();
     a.sewn_uv_count = uint32_t(sewn_uv.size() / 2);
-    a.sewn_uv = sewn_uv.empty() ? nullptr : sewn_uv.data();
     a.attachment_count = uint32_t(attached_particle.size());
-    a.attached_particle = attached_particle.empty() ? nullptr : attached_particle.data();
-    a.attached_triangle = attached_triangle.empty() ? nullptr : attached_triangle.data();
-    a.attached_weight = attached_weight.empty() ? nullptr : attached_weight.data();
-    a.skin = skin.constraints();
-    RenderMesh& r = a.render;
-    r.vertex_count = uint32_t(render_cloth_triangle.size());
-    if (r.vertex_count > 0) {
-        r.cloth_triangle = render_cloth_triangle.data();
-        r.weight_1 = render_weight_1.data();
-        r.weight_2 = render_weight_2.data();
-        r.offset_m = render_offset.data();
-        r.uv = render_uv.data();
-        r.triangle_count = uint32_t(render_triangles.size() / 3);
-        r.triangles = render_triangles.empty() ? nullptr : render_triangles.data();
-    }
+    a.skin.count = uint32_t(skin.particle.size());
+    a.render.vertex_count = uint32_t(render_cloth_triangle.size());
+    a.render.triangle_count = uint32_t(render_triangles.size() / 3);
 }
 
 namespace {

@@ -7,9 +7,11 @@
 #include <xxhash.h>
 
 #include <cstddef>
+#include <cstring>
 #include <functional>
 #include <limits>
 #include <random>
+#include <set>
 
 #include "asset/xxh64.h"
 #include "common/asset_writer.h"
@@ -234,6 +236,31 @@ TEST_CASE("round trip: every field of the asset survives write and load") {
     CHECK(loaded.asset.panel == nullptr);
     CHECK(loaded.asset.seam_first == nullptr);
     CHECK(!loaded.asset.has_fabric);
+}
+
+// WEFT_ASSET_SECTIONS against the struct: an array added to ClothAsset (its skin or render mesh
+// included) but not to the table, or a field listed twice, fails here.
+TEST_CASE("the table of sections names every array of ClothAsset once, the header every scalar") {
+    ClothAsset a;
+    std::memset(static_cast<void*>(&a), 0, sizeof(a));
+    AssetFileHeader h{};
+    std::set<const void*> fields;
+    uint32_t rows = 0;
+    visit_asset_sections(h, a, [&](AssetSectionKind, auto& field, uint64_t) {
+        fields.insert(&field);
+        ++rows;
+        std::memset(static_cast<void*>(&field), 0xFF, sizeof(field));
+    });
+    CHECK(fields.size() == rows);
+    pair_asset_scalars(h, a, [](auto&, auto& scalar) { std::memset(static_cast<void*>(&scalar), 0xFF, sizeof(scalar)); });
+    // Every 8-byte word of the struct holds a pointer or scalars: none may be left all zero.
+    static_assert(sizeof(ClothAsset) % 8 == 0);
+    for (size_t offset = 0; offset < sizeof(ClothAsset); offset += 8) {
+        uint64_t word;
+        std::memcpy(&word, reinterpret_cast<const std::byte*>(&a) + offset, sizeof(word));
+        CAPTURE(offset);
+        CHECK(word != 0);
+    }
 }
 
 TEST_CASE("a loaded asset steps bit-identically to the cooked one (100 steps)") {

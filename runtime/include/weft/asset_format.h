@@ -1,11 +1,14 @@
 // The layout of a baked asset file (docs/asset-format.md): magic, versions, the fixed header, the
-// section table, the section kinds, and the one table that maps sections to ClothAsset's arrays.
+// section table, and the one table of the sections (WEFT_ASSET_SECTIONS), ClothAsset's arrays.
 // For writers (lib/common/asset_writer.h), the loader (runtime/src/asset/load.cpp) and tools that
 // inspect files; a game loads files through weft/asset_file.h alone.
 #pragma once
 
+#include <algorithm>
 #include <cstddef>
 #include <cstdint>
+#include <type_traits>
+#include <utility>
 
 #include "weft/asset_file.h"
 
@@ -98,156 +101,125 @@ struct AssetSectionEntry {
     uint32_t alignment;      // a power of two >= kAssetSectionAlignment
 };
 
-// Every array of ClothAsset is one section. The numbers are the file's: never reuse one.
+// The table of the file's sections: one row per array of ClothAsset, in the order the writer lays
+// them out. It drives AssetSectionKind, asset_section_name, visit_asset_sections and
+// CookedCloth::refresh_asset; tests/test_asset_file.cpp checks it against ClothAsset. Columns: kind;
+// its number in the file (never reuse one; 51-58 came in 1.1, 59-64 in 1.2, 65-70 in 1.3); element
+// type; ClothAsset field; CookedCloth vector; element count from the header `h` (the named counts
+// are visit_asset_sections'), the section written when it is above 0.
+#define WEFT_ASSET_SECTIONS(X) \
+    X(slot_of_particle,      1,  uint32_t,        slot_of_particle,      slot_of_particle,      h.particle_count) \
+    X(particle_of_slot,      2,  uint32_t,        particle_of_slot,      particle_of_slot,      h.slot_count) \
+    X(start_x,               3,  float,           start_x,               start_x,               h.slot_count) \
+    X(start_y,               4,  float,           start_y,               start_y,               h.slot_count) \
+    X(start_z,               5,  float,           start_z,               start_z,               h.slot_count) \
+    X(inverse_mass,          6,  float,           inverse_mass,          inverse_mass,          h.slot_count) \
+    X(rest_length,           7,  float,           rest_length,           rest_length,           h.lane_count) \
+    X(lane_weight,           8,  float,           lane_weight,           lane_weight,           h.lane_count) \
+    X(index_a,               9,  uint32_t,        index_a,               index_a,               h.lane_count) \
+    X(index_b,               10, uint32_t,        index_b,               index_b,               h.lane_count) \
+    X(batches,               11, ConstraintBatch, batches,               batches,               h.batch_count) \
+    X(tether_rest_0,         12, float,           tether_rest[0],        tether_rest[0],        h.tether_lane_count) \
+    X(tether_rest_1,         13, float,           tether_rest[1],        tether_rest[1],        h.tether_lane_count) \
+    X(tether_batches,        14, TetherBatch,     tether_batches,        tether_batches,        h.tether_batch_count) \
+    X(triangles,             15, uint32_t,        triangles,             triangles,             3 * uint64_t(h.triangle_count)) \
+    X(wind_runs,             16, TriangleRun,     wind_runs,             wind_runs,             h.wind_run_count) \
+    X(wind_lane_weight,      17, float,           wind_lane_weight,      wind_lane_weight,      h.wind_lane_count) \
+    X(wind_rest_area,        50, float,           wind_rest_area,        wind_rest_area,        wind_areas) \
+    X(coarse_node_slot,      18, uint32_t,        coarse_node_slot,      coarse_node_slot,      h.coarse_node_count) \
+    X(coarse_inverse_mass,   19, float,           coarse_inverse_mass,   coarse_inverse_mass,   h.coarse_slot_count) \
+    X(coarse_slot_of_node,   43, uint32_t,        coarse_slot_of_node,   coarse_slot_of_node,   h.coarse_node_count) \
+    X(coarse_node_of_slot,   44, uint32_t,        coarse_node_of_slot,   coarse_node_of_slot,   h.coarse_slot_count) \
+    X(coarse_rest_length,    45, float,           coarse_rest_length,    coarse_rest_length,    h.coarse_lane_count) \
+    X(coarse_lane_weight,    46, float,           coarse_lane_weight,    coarse_lane_weight,    h.coarse_lane_count) \
+    X(coarse_index_a,        47, uint32_t,        coarse_index_a,        coarse_index_a,        h.coarse_lane_count) \
+    X(coarse_index_b,        48, uint32_t,        coarse_index_b,        coarse_index_b,        h.coarse_lane_count) \
+    X(coarse_batches,        49, ConstraintBatch, coarse_batches,        coarse_batches,        h.coarse_batch_count) \
+    X(coarse_weight_node_0,  23, uint32_t,        coarse_weight_node[0], coarse_weight_node[0], coarse_slots) \
+    X(coarse_weight_node_1,  24, uint32_t,        coarse_weight_node[1], coarse_weight_node[1], coarse_slots) \
+    X(coarse_weight_node_2,  25, uint32_t,        coarse_weight_node[2], coarse_weight_node[2], coarse_slots) \
+    X(coarse_weight_node_3,  26, uint32_t,        coarse_weight_node[3], coarse_weight_node[3], coarse_slots) \
+    X(coarse_weight_0,       27, float,           coarse_weight[0],      coarse_weight[0],      coarse_slots) \
+    X(coarse_weight_1,       28, float,           coarse_weight[1],      coarse_weight[1],      coarse_slots) \
+    X(coarse_weight_2,       29, float,           coarse_weight[2],      coarse_weight[2],      coarse_slots) \
+    X(coarse_weight_3,       30, float,           coarse_weight[3],      coarse_weight[3],      coarse_slots) \
+    X(coarse_row_node_0,     31, uint32_t,        coarse_row_node[0],    coarse_row_node[0],    plane_rows) \
+    X(coarse_row_node_1,     32, uint32_t,        coarse_row_node[1],    coarse_row_node[1],    plane_rows) \
+    X(coarse_row_frac_0,     33, float,           coarse_row_frac[0],    coarse_row_frac[0],    plane_rows) \
+    X(coarse_row_frac_1,     34, float,           coarse_row_frac[1],    coarse_row_frac[1],    plane_rows) \
+    X(coarse_col_node_0,     35, uint32_t,        coarse_col_node[0],    coarse_col_node[0],    plane_cols) \
+    X(coarse_col_node_1,     36, uint32_t,        coarse_col_node[1],    coarse_col_node[1],    plane_cols) \
+    X(coarse_col_frac_0,     37, float,           coarse_col_frac[0],    coarse_col_frac[0],    plane_cols) \
+    X(coarse_col_frac_1,     38, float,           coarse_col_frac[1],    coarse_col_frac[1],    plane_cols) \
+    X(uv,                    39, float,           uv,                    uv,                    uv_floats) \
+    X(seam_first,            40, uint32_t,        seam_first,            seam_first,            offsets(h.seam_point_count)) \
+    X(seam_source,           41, uint32_t,        seam_source,           seam_source,           h.seam_source_count) \
+    X(panel,                 42, uint16_t,        panel,                 panel,                 panels) \
+    X(sewn_particle,         51, uint32_t,        sewn_particle,         sewn_particle,         h.sewn_point_count) \
+    X(sewn_uv_first,         52, uint32_t,        sewn_uv_first,         sewn_uv_first,         offsets(h.sewn_point_count)) \
+    X(sewn_uv,               53, float,           sewn_uv,               sewn_uv,               2 * uint64_t(h.sewn_uv_count)) \
+    X(attached_particle,     54, uint32_t,        attached_particle,     attached_particle,     h.attachment_count) \
+    X(attached_triangle,     55, uint32_t,        attached_triangle,     attached_triangle,     h.attachment_count) \
+    X(attached_weight,       56, float,           attached_weight,       attached_weight,       3 * uint64_t(h.attachment_count)) \
+    X(tether_anchor_0,       57, uint32_t,        tether_anchor[0],      tether_anchor[0],      h.tether_anchor_lane_count) \
+    X(tether_anchor_1,       58, uint32_t,        tether_anchor[1],      tether_anchor[1],      h.tether_anchor_lane_count) \
+    X(skin_particle,         59, uint32_t,        skin.particle,         skin.particle,         h.skin_constraint_count) \
+    X(skin_triangle,         60, uint32_t,        skin.triangle,         skin.triangle,         h.skin_constraint_count) \
+    X(skin_weight,           61, float,           skin.weight,           skin.weight,           3 * uint64_t(h.skin_constraint_count)) \
+    X(skin_rest_offset,      62, float,           skin.rest_offset_m,    skin.rest_offset_m,    h.skin_constraint_count) \
+    X(skin_max_distance,     63, float,           skin.max_distance_m,   skin.max_distance_m,   h.skin_constraint_count) \
+    X(skin_backstop,         64, float,           skin.backstop_m,       skin.backstop_m,       h.skin_constraint_count) \
+    X(render_cloth_triangle, 65, uint32_t,        render.cloth_triangle, render_cloth_triangle, h.render_vertex_count) \
+    X(render_weight_1,       66, float,           render.weight_1,       render_weight_1,       h.render_vertex_count) \
+    X(render_weight_2,       67, float,           render.weight_2,       render_weight_2,       h.render_vertex_count) \
+    X(render_offset,         68, float,           render.offset_m,       render_offset,         h.render_vertex_count) \
+    X(render_triangles,      69, uint32_t,        render.triangles,      render_triangles,      3 * uint64_t(h.render_triangle_count)) \
+    X(render_uv,             70, float,           render.uv,             render_uv,             2 * uint64_t(h.render_vertex_count))
+
+// The section kinds, numbered as in the file.
 enum class AssetSectionKind : uint32_t {
-    slot_of_particle = 1,
-    particle_of_slot,
-    start_x,
-    start_y,
-    start_z,
-    inverse_mass,
-    rest_length,
-    lane_weight,
-    index_a,
-    index_b,
-    batches,  // 11
-    tether_rest_0,
-    tether_rest_1,
-    tether_batches,
-    triangles,
-    wind_runs,
-    wind_lane_weight,
-    coarse_node_slot,
-    coarse_inverse_mass,
-    retired_20,  // kinds 20-22 held the coarse constraints before they became lanes: never written
-    retired_21,
-    retired_22,
-    coarse_weight_node_0,
-    coarse_weight_node_1,
-    coarse_weight_node_2,
-    coarse_weight_node_3,
-    coarse_weight_0,
-    coarse_weight_1,
-    coarse_weight_2,
-    coarse_weight_3,
-    coarse_row_node_0,  // 31
-    coarse_row_node_1,
-    coarse_row_frac_0,
-    coarse_row_frac_1,
-    coarse_col_node_0,
-    coarse_col_node_1,
-    coarse_col_frac_0,
-    coarse_col_frac_1,
-    uv,
-    seam_first,
-    seam_source,  // 41
-    panel,
-    coarse_slot_of_node,  // 43
-    coarse_node_of_slot,
-    coarse_rest_length,
-    coarse_lane_weight,
-    coarse_index_a,
-    coarse_index_b,
-    coarse_batches,  // 49
-    wind_rest_area,  // 50
-    sewn_particle,   // 51 (1.1)
-    sewn_uv_first,
-    sewn_uv,
-    attached_particle,  // 54 (1.1)
-    attached_triangle,
-    attached_weight,
-    tether_anchor_0,  // 57 (1.1, in place of the header's reserved word)
-    tether_anchor_1,
-    skin_particle,  // 59 (1.2)
-    skin_triangle,
-    skin_weight,
-    skin_rest_offset,
-    skin_max_distance,
-    skin_backstop,  // 64
-    render_cloth_triangle,  // 65 (1.3)
-    render_weight_1,
-    render_weight_2,
-    render_offset,
-    render_triangles,
-    render_uv,  // 70
+#define WEFT_ASSET_KIND(kind, number, ...) kind = number,
+    WEFT_ASSET_SECTIONS(WEFT_ASSET_KIND)
+#undef WEFT_ASSET_KIND
+    retired_20 = 20,  // kinds 20-22 held the coarse constraints before they became lanes: never written
+    retired_21 = 21,
+    retired_22 = 22,
 };
-inline constexpr uint32_t kAssetSectionKindCount = 70;  // known kinds: 1..kAssetSectionKindCount
+#define WEFT_ASSET_NUMBER(kind, number, ...) number,
+inline constexpr uint32_t kAssetSectionKindCount = std::max({WEFT_ASSET_SECTIONS(WEFT_ASSET_NUMBER)});
+#undef WEFT_ASSET_NUMBER
+// Known kinds are 1..kAssetSectionKindCount, each a row or retired (asset_section_name's switch
+// refuses a number used twice).
+#define WEFT_ASSET_ROW(...) +1
+static_assert(WEFT_ASSET_SECTIONS(WEFT_ASSET_ROW) + 3 == kAssetSectionKindCount);
+#undef WEFT_ASSET_ROW
+// Each row's ClothAsset field points to the row's element type.
+#define WEFT_ASSET_FIELD_TYPE(kind, number, type, field, ...) \
+    static_assert(std::is_same_v<std::remove_cvref_t<decltype(std::declval<ClothAsset&>().field)>, const type*>);
+WEFT_ASSET_SECTIONS(WEFT_ASSET_FIELD_TYPE)
+#undef WEFT_ASSET_FIELD_TYPE
 
 // Name of a section kind ("unknown" for kinds this runtime does not know).
 const char* asset_section_name(uint32_t kind);
 
-// Visits every section of ClothAsset `a` (const for a writer, mutable for the loader) in kind
-// order: visit(kind, field, element_count), `field` a reference to the asset's pointer. The counts
-// come from the header `h`; a section is present in a file exactly when its count is above 0.
-// This is the one table of sections: the writer and the loader both walk it.
+// Visits every section of ClothAsset `a` (const for a writer, mutable for the loader) in the
+// table's order: visit(kind, field, element_count), `field` a reference to the asset's pointer.
+// The counts come from the header `h`; a section is present in a file exactly when its count is
+// above 0. The writer and the loader both walk it.
 template <class Asset, class Visit>
 void visit_asset_sections(const AssetFileHeader& h, Asset& a, Visit&& visit) {
-    using K = AssetSectionKind;
-    const uint64_t slots = h.slot_count, coarse_slots = h.coarse_node_count > 0 ? h.slot_count : 0;
+    // The counts the table names: shared by rows, or conditional.
+    const uint64_t coarse_slots = h.coarse_node_count > 0 ? h.slot_count : 0;
     const uint64_t plane_rows = h.coarse_lattice_cols > 0 ? h.lattice_plane_rows : 0;
     const uint64_t plane_cols = h.coarse_lattice_cols > 0 ? h.lattice_plane_cols : 0;
-    visit(K::slot_of_particle, a.slot_of_particle, uint64_t(h.particle_count));
-    visit(K::particle_of_slot, a.particle_of_slot, slots);
-    visit(K::start_x, a.start_x, slots);
-    visit(K::start_y, a.start_y, slots);
-    visit(K::start_z, a.start_z, slots);
-    visit(K::inverse_mass, a.inverse_mass, slots);
-    visit(K::rest_length, a.rest_length, uint64_t(h.lane_count));
-    visit(K::lane_weight, a.lane_weight, uint64_t(h.lane_count));
-    visit(K::index_a, a.index_a, uint64_t(h.lane_count));
-    visit(K::index_b, a.index_b, uint64_t(h.lane_count));
-    visit(K::batches, a.batches, uint64_t(h.batch_count));
-    visit(K::tether_rest_0, a.tether_rest[0], uint64_t(h.tether_lane_count));
-    visit(K::tether_rest_1, a.tether_rest[1], uint64_t(h.tether_lane_count));
-    visit(K::tether_batches, a.tether_batches, uint64_t(h.tether_batch_count));
-    visit(K::triangles, a.triangles, 3 * uint64_t(h.triangle_count));
-    visit(K::wind_runs, a.wind_runs, uint64_t(h.wind_run_count));
-    visit(K::wind_lane_weight, a.wind_lane_weight, uint64_t(h.wind_lane_count));
-    visit(K::wind_rest_area, a.wind_rest_area,
-          uint64_t(h.wind_lane_count) + (h.triangle_count >= h.wind_run_triangles ? h.triangle_count - h.wind_run_triangles : 0));
-    visit(K::coarse_node_slot, a.coarse_node_slot, uint64_t(h.coarse_node_count));
-    visit(K::coarse_inverse_mass, a.coarse_inverse_mass, uint64_t(h.coarse_slot_count));
-    visit(K::coarse_slot_of_node, a.coarse_slot_of_node, uint64_t(h.coarse_node_count));
-    visit(K::coarse_node_of_slot, a.coarse_node_of_slot, uint64_t(h.coarse_slot_count));
-    visit(K::coarse_rest_length, a.coarse_rest_length, uint64_t(h.coarse_lane_count));
-    visit(K::coarse_lane_weight, a.coarse_lane_weight, uint64_t(h.coarse_lane_count));
-    visit(K::coarse_index_a, a.coarse_index_a, uint64_t(h.coarse_lane_count));
-    visit(K::coarse_index_b, a.coarse_index_b, uint64_t(h.coarse_lane_count));
-    visit(K::coarse_batches, a.coarse_batches, uint64_t(h.coarse_batch_count));
-    for (uint32_t k = 0; k < kCoarseWeights; ++k)
-        visit(K(uint32_t(K::coarse_weight_node_0) + k), a.coarse_weight_node[k], coarse_slots);
-    for (uint32_t k = 0; k < kCoarseWeights; ++k)
-        visit(K(uint32_t(K::coarse_weight_0) + k), a.coarse_weight[k], coarse_slots);
-    for (uint32_t p = 0; p < 2; ++p) visit(K(uint32_t(K::coarse_row_node_0) + p), a.coarse_row_node[p], plane_rows);
-    for (uint32_t p = 0; p < 2; ++p) visit(K(uint32_t(K::coarse_row_frac_0) + p), a.coarse_row_frac[p], plane_rows);
-    for (uint32_t p = 0; p < 2; ++p) visit(K(uint32_t(K::coarse_col_node_0) + p), a.coarse_col_node[p], plane_cols);
-    for (uint32_t p = 0; p < 2; ++p) visit(K(uint32_t(K::coarse_col_frac_0) + p), a.coarse_col_frac[p], plane_cols);
-    visit(K::uv, a.uv, h.has_uv != 0 ? 2 * uint64_t(h.particle_count) : 0);
-    visit(K::seam_first, a.seam_first, h.seam_point_count > 0 ? uint64_t(h.seam_point_count) + 1 : 0);
-    visit(K::seam_source, a.seam_source, uint64_t(h.seam_source_count));
-    visit(K::panel, a.panel, h.panel_count > 0 ? uint64_t(h.particle_count) : 0);
-    visit(K::sewn_particle, a.sewn_particle, uint64_t(h.sewn_point_count));
-    visit(K::sewn_uv_first, a.sewn_uv_first, h.sewn_point_count > 0 ? uint64_t(h.sewn_point_count) + 1 : 0);
-    visit(K::sewn_uv, a.sewn_uv, 2 * uint64_t(h.sewn_uv_count));
-    visit(K::attached_particle, a.attached_particle, uint64_t(h.attachment_count));
-    visit(K::attached_triangle, a.attached_triangle, uint64_t(h.attachment_count));
-    visit(K::attached_weight, a.attached_weight, 3 * uint64_t(h.attachment_count));
-    visit(K::tether_anchor_0, a.tether_anchor[0], uint64_t(h.tether_anchor_lane_count));
-    visit(K::tether_anchor_1, a.tether_anchor[1], uint64_t(h.tether_anchor_lane_count));
-    const uint64_t skin = h.skin_constraint_count;
-    visit(K::skin_particle, a.skin.particle, skin);
-    visit(K::skin_triangle, a.skin.triangle, skin);
-    visit(K::skin_weight, a.skin.weight, 3 * skin);
-    visit(K::skin_rest_offset, a.skin.rest_offset_m, skin);
-    visit(K::skin_max_distance, a.skin.max_distance_m, skin);
-    visit(K::skin_backstop, a.skin.backstop_m, skin);
-    const uint64_t render = h.render_vertex_count;
-    visit(K::render_cloth_triangle, a.render.cloth_triangle, render);
-    visit(K::render_weight_1, a.render.weight_1, render);
-    visit(K::render_weight_2, a.render.weight_2, render);
-    visit(K::render_offset, a.render.offset_m, render);
-    visit(K::render_triangles, a.render.triangles, 3 * uint64_t(h.render_triangle_count));
-    visit(K::render_uv, a.render.uv, 2 * render);
+    const uint64_t wind_areas =  // the wind lanes, then the triangles done one at a time
+        uint64_t(h.wind_lane_count) + (h.triangle_count >= h.wind_run_triangles ? h.triangle_count - h.wind_run_triangles : 0);
+    const uint64_t uv_floats = h.has_uv != 0 ? 2 * uint64_t(h.particle_count) : 0;
+    const uint64_t panels = h.panel_count > 0 ? h.particle_count : 0;
+    const auto offsets = [](uint32_t points) { return points > 0 ? uint64_t(points) + 1 : 0; };  // CSR
+#define WEFT_ASSET_VISIT(kind, number, type, field, storage, count) visit(AssetSectionKind::kind, a.field, uint64_t(count));
+    WEFT_ASSET_SECTIONS(WEFT_ASSET_VISIT)
+#undef WEFT_ASSET_VISIT
 }
 
 // Copies ClothAsset's scalar fields between the header and an asset, in either direction:

@@ -51,21 +51,16 @@ static_assert(sizeof(AssetSectionEntry) == 32 && offsetof(AssetSectionEntry, off
 static_assert(kAssetChecksumStart == offsetof(AssetFileHeader, checksum) + sizeof(uint64_t));
 
 const char* asset_section_name(uint32_t kind) {
-    static const char* const names[kAssetSectionKindCount + 1] = {
-        "unknown", "slot_of_particle", "particle_of_slot", "start_x", "start_y", "start_z", "inverse_mass",
-        "rest_length", "lane_weight", "index_a", "index_b", "batches", "tether_rest_0", "tether_rest_1",
-        "tether_batches", "triangles", "wind_runs", "wind_lane_weight", "coarse_node_slot",
-        "coarse_inverse_mass", "retired_20", "retired_21", "retired_22", "coarse_weight_node_0",
-        "coarse_weight_node_1", "coarse_weight_node_2", "coarse_weight_node_3", "coarse_weight_0",
-        "coarse_weight_1", "coarse_weight_2", "coarse_weight_3", "coarse_row_node_0", "coarse_row_node_1",
-        "coarse_row_frac_0", "coarse_row_frac_1", "coarse_col_node_0", "coarse_col_node_1",
-        "coarse_col_frac_0", "coarse_col_frac_1", "uv", "seam_first", "seam_source", "panel",
-        "coarse_slot_of_node", "coarse_node_of_slot", "coarse_rest_length", "coarse_lane_weight", "coarse_index_a",
-        "coarse_index_b", "coarse_batches", "wind_rest_area", "sewn_particle", "sewn_uv_first", "sewn_uv", "attached_particle", "attached_triangle", "attached_weight",
-        "tether_anchor_0", "tether_anchor_1", "skin_particle", "skin_triangle", "skin_weight", "skin_rest_offset",
-        "skin_max_distance", "skin_backstop", "render_cloth_triangle", "render_weight_1", "render_weight_2",
-        "render_offset", "render_triangles", "render_uv"};
-    return kind <= kAssetSectionKindCount ? names[kind] : names[0];
+    using K = AssetSectionKind;
+    switch (K(kind)) {
+#define WEFT_ASSET_NAME(name, ...) case K::name: return #name;
+        WEFT_ASSET_SECTIONS(WEFT_ASSET_NAME)
+#undef WEFT_ASSET_NAME
+        case K::retired_20: return "retired_20";
+        case K::retired_21: return "retired_21";
+        case K::retired_22: return "retired_22";
+    }
+    return "unknown";
 }
 
 namespace {
