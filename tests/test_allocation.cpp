@@ -27,6 +27,7 @@
 #include "common/crowd.h"
 #include "common/seed_scenes.h"
 #include "common/thread_pool.h"
+#include "support/test_support.h"
 #include "weft/weft.h"
 #include "weft/weft_c.h"
 #include "weft/cook.h"
@@ -200,11 +201,7 @@ using scenes::SeedScene;
 
 namespace {
 
-std::vector<SimdPath> available_paths() {
-    std::vector<SimdPath> paths{SimdPath::scalar};
-    if (simd_path_available(SimdPath::avx2)) paths.push_back(SimdPath::avx2);
-    return paths;
-}
+using test::available_paths;
 
 std::unique_ptr<scenes::SeedWorld> make_scene(SeedScene scene, SimdPath path, bool profile, uint32_t n = 50,
                                               bool contact_tethers = false, bool normals = false) {
@@ -420,16 +417,7 @@ TEST_CASE("a frame's calls allocate nothing: set_wind, set_collider, step, read_
 }
 
 TEST_CASE("a frame with tangents and a render mesh allocates nothing: step, read_normals, read_tangents, read_render_mesh") {
-    const scenes::GridMesh grid = scenes::make_grid(24, 1.0f, 1.0f, false, 1.0f);
-    std::vector<float> uv;
-    for (const Vec3& x : grid.positions) uv.insert(uv.end(), {x.x, x.z});
-    ClothMeshDesc mesh = grid.desc();
-    mesh.uv = uv.data();
-    CookedCloth cooked;
-    REQUIRE(cook_cloth(mesh, CookOptions{}, &cooked).ok());
-    RenderMeshSource fine;
-    REQUIRE(subdivide_cloth_mesh(cooked.asset(), 1, &fine).ok());
-    REQUIRE(bind_render_mesh(fine.desc(), &cooked).ok());
+    const CookedCloth cooked = test::uv_grid_with_render_mesh(24);
     const uint32_t render_vertices = cooked.asset().render.vertex_count;
     for (SimdPath path : available_paths()) {
         WorldDesc desc;
@@ -452,8 +440,8 @@ TEST_CASE("a frame with tangents and a render mesh allocates nothing: step, read
         sphere.radius_m = 0.3f;
         ColliderId collider;
         REQUIRE(add_collider(world, sphere, &collider).ok());
-        std::vector<Vec3> normals(mesh.particle_count);
-        std::vector<Vec4> tangents(mesh.particle_count);
+        std::vector<Vec3> normals(cooked.asset().particle_count);
+        std::vector<Vec4> tangents(cooked.asset().particle_count);
         std::vector<Vec3> render_x(render_vertices), render_n(render_vertices);
         uint32_t failures = 0;
         uint64_t allocations = 0;
@@ -461,8 +449,8 @@ TEST_CASE("a frame with tangents and a render mesh allocates nothing: step, read
             CountingScope counting;
             for (uint32_t i = 0; i < 300; ++i) {
                 failures += !step(world, 1.0f / 60.0f).ok();
-                failures += !read_normals(world, cloth, normals.data(), mesh.particle_count).ok();
-                failures += !read_tangents(world, cloth, tangents.data(), mesh.particle_count).ok();
+                failures += !read_normals(world, cloth, normals.data(), cooked.asset().particle_count).ok();
+                failures += !read_tangents(world, cloth, tangents.data(), cooked.asset().particle_count).ok();
                 failures += !read_render_mesh(world, cloth, render_x.data(), render_n.data(), render_vertices).ok();
             }
             allocations = counting.allocations();

@@ -169,6 +169,34 @@ void check_steps_alike(const ClothAsset& cooked, const ClothAsset& loaded, uint3
     CHECK(same_bits(positions[0], positions[1]));
 }
 
+// One element of one section overwritten: the file must be refused, naming the fault in `words`.
+struct Corruption {
+    const char* name;
+    AssetSectionKind kind;
+    uint32_t element;
+    std::function<void(Bytes&, size_t)> write;  // at the element's offset
+    const char* words;
+};
+
+template <size_t N>
+void expect_each_refused(const Bytes& file, const Corruption (&cases)[N]) {
+    for (const Corruption& c : cases) {
+        CAPTURE(c.name);
+        Bytes broken = file;
+        bool found = false;
+        for (uint32_t i = 0; i < section_count(broken); ++i) {
+            const AssetSectionEntry e = entry(broken, i);
+            if (e.kind != uint32_t(c.kind)) continue;
+            c.write(broken, e.offset + size_t(c.element) * e.element_size);
+            found = true;
+        }
+        REQUIRE(found);
+        fix_checksum(broken);
+        const std::string message = expect_refused(broken, ErrorCode::corrupt_asset);
+        CHECK(message.find(c.words) != std::string::npos);
+    }
+}
+
 }  // namespace
 
 TEST_CASE("xxh64: bit-equal to libxxhash on every length 0..300, any alignment, and big buffers") {
@@ -527,13 +555,6 @@ TEST_CASE("skin constraints: their sections round-trip, and a corrupt one is ref
 
     using K = AssetSectionKind;
     const float nan = std::numeric_limits<float>::quiet_NaN();
-    struct Corruption {
-        const char* name;
-        K kind;
-        uint32_t element;
-        std::function<void(Bytes&, size_t)> write;  // at the element's offset
-        const char* words;
-    };
     const ClothAsset& a = cooked.asset();
     uint32_t pinned = 0;  // a pinned corner
     while (a.inverse_mass[a.slot_of_particle[pinned]] != 0.0f) ++pinned;
@@ -550,21 +571,7 @@ TEST_CASE("skin constraints: their sections round-trip, and a corrupt one is ref
         {"backstop not finite", K::skin_backstop, 0,
          [](Bytes& f, size_t at) { write_at(f, at, std::numeric_limits<float>::infinity()); }, "not finite"},
     };
-    for (const Corruption& c : cases) {
-        CAPTURE(c.name);
-        Bytes broken = file;
-        bool found = false;
-        for (uint32_t i = 0; i < section_count(broken); ++i) {
-            const AssetSectionEntry e = entry(broken, i);
-            if (e.kind != uint32_t(c.kind)) continue;
-            c.write(broken, e.offset + size_t(c.element) * e.element_size);
-            found = true;
-        }
-        REQUIRE(found);
-        fix_checksum(broken);
-        const std::string message = expect_refused(broken, ErrorCode::corrupt_asset);
-        CHECK(message.find(c.words) != std::string::npos);
-    }
+    expect_each_refused(file, cases);
     // The header's count without the sections, and a section count that disagrees with it.
     Bytes counted = write(plain.asset());
     write_at(counted, offsetof(AssetFileHeader, skin_constraint_count), uint32_t(2));
@@ -606,13 +613,6 @@ TEST_CASE("render mesh: its sections round-trip in a 1.3 file, an asset without 
 
     using K = AssetSectionKind;
     const float nan = std::numeric_limits<float>::quiet_NaN();
-    struct Corruption {
-        const char* name;
-        K kind;
-        uint32_t element;
-        std::function<void(Bytes&, size_t)> write;
-        const char* words;
-    };
     const uint32_t triangles = cooked.asset().triangle_count, vertices = cooked.asset().render.vertex_count;
     const Corruption cases[] = {
         {"cloth triangle past the cloth's", K::render_cloth_triangle, 3, [&](Bytes& f, size_t at) { write_at(f, at, triangles); },
@@ -625,21 +625,7 @@ TEST_CASE("render mesh: its sections round-trip in a 1.3 file, an asset without 
          "names vertex"},
         {"uv not finite", K::render_uv, 1, [&](Bytes& f, size_t at) { write_at(f, at, nan); }, "not finite"},
     };
-    for (const Corruption& c : cases) {
-        CAPTURE(c.name);
-        Bytes broken = file;
-        bool found = false;
-        for (uint32_t i = 0; i < section_count(broken); ++i) {
-            const AssetSectionEntry e = entry(broken, i);
-            if (e.kind != uint32_t(c.kind)) continue;
-            c.write(broken, e.offset + size_t(c.element) * e.element_size);
-            found = true;
-        }
-        REQUIRE(found);
-        fix_checksum(broken);
-        const std::string message = expect_refused(broken, ErrorCode::corrupt_asset);
-        CHECK(message.find(c.words) != std::string::npos);
-    }
+    expect_each_refused(file, cases);
     Bytes more = file;
     write_at(more, offsetof(AssetFileHeader, render_vertex_count), vertices + 1);
     fix_checksum(more);

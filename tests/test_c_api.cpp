@@ -161,16 +161,7 @@ TEST_CASE("C API: normals of a flat square point along its winding's normal, are
 }
 
 TEST_CASE("C API: tangents and a render mesh read the same bits as through world.h") {
-    const scenes::GridMesh grid = scenes::make_grid(12, 1.0f, 1.0f, false, 1.0f);
-    std::vector<float> uv;
-    for (const Vec3& x : grid.positions) uv.insert(uv.end(), {x.x, x.z});
-    ClothMeshDesc mesh = grid.desc();
-    mesh.uv = uv.data();
-    CookedCloth cooked;
-    REQUIRE(cook_cloth(mesh, CookOptions{}, &cooked).ok());
-    RenderMeshSource fine;
-    REQUIRE(subdivide_cloth_mesh(cooked.asset(), 1, &fine).ok());
-    REQUIRE(bind_render_mesh(fine.desc(), &cooked).ok());
+    const CookedCloth cooked = uv_grid_with_render_mesh(12);
     const ClothAsset& a = cooked.asset();
 
     // C: the file loaded, a world with tangents and render meshes.

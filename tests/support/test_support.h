@@ -157,6 +157,21 @@ inline CookedCloth cook(const ClothMeshDesc& mesh, const CookOptions& options = 
     return cooked;
 }
 
+// A flat n x n grid cloth 1 m wide with uv (x, z) metres, cooked, with a render mesh: its own
+// triangles cut into four `levels` times (the render output's allocation and C API tests).
+inline CookedCloth uv_grid_with_render_mesh(uint32_t n, uint32_t levels = 1) {
+    const scenes::GridMesh grid = scenes::make_grid(n, 1.0f, 1.0f, false, 1.0f);
+    std::vector<float> uv;
+    for (const Vec3& x : grid.positions) uv.insert(uv.end(), {x.x, x.z});
+    ClothMeshDesc mesh = grid.desc();
+    mesh.uv = uv.data();
+    CookedCloth cooked = cook(mesh);
+    RenderMeshSource fine;
+    REQUIRE(subdivide_cloth_mesh(cooked.asset(), levels, &fine).ok());
+    REQUIRE(bind_render_mesh(fine.desc(), &cooked).ok());
+    return cooked;
+}
+
 // One cooked cloth in a world the test owns (the render output's tests).
 struct OneClothWorld {
     CookedCloth cooked;
