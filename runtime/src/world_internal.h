@@ -1,6 +1,7 @@
 // The world's private layout. Everything here lives inside the caller's memory block.
 #pragma once
 
+#include "asset/validate.h"
 #include "collide/body.h"
 #include "error.h"
 #include "kernels.h"
@@ -176,8 +177,5 @@ bool is_finite(Vec3 v);
 
 // Applies the budget policy (ClothDesc::policy) to a cloth's settings.
 SolverSplit resolve_split(const ClothDesc& desc, const ClothAsset& asset);
-
-// Creation-time validation that uses the world's scratch instead of allocating.
-Result validate_asset_with_scratch(const ClothAsset& asset, uint32_t* scratch, uint32_t scratch_count);
 
 }  // namespace weft

@@ -14,9 +14,10 @@
 #include <cstring>
 #include <type_traits>
 
+#include "asset/validate.h"
 #include "asset/xxh64.h"
+#include "error.h"
 #include "weft/asset_format.h"
-#include "world_internal.h"
 
 namespace weft {
 

@@ -6,7 +6,8 @@
 #include <vector>
 
 #include "asset/garment_checks.h"
-#include "world_internal.h"
+#include "asset/validate.h"
+#include "error.h"
 
 namespace weft {
 namespace {
