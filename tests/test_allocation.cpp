@@ -416,6 +416,41 @@ TEST_CASE("a frame's calls allocate nothing: set_wind, set_collider, step, read_
     }
 }
 
+TEST_CASE("sleeping cloths allocate nothing: falling asleep, sleeping steps, waking by a collider and wake_cloth") {
+    for (SimdPath path : available_paths()) {
+        CAPTURE(simd_path_name(path));
+        scenes::SceneOptions o;
+        o.n = 16;
+        o.simd = path;
+        o.sphere_friction = 1.0f;  // at rest in about 260 frames (test_sleep.cpp)
+        scenes::Scene scene = scenes::seed_scene(SeedScene::sphere, o);
+        scene.cloths[0].desc.sleep_speed_m_s = 0.02f;
+        scenes::SceneWorld w;
+        REQUIRE(scenes::build_scene(scene, &w).empty());
+        ColliderDesc sphere = scene.colliders[0];
+        uint32_t failures = 0;
+        uint64_t allocations = 0, slept = 0;
+        bool asleep = false;
+        {
+            CountingScope counting;
+            for (uint32_t i = 0; i < 800; ++i) {
+                if (i == 700) {  // asleep by now: woken by its sphere, then once more by the call
+                    sphere.p0.y += 0.01f;
+                    failures += !set_collider(w.world, w.colliders[0], sphere).ok();
+                    failures += !wake_cloth(w.world, w.cloths[0].id).ok();
+                }
+                failures += !step(w.world, w.dt_s).ok();
+                failures += !cloth_is_sleeping(w.world, w.cloths[0].id, &asleep).ok();
+                slept += asleep;
+            }
+            allocations = counting.allocations();
+        }
+        CHECK(failures == 0);
+        CHECK(slept > 0);  // it slept
+        CHECK(allocations == 0);
+    }
+}
+
 TEST_CASE("a frame with tangents and a render mesh allocates nothing: step, read_normals, read_tangents, read_render_mesh") {
     const CookedCloth cooked = test::uv_grid_with_render_mesh(24);
     const uint32_t render_vertices = cooked.asset().render.vertex_count;

@@ -400,3 +400,34 @@ TEST_CASE("C API: stale ids and a destroyed world give an error, not a crash") {
     weft_destroy_world(nullptr);
     CHECK_WEFT_ERROR(weft_step(nullptr, 0.01f), WEFT_INVALID_ARGUMENT);
 }
+
+TEST_CASE("C API: a cloth with a sleep speed falls asleep on the sphere, wakes on weft_wake_cloth, refuses bad input") {
+    const scenes::SceneOptions o = scene_options(8);
+    auto cpp = make_scene(SeedScene::sphere, o);
+    std::vector<ColliderDesc> colliders = scenes::seed_scene(SeedScene::sphere, o).colliders;
+    colliders[0].friction = 1.0f;  // at rest in bounds (test_sleep.cpp)
+    auto c = make_c_world(cpp->asset(), WEFT_SIMD_AUTOMATIC, colliders);
+    WeftClothDesc desc = weft_default_cloth_desc(c->asset);
+    CHECK(desc.sleep_speed_m_s == 0.0f);  // never sleeps by default
+    desc.sleep_speed_m_s = -1.0f;
+    WeftClothId sleeper = 0;
+    CHECK_WEFT_ERROR(weft_add_cloth(c->world, &desc, &sleeper), WEFT_OUT_OF_RANGE);
+    REQUIRE_WEFT_OK(weft_remove_cloth(c->world, c->cloth));  // room for the sleeper
+    desc.sleep_speed_m_s = 0.02f;
+    REQUIRE_WEFT_OK(weft_add_cloth(c->world, &desc, &sleeper));
+    int asleep = 1;
+    REQUIRE_WEFT_OK(weft_cloth_is_sleeping(c->world, sleeper, &asleep));
+    CHECK(asleep == 0);
+    for (uint32_t frame = 0; frame < 600 && asleep == 0; ++frame) {
+        REQUIRE_WEFT_OK(weft_step(c->world, cpp->dt_s));
+        REQUIRE_WEFT_OK(weft_cloth_is_sleeping(c->world, sleeper, &asleep));
+    }
+    CHECK(asleep == 1);
+    REQUIRE_WEFT_OK(weft_wake_cloth(c->world, sleeper));
+    REQUIRE_WEFT_OK(weft_cloth_is_sleeping(c->world, sleeper, &asleep));
+    CHECK(asleep == 0);
+    CHECK_WEFT_ERROR(weft_cloth_is_sleeping(c->world, sleeper, nullptr), WEFT_INVALID_ARGUMENT);
+    CHECK_WEFT_ERROR(weft_cloth_is_sleeping(c->world, c->cloth, &asleep), WEFT_STALE_ID);
+    CHECK_WEFT_ERROR(weft_wake_cloth(c->world, c->cloth), WEFT_STALE_ID);
+    CHECK_WEFT_ERROR(weft_wake_cloth(nullptr, sleeper), WEFT_INVALID_ARGUMENT);
+}

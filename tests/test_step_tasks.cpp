@@ -19,6 +19,8 @@ using namespace weft::test;
 namespace {
 
 constexpr uint32_t kFrames = 40;
+constexpr float kCrowdSleepSpeed_m_s = 0.05f;  // a standing character's garments sleep at this speed
+constexpr uint32_t kFramesToSleep = 150;       // and within this many frames (2.5 s)
 
 scenes::CrowdOptions crowd_options(uint32_t characters) {
     scenes::CrowdOptions o;
@@ -44,12 +46,22 @@ uint64_t hash_crowd(scenes::Crowd& crowd) {
 
 enum class Drive { step_alone, step_with_pool, items_backwards };
 
+// Some characters standing still and their cloths allowed to sleep (ClothDesc::sleep_speed_m_s).
+struct Sleep {
+    uint32_t standing = 0;
+    float speed_m_s = 0.0f;
+    uint32_t frames = kFrames;
+    uint64_t* sleeping = nullptr;  // out: WorldStats::sleeping_cloths after the last frame
+};
+
 // The crowd stepped kFrames frames: by step() (with the pool's scheduler when `threads` > 0), or
 // by the stage calls with every item run on its own, last item first.
-uint64_t run_crowd(uint32_t characters, Drive drive, uint32_t threads, SimdPath path) {
+uint64_t run_crowd(uint32_t characters, Drive drive, uint32_t threads, SimdPath path, const Sleep& sleep = {}) {
     std::unique_ptr<tools::ThreadPool> pool;
     scenes::CrowdOptions o = crowd_options(characters);
     o.simd = path;
+    o.standing = sleep.standing;
+    o.sleep_speed_m_s = sleep.speed_m_s;
     if (drive == Drive::step_with_pool) {
         pool = std::make_unique<tools::ThreadPool>(threads);
         o.scheduler = pool->scheduler();
@@ -58,7 +70,7 @@ uint64_t run_crowd(uint32_t characters, Drive drive, uint32_t threads, SimdPath 
     const std::string e = scenes::build_crowd(o, &crowd);
     INFO(e);
     REQUIRE(e.empty());
-    for (uint32_t frame = 1; frame <= kFrames; ++frame) {
+    for (uint32_t frame = 1; frame <= sleep.frames; ++frame) {
         REQUIRE(scenes::animate_crowd(crowd, float(frame) * crowd.dt_s).empty());
         if (drive != Drive::items_backwards) {
             REQUIRE(step(crowd.world, crowd.dt_s).ok());
@@ -70,6 +82,7 @@ uint64_t run_crowd(uint32_t characters, Drive drive, uint32_t threads, SimdPath 
                 REQUIRE(run_step_items(crowd.world, stage, i, i + 1).ok());
         REQUIRE(end_step(crowd.world).ok());
     }
+    if (sleep.sleeping != nullptr) *sleep.sleeping = world_stats(crowd.world).sleeping_cloths;
     return hash_crowd(crowd);
 }
 
@@ -84,6 +97,44 @@ TEST_CASE("step as tasks: three walking characters in skirt and tee give the sam
         CHECK(run_crowd(3, Drive::step_with_pool, 7, path) == alone);
         CHECK(run_crowd(3, Drive::items_backwards, 0, path) == alone);
     }
+}
+
+TEST_CASE("step as tasks: with one of two characters standing and its cloths asleep, the same bits on 1, 2 and 7 threads") {
+    for (const SimdPath path : available_paths()) {
+        CAPTURE(simd_path_name(path));
+        uint64_t sleeping = 0;
+        Sleep sleep{1, kCrowdSleepSpeed_m_s, kFramesToSleep, &sleeping};
+        const uint64_t alone = run_crowd(2, Drive::step_alone, 0, path, sleep);
+        CHECK(sleeping == 2);  // the standing character's skirt and tee, not the walker's
+        sleep.sleeping = nullptr;
+        CHECK(run_crowd(2, Drive::step_with_pool, 1, path, sleep) == alone);
+        CHECK(run_crowd(2, Drive::step_with_pool, 2, path, sleep) == alone);
+        CHECK(run_crowd(2, Drive::step_with_pool, 7, path, sleep) == alone);
+        CHECK(run_crowd(2, Drive::items_backwards, 0, path, sleep) == alone);
+        CHECK(run_crowd(2, Drive::step_alone, 0, path, Sleep{1, 0.0f, kFramesToSleep}) != alone);  // sleeping shows
+    }
+}
+
+TEST_CASE("sleep: a standing character's cloths sleep through the same pose and wake when its body moves") {
+    scenes::CrowdOptions o = crowd_options(1);
+    o.standing = 1;
+    o.sleep_speed_m_s = kCrowdSleepSpeed_m_s;
+    scenes::Crowd crowd;
+    REQUIRE(scenes::build_crowd(o, &crowd).empty());
+    const auto asleep = [&] {
+        bool skirt = false, tee = false;
+        REQUIRE(cloth_is_sleeping(crowd.world, crowd.characters[0].skirt, &skirt).ok());
+        REQUIRE(cloth_is_sleeping(crowd.world, crowd.characters[0].tee, &tee).ok());
+        return uint32_t(skirt) + uint32_t(tee);
+    };
+    for (uint32_t frame = 1; frame <= kFramesToSleep; ++frame) {
+        REQUIRE(scenes::animate_crowd(crowd, float(frame) * crowd.dt_s).empty());  // the same pose
+        REQUIRE(step(crowd.world, crowd.dt_s).ok());
+    }
+    REQUIRE(asleep() == 2);
+    crowd.characters[0].standing = false;  // it starts to walk: a pose that differs
+    REQUIRE(scenes::animate_crowd(crowd, 0.8f).empty());
+    CHECK(asleep() == 0);
 }
 
 TEST_CASE("step as tasks: a character's cloths do not depend on the others in the world") {

@@ -32,6 +32,7 @@ std::string add_garment(Crowd& c, const SceneWorld& sample, const CrowdCharacter
     ClothDesc desc = garment.desc;
     desc.translation_m = who.offset_m;
     desc.linear_inertia = desc.angular_inertia = inertia;
+    desc.sleep_speed_m_s = c.sleep_speed_m_s;
     if (Result r = add_cloth(c.world, desc, out); !r.ok()) return r.message;
     if (Result r = set_cloth_body(c.world, *out, who.body); !r.ok()) return r.message;
     if (garment.asset->attachment_count > 0)
@@ -125,12 +126,14 @@ std::string build_crowd(const CrowdOptions& options, Crowd* out) {
     const uint32_t side = uint32_t(std::ceil(std::sqrt(double(options.characters))));
     c.pose.resize(body.rest.size());
     c.inertia = options.inertia;
+    c.sleep_speed_m_s = options.sleep_speed_m_s;
     c.characters.resize(options.characters);
     for (uint32_t k = 0; k < options.characters; ++k) {
         CrowdCharacter& who = c.characters[k];
         who.offset_m = {options.spacing_m * float(k % side), 0.0f, options.spacing_m * float(k / side)};
         who.phase_s = 1.1f * float((k * 7) % 16) / 16.0f;  // the walk's stride is 1.1 s
         who.pace = 0.8f + 0.4f * float((k * 5) % 9) / 8.0f;
+        who.standing = k < options.standing;
         if (std::string e = spawn_character(c, k); !e.empty()) return e;
         c.particles += c.skirt.cloths[0].asset->particle_count + c.tee.cloths[0].asset->particle_count;
     }
@@ -157,7 +160,8 @@ Vec3 apply(const Transform& t, Vec3 v) {
 void pose_character(Crowd& c, const CrowdCharacter& who, float t_s) {
     const SceneBody& body = *c.skirt.body;
     const body::Mannequin& m = mannequin(c);
-    const float entry = walk_entry(body.spec, t_s);  // every character enters the walk together
+    // Every character enters the walk together; a standing one stays in the rest pose (entry 0).
+    const float entry = who.standing ? 0.0f : walk_entry(body.spec, t_s);
     const float walk_t = who.phase_s + who.pace * t_s;
     const Transform root = world_root(who);
     const auto enter = [entry, &root](Vec3 rest, Vec3 walk) {  // from the rest pose, as the scenes do

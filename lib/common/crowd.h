@@ -24,6 +24,8 @@ struct CrowdOptions {
     std::vector<std::string> asset_dirs;
     StepScheduler scheduler;
     float inertia = 1.0f;  // the cloths' linear and angular inertia (ClothDesc; 1: world space)
+    uint32_t standing = 0;        // the first this many characters stand still in the dressed pose
+    float sleep_speed_m_s = 0.0f;  // the cloths' ClothDesc::sleep_speed_m_s (0: they never sleep)
     SimdPath simd = SimdPath::automatic;
     bool profile = false;
 };
@@ -34,6 +36,7 @@ struct CrowdCharacter {
     Vec3 offset_m{};       // where it stands
     float phase_s = 0.0f;  // how far into the walk cycle it starts
     float pace = 1.0f;     // its walking speed relative to the mannequin's walk
+    bool standing = false;  // stands still in the dressed (rest) pose: never enters the walk
     std::vector<ColliderId> limb_colliders;  // the skirt scene's limb capsules, moved with its bones
     // Where the character's root is (about its grid place): animate_crowd poses the body there and
     // hands it to its cloths (set_cloth_root). Identity: walking in place.
@@ -49,6 +52,7 @@ struct Crowd {
     std::vector<body::LimbCapsule> posed_capsules;
     float dt_s = 0.0f;
     float inertia = 1.0f;    // CrowdOptions::inertia
+    float sleep_speed_m_s = 0.0f;  // CrowdOptions::sleep_speed_m_s
     uint32_t particles = 0;  // summed over the cloths
 
     Crowd() = default;

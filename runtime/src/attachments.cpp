@@ -75,6 +75,7 @@ Result attach_cloth_to_body(World* world, ClothId cloth, BodyId body) {
         if (c.particles.inverse_mass[a.slot_of_particle[a.attached_particle[k]]] != 0.0f)
             return make_error(ErrorCode::invalid_argument, "attached particle %u is not pinned", a.attached_particle[k]);
     }
+    wake(c);
     c.attached_body = body.index;
     follow_attachments(b, a, c.particles, 1.0f);
     for (uint32_t k = 0; k < a.attachment_count; ++k) {
@@ -97,6 +98,7 @@ Result bind_skin_constraints(World* world, ClothId cloth, BodyId body, const Ski
     if (Result r = find_cloth_and_body(world, cloth, body); !r.ok()) return r;
     ClothInstance& c = world->cloths[cloth.index];
     if (skin.count == 0) {
+        wake(c);
         c.skin_body = ~0u;
         return {};
     }
@@ -149,6 +151,7 @@ Result bind_skin_constraints(World* world, ClothId cloth, BodyId body, const Ski
             s.corner[i][k] = body_triangles[3 * skin.triangle[j] + i];
         }
     }
+    wake(c);
     c.skin_body = body.index;
     c.skin_points_current = false;  // the first step gathers P on both hulls
     return {};
@@ -161,6 +164,7 @@ Result reset_to_pose(World* world, ClothId cloth) {
         return make_error(ErrorCode::invalid_argument,
                           "cloth %u has no skin constraints or attachments: nothing says where on a body it goes",
                           cloth.index);
+    wake(c);
     place_at_start(*world->kernels, c);
     const Particles& p = c.particles;
     if (c.skin_body != ~0u) {  // S = P + rest offset * N on the hull as it is now (constraints/skin.h)

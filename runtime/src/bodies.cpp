@@ -213,6 +213,7 @@ Result add_body_searched_by(World* world, const BodyDesc& desc, bool reference_q
     }
     world->body_slots = std::max(world->body_slots, index + 1);
     world->bodies_live += 1;
+    wake_cloths_of_body(*world, index);  // the cloths that collide with every body meet it
     *out_body = {index, generation};
     return {};
 }
@@ -236,6 +237,7 @@ Result remove_body(World* world, BodyId id) {
                               "body %u still carries cloth %u (its own body, skin constraints or attachments): "
                               "remove the cloth first", id.index, i);
     }
+    wake_cloths_of_body(*world, id.index);
     BodyState& body = world->bodies[id.index];
     if (body.scene != nullptr) {  // reference bodies only
         rtcReleaseGeometry(body.geometry);
@@ -290,6 +292,15 @@ Result set_body_vertices(World* world, BodyId id, const Vec3* positions, uint32_
     if (!body.refit_pending) std::memcpy(body.previous_hull, body.hull, sizeof(float) * 4 * size_t(count));
     compute_offset_hull(body, positions, body.previous_hull);  // with each vertex's motion
     body.refit_pending = true;
+    // A pose that differs from the last step's wakes the cloths it may move (the same pose does not).
+    for (uint32_t v = 0; v < count; ++v) {
+        const float* now = body.hull + 4 * size_t(v);
+        const float* before = body.previous_hull + 4 * size_t(v);
+        if (now[0] != before[0] || now[1] != before[1] || now[2] != before[2]) {
+            wake_cloths_of_body(*world, id.index);
+            break;
+        }
+    }
     return {};
 }
 
@@ -299,6 +310,7 @@ Result teleport_body(World* world, BodyId id, const Vec3* positions, uint32_t co
     compute_offset_hull(body, positions);  // no motion
     std::memcpy(body.previous_hull, body.hull, sizeof(float) * 4 * size_t(count));
     body.refit_pending = true;
+    wake_cloths_of_body(*world, id.index);
     // Skin constraints bound to it take their previous points from the new hull, not the old one.
     for (uint32_t i = 0; i < world->cloth_slots; ++i)
         if (world->cloths[i].slot.live && world->cloths[i].skin_body == id.index) world->cloths[i].skin_points_current = false;
@@ -309,6 +321,7 @@ Result set_cloth_body(World* world, ClothId cloth, BodyId body) {
     if (Result r = find_cloth(world, cloth); !r.ok()) return r;
     if (body.index != kEveryBody.index)
         if (Result r = find_body(world, body); !r.ok()) return r;
+    wake(world->cloths[cloth.index]);
     world->cloths[cloth.index].own_body = body.index;
     return {};
 }

@@ -12,6 +12,8 @@
 //      skin_constraints body skips both for the cloths its skin constraints bind)
 //   5. after the last substep, the render output (the normals feature): vertex normals (and
 //      tangents), then the render mesh driven by them
+//   6. with ClothDesc::sleep_speed_m_s, whether the cloth was calm: after kCalmStepsBeforeSleep
+//      calm steps it sleeps, and its steps run nothing until something wakes it (world.cpp: wake)
 // 3a runs before 2 on the coarse nodes' own Verlet prediction, so that its correction rides along
 // in the integration pass (one trip through the particle arrays instead of two).
 //
@@ -143,19 +145,13 @@ void collide(World& world, ClothInstance& cloth, uint32_t substeps) {
     const float share = 1.0f / float(substeps);
     // A collider whose box misses the cloth's is skipped (a skirt's thigh capsules cost its
     // character's tee nothing).
-    ParticleBounds box;
+    ParticleBounds& box = cloth.bounds;  // kept: a moved collider wakes the sleeping cloths it meets
     world.kernels->particle_bounds(cloth.particles, &box);
+    cloth.bounds_known = true;
     for (uint32_t i = 0; i < world.collider_slots; ++i) {
         const ColliderState& c = world.colliders[i];
         if (!c.slot.live) continue;
-        ColliderKernelArgs args{};
-        args.shape = static_cast<uint8_t>(c.desc.shape);
-        args.p0 = c.desc.p0;
-        args.p1 = c.desc.shape == ColliderShape::sphere ? c.desc.p0 : c.desc.p1;
-        args.normal = c.desc.p1;
-        args.radius = c.desc.shape == ColliderShape::plane ? c.desc.inflation_m
-                                                           : c.desc.radius_m + c.desc.inflation_m;
-        args.friction = c.desc.friction;
+        ColliderKernelArgs args = collider_shape_args(c.desc);
         // The collider's motion relative to the cloth's carry (character motion): the carry moved
         // the particles already, so friction drags them only by the rest.
         const bool axis = c.desc.shape == ColliderShape::capsule || c.desc.shape == ColliderShape::cylinder;
@@ -189,8 +185,9 @@ void find_contact_anchors(World& world, ClothInstance& cloth) {
 
 // Does `cloth` search `body`'s hull: every body, or its own (set_cloth_body), except the one its
 // skin constraints bind under skin_constraints (their backstop is its collision with that body).
+// A sleeping cloth searches none (a lazy body's hierarchy waits for a cloth that is awake).
 bool searches(const ClothInstance& cloth, const BodyState& body, uint32_t index) {
-    if (!body.slot.live) return false;
+    if (!body.slot.live || cloth.sleeping) return false;
     if (cloth.own_body != ~0u && cloth.own_body != index) return false;
     return !(body.desc.collision == BodyCollision::skin_constraints && cloth.skin_body == index);
 }
@@ -289,7 +286,32 @@ void find_vertex_normals(World& world, ClothInstance& cloth) {
     }
 }
 
+// Whether every particle moved slower than `speed_m_s` over the last substep: |x - x_prev| / h,
+// x_prev the position before it (a carry by the root moved both, so it is not counted).
+bool calm(const Particles& p, float h, float speed_m_s) {
+    const float reach = speed_m_s * h, limit = reach * reach;
+    uint32_t fast = 0;  // counted, not branched on: the loop vectorises; NaN counts as fast
+    for (uint32_t i = 0; i < p.slot_count; ++i) {
+        const float dx = p.x[i] - p.previous_x[i], dy = p.y[i] - p.previous_y[i], dz = p.z[i] - p.previous_z[i];
+        fast += uint32_t(!(dx * dx + dy * dy + dz * dz <= limit));
+    }
+    return fast == 0;
+}
+
+// After a step: counts the cloth's calm steps and puts it to sleep after kCalmStepsBeforeSleep of
+// them, with its box found for the colliders that may wake it.
+void count_calm_steps(World& world, ClothInstance& cloth, float h) {
+    if (!(cloth.settings.sleep_speed_m_s > 0.0f)) return;
+    cloth.calm_steps = calm(cloth.particles, h, cloth.settings.sleep_speed_m_s) ? cloth.calm_steps + 1 : 0;
+    if (cloth.calm_steps < kCalmStepsBeforeSleep) return;
+    cloth.sleeping = true;
+    world.kernels->particle_bounds(cloth.particles, &cloth.bounds);
+    cloth.bounds_known = true;
+}
+
 void step_cloth(World& world, ClothInstance& cloth, float dt) {
+    cloth.counts.skipped = cloth.sleeping;
+    if (cloth.sleeping) return;  // until something wakes it (world.cpp: wake)
     const float h = dt / float(cloth.split.substeps);
     find_skin_frames(world, cloth);                            // the skinned frames of 3d
     for (uint32_t substep = 0; substep < cloth.split.substeps; ++substep) {
@@ -313,13 +335,14 @@ void step_cloth(World& world, ClothInstance& cloth, float dt) {
     }
     find_contact_anchors(world, cloth);
     find_vertex_normals(world, cloth);                         // 5. render output: vertex normals
+    count_calm_steps(world, cloth, h);                         // 6. asleep when calm long enough
 }
 
 uint64_t count_projections(const World& world, BatchLayout layout) {
     uint64_t lanes = 0;
     for (uint32_t i = 0; i < world.cloth_slots; ++i) {
         const ClothInstance& c = world.cloths[i];
-        if (!c.slot.live) continue;
+        if (!c.slot.live || c.counts.skipped) continue;
         const uint64_t sweeps = uint64_t(c.split.substeps) * c.split.iterations;
         const uint64_t on_runs = c.asset->constraints_on_runs;
         lanes += sweeps * (layout == BatchLayout::run ? on_runs : c.asset->total_constraints() - on_runs);
@@ -418,6 +441,7 @@ Result end_step(World* world) {
     if (!world->step_open) return make_error(ErrorCode::invalid_argument, "no step is open: call begin_step first");
     WorldStats& stats = world->stats;
     stats.colliders_skipped = stats.body_contacts = stats.body_rays = stats.body_queried = 0;
+    stats.sleeping_cloths = 0;
     stats.body_refits = stats.body_embree_refits = 0;
     for (uint32_t i = 0; i < world->body_slots; ++i) {  // in body order, then cloth order
         const BodyState& body = world->bodies[i];
@@ -433,6 +457,7 @@ Result end_step(World* world) {
         stats.body_contacts += c.body.contacts;
         stats.body_rays += c.body.rays;
         stats.body_queried += c.body.queried;
+        stats.sleeping_cloths += uint64_t(world->cloths[i].slot.live && world->cloths[i].sleeping);
     }
     for (uint32_t i = 0; i < world->collider_slots; ++i) world->colliders[i].motion_m = {};
     stats.steps += 1;

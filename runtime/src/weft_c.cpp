@@ -278,6 +278,7 @@ WeftClothDesc weft_default_cloth_desc(const WeftAsset* asset) {
     c.damping_per_s = d.damping_per_s;
     c.drag_coefficient = d.drag_coefficient;
     c.lift_coefficient = d.lift_coefficient;
+    c.sleep_speed_m_s = d.sleep_speed_m_s;
     if (live_asset(asset).ok() && asset->asset.has_fabric) {  // the fabric the pattern named (as weft-sim)
         const Fabric& f = asset->asset.fabric;
         for (uint32_t k = 0; k < 3; ++k) c.compliance_m_per_n[k] = f.compliance_m_per_n[k];
@@ -298,6 +299,7 @@ WeftResult weft_add_cloth(WeftWorld* world, const WeftClothDesc* desc, WeftCloth
     c.damping_per_s = desc->damping_per_s;
     c.drag_coefficient = desc->drag_coefficient;
     c.lift_coefficient = desc->lift_coefficient;
+    c.sleep_speed_m_s = desc->sleep_speed_m_s;
     ClothId id;
     if (Result r = add_cloth(world->world, c, &id); !r.ok()) return to_c(r);
     *out_cloth = to_c_id(id.index, id.generation);
@@ -447,6 +449,20 @@ WeftResult weft_read_tangents(const WeftWorld* world, WeftClothId cloth, WeftVec
     if (Result r = live_world(world); !r.ok()) return to_c(r);
     static_assert(sizeof(WeftVec4) == sizeof(Vec4) && alignof(WeftVec4) == alignof(Vec4));
     return to_c(read_tangents(world->world, cloth_id(cloth), reinterpret_cast<Vec4*>(out), count));
+}
+
+WeftResult weft_cloth_is_sleeping(const WeftWorld* world, WeftClothId cloth, int* out_sleeping) {
+    if (Result r = live_world(world); !r.ok()) return to_c(r);
+    if (out_sleeping == nullptr) return to_c(make_error(ErrorCode::invalid_argument, "out_sleeping is null"));
+    bool sleeping = false;
+    if (Result r = cloth_is_sleeping(world->world, cloth_id(cloth), &sleeping); !r.ok()) return to_c(r);
+    *out_sleeping = sleeping ? 1 : 0;
+    return {};
+}
+
+WeftResult weft_wake_cloth(WeftWorld* world, WeftClothId cloth) {
+    if (Result r = live_world(world); !r.ok()) return to_c(r);
+    return to_c(wake_cloth(world->world, cloth_id(cloth)));
 }
 
 }  // extern "C"

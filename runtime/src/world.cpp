@@ -9,6 +9,7 @@
 #include <new>
 #include <type_traits>
 
+#include "collide/colliders.h"
 #include "world_internal.h"
 
 namespace weft {
@@ -246,6 +247,11 @@ Result check_cloth_settings(const ClothDesc& desc) {
         return make_error(ErrorCode::out_of_range, "tether slack is negative");
     if (desc.drag_coefficient < 0.0f || desc.lift_coefficient < 0.0f)
         return make_error(ErrorCode::out_of_range, "drag and lift coefficients must be >= 0");
+    if (!std::isfinite(desc.sleep_speed_m_s))
+        return make_error(ErrorCode::non_finite, "sleep_speed_m_s is not finite");
+    if (desc.sleep_speed_m_s < 0.0f || desc.sleep_speed_m_s > 1000.0f)
+        return make_error(ErrorCode::out_of_range, "sleep_speed_m_s %g outside 0..1000 m/s",
+                          double(desc.sleep_speed_m_s));
     return {};
 }
 
@@ -666,6 +672,7 @@ Result add_collider(World* world, const ColliderDesc& desc, ColliderId* out_coll
     c.slot.live = true;
     c.desc = desc;
     c.motion_m = {};
+    wake_cloths_near(*world, desc);
     world->collider_slots = std::max(world->collider_slots, index + 1);
     world->colliders_live += 1;
     *out_collider = {index, c.slot.generation};
@@ -674,6 +681,7 @@ Result add_collider(World* world, const ColliderDesc& desc, ColliderId* out_coll
 
 Result remove_collider(World* world, ColliderId id) {
     if (Result r = find_collider(world, id); !r.ok()) return r;
+    wake_cloths_near(*world, world->colliders[id.index].desc);
     world->colliders[id.index].desc = {};
     world->colliders[id.index].motion_m = {};
     world->colliders_live -= 1;
@@ -685,6 +693,10 @@ Result set_collider(World* world, ColliderId collider, const ColliderDesc& desc)
     if (Result r = find_collider(world, collider); !r.ok()) return r;
     if (Result r = check_collider(desc); !r.ok()) return r;
     ColliderState& c = world->colliders[collider.index];
+    if (!same_collider(c.desc, desc)) {  // where it was and where it goes
+        wake_cloths_near(*world, c.desc);
+        wake_cloths_near(*world, desc);
+    }
     c.motion_m.x += desc.p0.x - c.desc.p0.x;
     c.motion_m.y += desc.p0.y - c.desc.p0.y;
     c.motion_m.z += desc.p0.z - c.desc.p0.z;
@@ -694,6 +706,7 @@ Result set_collider(World* world, ColliderId collider, const ColliderDesc& desc)
 
 Result teleport_collider(World* world, ColliderId collider, const ColliderDesc& desc) {
     if (Result r = set_collider(world, collider, desc); !r.ok()) return r;
+    wake_cloths_near(*world, desc);  // even in place: its motion is dropped
     world->colliders[collider.index].motion_m = {};
     return {};
 }
@@ -708,6 +721,7 @@ Result set_wind(World* world, Vec3 velocity_m_s) {
                          velocity_m_s.z * velocity_m_s.z;
     if (speed2 > 1000.0f * 1000.0f)
         return make_error(ErrorCode::out_of_range, "wind faster than 1000 m/s");
+    if (!same_vec3(world->wind_m_s, velocity_m_s)) wake_every_cloth(*world);
     world->wind_m_s = velocity_m_s;
     return {};
 }
@@ -719,6 +733,7 @@ Result set_gravity(World* world, Vec3 gravity_m_s2) {
     const float g2 = gravity_m_s2.x * gravity_m_s2.x + gravity_m_s2.y * gravity_m_s2.y +
                      gravity_m_s2.z * gravity_m_s2.z;
     if (g2 > 1e6f) return make_error(ErrorCode::out_of_range, "gravity above 1000 m/s^2");
+    if (!same_vec3(world->gravity_m_s2, gravity_m_s2)) wake_every_cloth(*world);
     world->gravity_m_s2 = gravity_m_s2;
     return {};
 }
@@ -730,6 +745,7 @@ Result set_cloth_settings(World* world, ClothId cloth, const ClothDesc& desc) {
     if (desc.asset != c.asset)
         return make_error(ErrorCode::invalid_argument, "a cloth's asset cannot change");
     if (desc.contact_tethers && !c.settings.contact_tethers) clear_contact_anchors(c);  // none are current
+    wake(c);
     c.settings = desc;
     c.split = resolve_split(desc, *c.asset);
     return {};
@@ -818,6 +834,7 @@ Result set_particle(World* world, ClothId cloth, uint32_t particle, Vec3 positio
         return make_error(ErrorCode::out_of_range, "inverse mass is negative");
     const uint32_t s = c.asset->slot_of_particle[particle];
     Particles& p = c.particles;
+    wake(c);
     p.x[s] = p.previous_x[s] = position_m.x;
     p.y[s] = p.previous_y[s] = position_m.y;
     p.z[s] = p.previous_z[s] = position_m.z;
@@ -829,6 +846,7 @@ Result set_particle(World* world, ClothId cloth, uint32_t particle, Vec3 positio
 
 Result reset_cloth(World* world, ClothId cloth) {
     if (Result r = find_cloth(world, cloth); !r.ok()) return r;
+    wake(world->cloths[cloth.index]);
     place_at_start(*world->kernels, world->cloths[cloth.index]);
     world->cloths[cloth.index].has_root = false;  // the next set_cloth_root starts afresh
     return {};
@@ -856,6 +874,7 @@ Result set_cloth_root(World* world, ClothId cloth, const Transform& root) {
     if (Result r = find_cloth(world, cloth); !r.ok()) return r;
     if (Result r = check_root(root); !r.ok()) return r;
     ClothInstance& c = world->cloths[cloth.index];
+    if (c.has_root && !same_transform(c.root, root)) wake(c);
     c.root = root;
     if (!c.has_root) c.previous_root = root;  // the first root only says where the root is
     c.has_root = true;
@@ -865,8 +884,82 @@ Result set_cloth_root(World* world, ClothId cloth, const Transform& root) {
 Result teleport_cloth(World* world, ClothId cloth, const Transform& root, bool drop_velocity) {
     if (Result r = find_cloth(world, cloth); !r.ok()) return r;
     if (Result r = check_root(root); !r.ok()) return r;
+    wake(world->cloths[cloth.index]);
     jump_to_root(world->cloths[cloth.index], root, drop_velocity);
     return {};
+}
+
+Result cloth_is_sleeping(const World* world, ClothId cloth, bool* out_sleeping) {
+    if (Result r = find_cloth(world, cloth); !r.ok()) return r;
+    if (out_sleeping == nullptr) return make_error(ErrorCode::invalid_argument, "out_sleeping is null");
+    *out_sleeping = world->cloths[cloth.index].sleeping;
+    return {};
+}
+
+Result wake_cloth(World* world, ClothId cloth) {
+    if (Result r = find_cloth(world, cloth); !r.ok()) return r;
+    wake(world->cloths[cloth.index]);
+    return {};
+}
+
+// --- sleeping cloths ----------------------------------------------------------------------------
+
+void wake(ClothInstance& cloth) {
+    if (cloth.sleeping) {  // it wakes at rest: the previous positions are the positions
+        Particles& p = cloth.particles;
+        const size_t bytes = sizeof(float) * size_t(p.slot_count);
+        std::memcpy(p.previous_x, p.x, bytes);
+        std::memcpy(p.previous_y, p.y, bytes);
+        std::memcpy(p.previous_z, p.z, bytes);
+        cloth.sleeping = false;
+        cloth.bounds_known = false;  // the next collision pass finds it again
+    }
+    cloth.calm_steps = 0;
+}
+
+void wake_every_cloth(World& world) {
+    for (uint32_t i = 0; i < world.cloth_slots; ++i)
+        if (world.cloths[i].slot.live) wake(world.cloths[i]);
+}
+
+ColliderKernelArgs collider_shape_args(const ColliderDesc& desc) {
+    ColliderKernelArgs args{};
+    args.shape = static_cast<uint8_t>(desc.shape);
+    args.p0 = desc.p0;
+    args.p1 = desc.shape == ColliderShape::sphere ? desc.p0 : desc.p1;
+    args.normal = desc.p1;
+    args.radius = desc.shape == ColliderShape::plane ? desc.inflation_m : desc.radius_m + desc.inflation_m;
+    args.friction = desc.friction;
+    return args;
+}
+
+void wake_cloths_near(World& world, const ColliderDesc& collider) {
+    const ColliderKernelArgs args = collider_shape_args(collider);
+    for (uint32_t i = 0; i < world.cloth_slots; ++i) {
+        ClothInstance& c = world.cloths[i];
+        // A cloth whose box is not known yet (no collision pass ran) wakes: more often, never less.
+        if (c.slot.live && (!c.bounds_known || collider_may_touch(c.bounds, args))) wake(c);
+    }
+}
+
+void wake_cloths_of_body(World& world, uint32_t body) {
+    for (uint32_t i = 0; i < world.cloth_slots; ++i) {
+        ClothInstance& c = world.cloths[i];
+        if (!c.slot.live) continue;
+        if (c.own_body == ~0u || c.own_body == body || c.skin_body == body || c.attached_body == body) wake(c);
+    }
+}
+
+bool same_vec3(Vec3 a, Vec3 b) { return a.x == b.x && a.y == b.y && a.z == b.z; }
+
+bool same_transform(const Transform& a, const Transform& b) {
+    return same_vec3(a.translation_m, b.translation_m) && a.rotation.x == b.rotation.x &&
+           a.rotation.y == b.rotation.y && a.rotation.z == b.rotation.z && a.rotation.w == b.rotation.w;
+}
+
+bool same_collider(const ColliderDesc& a, const ColliderDesc& b) {
+    return a.shape == b.shape && same_vec3(a.p0, b.p0) && same_vec3(a.p1, b.p1) && a.radius_m == b.radius_m &&
+           a.inflation_m == b.inflation_m && a.friction == b.friction;
 }
 
 Result view_cloth(const World* world, ClothId cloth, ClothView* out) {

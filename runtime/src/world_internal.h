@@ -19,6 +19,7 @@ struct ClothStepCounts {
     uint64_t pass_ns[static_cast<int>(Pass::count)] = {};
     uint64_t colliders_skipped = 0;
     BodyPassCounts body;
+    bool skipped = false;  // asleep: the step ran nothing
 };
 
 // Vertex normals are computed when asked for, or needed by tangents or render meshes.
@@ -51,6 +52,13 @@ struct alignas(64) ClothInstance {  // a cache line of its own: cloths step on d
     // are none, the integration pass skips the per-lane pinned check (integrate/verlet.h).
     uint32_t held_plane_slots = 0;
     ClothStepCounts counts;  // this step's
+    // Sleeping (ClothDesc::sleep_speed_m_s): steps in a row every particle was slower than the
+    // sleep speed, and whether the cloth's steps now run nothing. `bounds` is its box of movable
+    // particles (metres) as of its last collision pass or its falling asleep (known: one was found).
+    uint32_t calm_steps = 0;
+    bool sleeping = false;
+    bool bounds_known = false;
+    ParticleBounds bounds{};
     // Character motion: the root the game gave (set_cloth_root), the root of the last step, and
     // whether a root was given yet.
     Transform root, previous_root;
@@ -171,6 +179,20 @@ void refit_embree(World& world, BodyState& body);
 
 // Puts a cloth at its asset's start pose (plus its translation), at rest (add_cloth, reset_cloth).
 void place_at_start(const Kernels& kernels, ClothInstance& cloth);
+
+// Sleeping cloths. wake: a sleeping cloth steps again from rest (previous positions = positions);
+// any cloth counts its calm steps afresh. The others wake the cloths a change may move: every
+// cloth, those whose box meets a collider's (or whose box is not known), those that may touch a
+// body (collide with it, are bound or attached to it).
+void wake(ClothInstance& cloth);
+void wake_every_cloth(World& world);
+void wake_cloths_near(World& world, const ColliderDesc& collider);
+void wake_cloths_of_body(World& world, uint32_t body);
+bool same_vec3(Vec3 a, Vec3 b);
+bool same_transform(const Transform& a, const Transform& b);
+bool same_collider(const ColliderDesc& a, const ColliderDesc& b);
+// A collider's shape in the kernels' form (no motion).
+ColliderKernelArgs collider_shape_args(const ColliderDesc& desc);
 
 // Checks a finite vector (no NaN or infinity).
 bool is_finite(Vec3 v);

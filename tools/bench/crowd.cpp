@@ -53,6 +53,8 @@ int run_crowd(const CrowdBenchOptions& o) {
     const std::string samples = std::string(WEFT_SOURCE_DIR) + "/samples";
     scenes::CrowdOptions co;
     co.characters = o.characters;
+    co.standing = std::min(o.standing, o.characters);
+    co.sleep_speed_m_s = o.sleep_speed_m_s;
     co.skirt_scene = samples + "/scenes/skirt-walk.json";
     co.tee_scene = samples + "/scenes/tee-walk.json";
     co.asset_dirs = {dir.string()};
@@ -97,24 +99,28 @@ int run_crowd(const CrowdBenchOptions& o) {
     const std::vector<Vec3> first_positions = all_positions(*runs[0].crowd);
     const double one_thread_us = summarise(runs[0].step_us).median;
     if (!o.json)
-        std::printf("weft-bench crowd: %u walking mannequins in skirt and tee, %u frames after the 1 s ramp; "
-                    "the thread counts' crowds step in turn\n",
-                    o.characters, o.frames);
+        std::printf("weft-bench crowd: %u mannequins in skirt and tee (%u standing still), sleep speed %g m/s, "
+                    "%u frames after the 1 s ramp; the thread counts' crowds step in turn\n",
+                    o.characters, co.standing, double(o.sleep_speed_m_s), o.frames);
     for (const Run& r : runs) {
         const scenes::Crowd& c = *r.crowd;
         const double median = summarise(r.step_us).median, p99 = percentile(r.step_us, 0.99);
         const std::vector<Vec3> positions = all_positions(c);
+        const uint64_t sleeping = world_stats(c.world).sleeping_cloths;  // after the last frame
         const bool same = !positions.empty() && positions.size() == first_positions.size() &&
                           std::memcmp(positions.data(), first_positions.data(), positions.size() * sizeof(Vec3)) == 0;
         if (o.json) {
             std::printf("{\"bench\":\"crowd\",\"threads\":%u,\"characters\":%zu,\"instances\":%zu,\"particles\":%u,"
                         "\"bodies\":%zu,\"frames\":%u,\"us_per_frame\":%.1f,\"p99_us\":%.1f,\"speedup_vs_first\":%.3f,"
-                        "\"same_bits_as_first\":%s}\n",
+                        "\"same_bits_as_first\":%s,\"standing\":%u,\"sleep_speed_m_s\":%g,\"sleeping\":%llu}\n",
                         r.threads, c.characters.size(), 2 * c.characters.size(), c.particles, c.characters.size(),
-                        o.frames, median, p99, one_thread_us / median, same ? "true" : "false");
+                        o.frames, median, p99, one_thread_us / median, same ? "true" : "false", co.standing,
+                        double(o.sleep_speed_m_s), static_cast<unsigned long long>(sleeping));
         } else {
-            std::printf("  %u thread%s: %8.1f us a frame (median), p99 %8.1f us, %.2fx the first row, %s bits\n", r.threads,
-                        r.threads == 1 ? " " : "s", median, p99, one_thread_us / median, same ? "same" : "DIFFERENT");
+            std::printf("  %u thread%s: %8.1f us a frame (median), p99 %8.1f us, %.2fx the first row, %s bits, "
+                        "%llu cloths asleep\n",
+                        r.threads, r.threads == 1 ? " " : "s", median, p99, one_thread_us / median,
+                        same ? "same" : "DIFFERENT", static_cast<unsigned long long>(sleeping));
         }
         if (!same) return std::fprintf(stderr, "weft-bench crowd: %u threads gave other bits\n", r.threads), 1;
     }

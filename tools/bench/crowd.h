@@ -11,6 +11,8 @@ struct CrowdBenchOptions {
     uint32_t characters = 32;
     std::vector<uint32_t> threads = {1, 2};
     uint32_t frames = 120;  // measured, after the walk's 1 s ramp
+    uint32_t standing = 0;        // characters that stand still in the dressed pose
+    float sleep_speed_m_s = 0.0f;  // the cloths' ClothDesc::sleep_speed_m_s (0: never sleep)
     bool json = false;
 };
 

@@ -600,6 +600,11 @@ int main(int argc, char** argv) {
         ->delimiter(',')->check(CLI::Range(1u, 256u))->capture_default_str();
     crowd->add_option("--frames", crowd_o.frames, "frames measured after the walk's 1 s ramp")->check(CLI::Range(1u, 100000u))
         ->capture_default_str();
+    crowd->add_option("--standing", crowd_o.standing, "of the characters, how many stand still in the dressed pose")
+        ->check(CLI::Range(0u, 1024u))->capture_default_str();
+    crowd->add_option("--sleep-speed", crowd_o.sleep_speed_m_s,
+                      "m/s: a cloth whose particles all stay slower sleeps (ClothDesc::sleep_speed_m_s; 0: never)")
+        ->check(CLI::Range(0.0f, 10.0f))->capture_default_str();
     crowd->add_flag("--json", crowd_o.json, "one JSON object per thread count");
     bench::CorpusOptions corpus_o;
     CLI::App* corpus = app.add_subcommand("corpus", "a folder of sewing patterns baked flat and sewn, one JSON line per garment and a summary");

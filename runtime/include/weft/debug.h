@@ -45,6 +45,8 @@ struct WorldStats {
     uint64_t embree_allocations = 0;
     // Times an add found no gap for its arrays and compacted the live instances (memory/regions.h).
     uint64_t memory_compactions = 0;
+    // Cloths asleep after the last step (ClothDesc::sleep_speed_m_s): the next runs nothing for them.
+    uint64_t sleeping_cloths = 0;
 };
 
 WorldStats world_stats(const World* world);

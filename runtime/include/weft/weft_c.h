@@ -164,6 +164,7 @@ typedef struct WeftClothDesc {
     float damping_per_s;           /* dv/dt = -damping * v */
     float drag_coefficient;        /* wind, with the world's wind feature */
     float lift_coefficient;
+    float sleep_speed_m_s;         /* every particle slower than this (m/s) for 30 steps: it sleeps; 0 = never */
 } WeftClothDesc;
 
 /* world.h's ClothDesc defaults, with the compliance and damping of the asset's fabric if it has one. */
@@ -260,6 +261,12 @@ WeftResult weft_read_tangents(const WeftWorld* world, WeftClothId cloth, WeftVec
  * asset's render vertex order; `normals` may be null); needs WeftWorldDesc::render_meshes. */
 WeftResult weft_read_render_mesh(const WeftWorld* world, WeftClothId cloth, WeftVec3* positions, WeftVec3* normals,
                                  uint32_t count);
+
+/* Sleeping cloths (WeftClothDesc::sleep_speed_m_s): *out_sleeping is 1 while the cloth's steps run
+ * nothing, else 0. Anything that may move it wakes it (weft/world.h); weft_wake_cloth does so
+ * explicitly (it steps again from rest). */
+WeftResult weft_cloth_is_sleeping(const WeftWorld* world, WeftClothId cloth, int* out_sleeping);
+WeftResult weft_wake_cloth(WeftWorld* world, WeftClothId cloth);
 
 #ifdef __cplusplus
 }

@@ -144,7 +144,15 @@ struct ClothDesc {
     float linear_inertia = 1.0f;              // share of the root's motion felt, 0..1 (0: carried rigidly)
     float angular_inertia = 1.0f;             // the same for its rotation
     float max_inertial_speed_m_s = 1000.0f;   // root motion beyond this speed carries the cloth rigidly
+
+    // Sleeping (docs/architecture.md, "Sleeping cloths"): a cloth whose particles all moved slower
+    // than this, m/s, for kCalmStepsBeforeSleep steps in a row skips its steps until something
+    // wakes it. 0: never sleeps.
+    float sleep_speed_m_s = 0.0f;
 };
+
+// Steps in a row a cloth must be calm (every particle slower than ClothDesc::sleep_speed_m_s) to sleep.
+inline constexpr uint32_t kCalmStepsBeforeSleep = 30;
 
 // Ids name a place in the world's instance array and the generation of what holds it: removing an
 // instance bumps the generation, so its old id is refused (ErrorCode::stale_id) even after another
@@ -257,6 +265,11 @@ Result set_cloth_root(World* world, ClothId cloth, const Transform& root);
 // root (a cut in a running scene), or with `drop_velocity` it starts from rest (a respawn).
 // Teleport its body (teleport_body) and colliders (teleport_collider) too.
 Result teleport_cloth(World* world, ClothId cloth, const Transform& root, bool drop_velocity = false);
+
+// Sleeping cloths (ClothDesc::sleep_speed_m_s): whether the cloth skips its steps now, and a wake
+// that makes it step again (with zero velocity) and count its calm steps afresh.
+Result cloth_is_sleeping(const World* world, ClothId cloth, bool* out_sleeping);
+Result wake_cloth(World* world, ClothId cloth);
 
 SimdPath world_simd_path(const World* world);
 
