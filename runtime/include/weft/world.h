@@ -145,10 +145,7 @@ struct ClothDesc {
     float angular_inertia = 1.0f;             // the same for its rotation
     float max_inertial_speed_m_s = 1000.0f;   // root motion beyond this speed carries the cloth rigidly
 
-    // Sleeping (docs/architecture.md, "Sleeping cloths"): a cloth whose particles all moved slower
-    // than this, m/s, for kCalmStepsBeforeSleep steps in a row skips its steps until something
-    // wakes it. 0: never sleeps.
-    float sleep_speed_m_s = 0.0f;
+    float sleep_speed_m_s = 0.0f;  // at rest below this, m/s, it skips its steps until woken; 0: never
 };
 
 // Steps in a row a cloth must be calm (every particle slower than ClothDesc::sleep_speed_m_s) to sleep.
