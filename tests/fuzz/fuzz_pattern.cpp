@@ -1,5 +1,6 @@
 // libFuzzer harness: parse_pattern, then mesh_garment with a small particle cap (it bounds each
-// panel's refinement too) so every input stays fast. Any crash, hang, leak or sanitizer report is a bug; errors are the expected outcome.
+// panel's refinement too) so every input
+// stays fast. Any crash, hang, leak or sanitizer report is a bug; errors are the expected outcome.
 // Build and run: see tools/bake/CMakeLists.txt (WEFT_FUZZ); corpus in tests/fuzz/corpus/pattern/.
 #include <cstddef>
 #include <cstdint>
