@@ -778,7 +778,6 @@ Status mesh_garment(const Pattern& pattern, const MeshOptions& options, MeshedGa
 
         StripCriteria criteria;
         criteria.min_angle_deg = options.min_angle_deg;
-        criteria.max_points = options.max_particles;
         // Longer than the grid's own diagonal (sqrt(2) h): a strip of squares like the grid's must not be
         // refined (the midpoint of a diagonal would encroach the outline and a grid side).
         criteria.max_edge_m = 1.5 * h;

@@ -167,15 +167,7 @@ void mesh_panel(const PanelOutline& outline, const PanelGrid& grid, const StripC
     const double sin_min = std::sin(criteria.min_angle_deg * std::numbers::pi / 180.0);
     Mesher mesher(cdt, Criteria(sin_min * sin_min, criteria.max_edge_m));
     mesher.set_seeds(seeds.begin(), seeds.end(), false);
-    // Point by point, so that a degenerate outline (a curve whose samples nearly touch) cannot
-    // refine without end: past the cap the panel is refused.
-    mesher.init();
-    while (!mesher.is_refinement_done()) {
-        if (cdt.number_of_vertices() > criteria.max_points)
-            throw std::runtime_error("the strip mesher passed " + std::to_string(criteria.max_points) +
-                                     " points in one panel (the particle cap): an outline's curves nearly touch");
-        mesher.step_by_step_refine_mesh();
-    }
+    mesher.refine_mesh();
 
     // Constraints the mesher split: walk along the constraint from each added vertex to the
     // original points at both ends.

@@ -63,13 +63,12 @@ struct PanelMesh {
 struct StripCriteria {
     double min_angle_deg = 20.0;
     double max_edge_m = 0.0;  // longest edge the mesher leaves in the strip
-    uint32_t max_points = 2'000'000;  // the strip's triangulation may hold no more (the garment's particle cap)
 };
 
 // Meshes the strip and joins it to the grid. Points the mesher put on an outline segment k with
 // fixed_segments[k] != 0 are taken out again (the segment stays whole; the triangles around it are
 // redone without refinement); fixed_segments may be empty (none fixed). Throws std::runtime_error
-// if CGAL fails or the refinement passes criteria.max_points.
+// if CGAL fails.
 void mesh_panel(const PanelOutline& outline, const PanelGrid& grid, const StripCriteria& criteria,
                 const std::vector<uint8_t>& fixed_segments, PanelMesh* out);
 
