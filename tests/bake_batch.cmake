@@ -44,7 +44,7 @@ if(CHECK STREQUAL "jobs")
   endforeach()
 
 elseif(CHECK STREQUAL "broken")
-  # The pattern fuzzer's seeds: three broken patterns among good ones.
+  # The pattern fuzzer's seeds: the broken_ patterns among good ones.
   set(folder ${SOURCE_DIR}/tests/fuzz/corpus/pattern)
   bake_folder(${folder} ${WORK_DIR}/out 2 result error)
   if(result EQUAL 0)

@@ -99,6 +99,16 @@ std::vector<Case> cases() {
     c.push_back({"GarmentCode: no panels", R"({"pattern": {"panels": {}}})"});
     c.push_back({"GarmentCode: vertex used by three edges", R"({"pattern": {"panels": {"a": {"vertices": [[0,0],[10,0],[10,10],[0,10]],
         "edges": [{"endpoints": [0,1]}, {"endpoints": [1,2]}, {"endpoints": [2,0]}, {"endpoints": [0,3]}]}}}})"});
+    // The fuzzer's pattern (tests/fuzz/corpus/pattern/refine-without-end.json): a circle arc whose
+    // curve nearly touches the panel's other edges; the strip mesher refined it without end.
+    c.push_back({"GarmentCode: curves that nearly touch (the strip refined without end)", R"({"pattern": {"panels": {
+        "a": {"vertices": [[0,0],[30,0],[30,40],[0,40]], "translation": [0,100,10], "rotation": [0,0,30], "edges": [
+          {"endpoints": [0,1], "curvature": [0.5, 0.2]}, {"endpoints": [2,1]},
+          {"endpoints": [3,2], "curvature": {"type": "circle", "params": [10, 0, 1]}}, {"endpoints": [3,0]}]},
+        "b": {"vertices": [[0,0],[30,0],[30,40],[0,40]], "edges": [{"endpoints": [0,1]}, {"endpoints": [1,2]},
+          {"endpoints": [2,3]}, {"endpoints": [3,0]}]}},
+        "stitches": [[{"panel": "a", "edge": 2}, {"panel": "b", "edge": 3}], [{"panel": "a", "edge": 3}, {"panel": "b", "edge": 2}, "right_wrong"]]},
+        "properties": {"units_in_meter": 100, "curvature_coords": "relative"}})"});
     return c;
 }
 

@@ -17,6 +17,10 @@ namespace weft::bake {
 
 namespace {
 
+// A panel's strip mesher stops, and the panel is refused, past this many times the panel's
+// particle estimate plus a slack: curves that nearly touch would otherwise refine without end.
+constexpr double kStripPointsPerEstimate = 8.0, kStripPointsSlack = 1000.0;
+
 struct BakeError : std::runtime_error {
     using std::runtime_error::runtime_error;
 };
@@ -24,6 +28,7 @@ struct BakeError : std::runtime_error {
 struct PanelWork {
     std::vector<Point2> fine;     // the curved outline, finely
     double area_m2 = 0.0;         // signed: > 0 counter-clockwise
+    double particle_estimate = 0.0;  // about one particle per h^2 of area and two per h of outline
     std::vector<double> edge_length;
     // Per edge, its outline points as fractions of its arc length, ascending, from 0 to 1.
     std::vector<std::vector<double>> cuts;
@@ -750,9 +755,10 @@ Status mesh_garment(const Pattern& pattern, const MeshOptions& options, MeshedGa
             w.area_m2 = signed_area(w.fine);
             for (const PatternEdge& edge : pattern.panels[p].edges) {
                 w.edge_length.push_back(edge_length(pattern.panels[p], edge));
-                estimate += 2.0 * w.edge_length.back() / h;
+                w.particle_estimate += 2.0 * w.edge_length.back() / h;
             }
-            estimate += 1.2 * std::fabs(w.area_m2) / (h * h);
+            w.particle_estimate += 1.2 * std::fabs(w.area_m2) / (h * h);
+            estimate += w.particle_estimate;
         }
         if (!(estimate <= options.max_particles))
             return {"target edge " + std::to_string(h) + " m would give about " + std::to_string(estimate) +
@@ -805,7 +811,13 @@ Status mesh_garment(const Pattern& pattern, const MeshOptions& options, MeshedGa
                     if (seam_of[p][e] >= 0)
                         for (uint32_t k = w.outline.edge_first[e]; k < w.outline.edge_first[e + 1]; ++k)
                             fixed[k] = last || at_sharp_corner(corner, k);
-                mesh_panel(w.outline, grid, criteria, fixed, &w.mesh);
+                criteria.max_points = size_t(std::min(double(options.max_particles),
+                                                      kStripPointsPerEstimate * w.particle_estimate + kStripPointsSlack));
+                try {
+                    mesh_panel(w.outline, grid, criteria, fixed, &w.mesh);
+                } catch (const std::exception& e) {
+                    throw BakeError("panel '" + pattern.panels[p].name + "': " + e.what());
+                }
                 // Split outline segments: sampled there in the next round (the seam's other sides
                 // too), except at sharp corners and in the last round, where the mesher's points
                 // stay; split grid sides: their cells go to the strip.

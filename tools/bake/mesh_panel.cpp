@@ -14,6 +14,7 @@
 #include <numbers>
 #include <numeric>
 #include <stdexcept>
+#include <string>
 
 #include "bake/outline.h"
 
@@ -34,8 +35,39 @@ using VertexBase = CGAL::Triangulation_vertex_base_with_info_2<VertexInfo, Kerne
 using FaceBase = CGAL::Delaunay_mesh_face_base_2<Kernel>;
 using Tds = CGAL::Triangulation_data_structure_2<VertexBase, FaceBase>;
 using Cdt = CGAL::Constrained_Delaunay_triangulation_2<Kernel, Tds, CGAL::Exact_predicates_tag>;
-using Criteria = CGAL::Delaunay_mesh_size_criteria_2<Cdt>;
-using Mesher = CGAL::Delaunay_mesher_2<Cdt, Criteria>;
+using SizeCriteria = CGAL::Delaunay_mesh_size_criteria_2<Cdt>;
+
+// CGAL's angle and size criteria with a cap on the points: past max_points no face is bad any
+// more, so the refinement drains its queue and ends. Curves that nearly touch (a pattern the
+// fuzzer made) otherwise refine into hundreds of thousands of points; the panel is then refused.
+class CappedCriteria : public SizeCriteria {
+public:
+    CappedCriteria(double squared_min_sine, double max_edge, const Cdt& cdt, size_t max_points)
+        : SizeCriteria(squared_min_sine, max_edge), cdt_(&cdt), max_points_(max_points) {}
+
+    class Is_bad : public SizeCriteria::Is_bad {
+    public:
+        Is_bad(const SizeCriteria::Is_bad& size, const Cdt* cdt, size_t max_points)
+            : SizeCriteria::Is_bad(size), cdt_(cdt), max_points_(max_points) {}
+        CGAL::Mesh_2::Face_badness operator()(const Quality q) const {
+            return capped() ? CGAL::Mesh_2::NOT_BAD : SizeCriteria::Is_bad::operator()(q);
+        }
+        CGAL::Mesh_2::Face_badness operator()(const Cdt::Face_handle& f, Quality& q) const {
+            return capped() ? CGAL::Mesh_2::NOT_BAD : SizeCriteria::Is_bad::operator()(f, q);
+        }
+
+    private:
+        bool capped() const { return cdt_->number_of_vertices() > max_points_; }
+        const Cdt* cdt_;
+        size_t max_points_;
+    };
+    Is_bad is_bad_object() const { return Is_bad(SizeCriteria::is_bad_object(), cdt_, max_points_); }
+
+private:
+    const Cdt* cdt_;
+    size_t max_points_;
+};
+using Mesher = CGAL::Delaunay_mesher_2<Cdt, CappedCriteria>;
 
 // The inside intervals of the outline along one horizontal line: sorted crossing abscissae.
 std::vector<double> crossings(const std::vector<Point2>& polygon, double y) {
@@ -165,9 +197,12 @@ void mesh_panel(const PanelOutline& outline, const PanelGrid& grid, const StripC
     // face reachable from infinity without crossing a constraint: the outside of the outline).
     // The first criterion is sin^2 of the minimum angle (docs: dependencies.md).
     const double sin_min = std::sin(criteria.min_angle_deg * std::numbers::pi / 180.0);
-    Mesher mesher(cdt, Criteria(sin_min * sin_min, criteria.max_edge_m));
+    Mesher mesher(cdt, CappedCriteria(sin_min * sin_min, criteria.max_edge_m, cdt, criteria.max_points));
     mesher.set_seeds(seeds.begin(), seeds.end(), false);
     mesher.refine_mesh();
+    if (cdt.number_of_vertices() > criteria.max_points)
+        throw std::runtime_error("the strip mesher passed " + std::to_string(criteria.max_points) +
+                                 " points without meeting its angle bound: the outline's curves nearly touch");
 
     // Constraints the mesher split: walk along the constraint from each added vertex to the
     // original points at both ends.

@@ -8,6 +8,7 @@
 // mesh_panel.cpp is the only translation unit that includes CGAL (it is slow to compile).
 #pragma once
 
+#include <cstddef>
 #include <cstdint>
 #include <vector>
 
@@ -63,6 +64,7 @@ struct PanelMesh {
 struct StripCriteria {
     double min_angle_deg = 20.0;
     double max_edge_m = 0.0;  // longest edge the mesher leaves in the strip
+    size_t max_points = SIZE_MAX;  // past this many points the refinement stops and mesh_panel throws
 };
 
 // Meshes the strip and joins it to the grid. Points the mesher put on an outline segment k with
