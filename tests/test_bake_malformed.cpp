@@ -31,6 +31,17 @@ const std::string kTwoSquares =
         {"name": "s", "endpoints": [0,1]}, {"name": "e", "endpoints": [1,2]},
         {"name": "n", "endpoints": [2,3]}, {"name": "w", "endpoints": [3,0]}]}])";
 
+// The pattern fuzzer's find (tests/fuzz/corpus/pattern/broken_curves_nearly_touch.json): panel
+// a's circle arc passes 82 nm from its next edge, and the strip mesher refined the gap without end.
+const std::string kCurvesNearlyTouch = R"({"pattern": {"panels": {
+    "a": {"vertices": [[0,0],[30,0],[30,40],[0,40]], "translation": [0,100,10], "rotation": [0,0,30], "edges": [
+      {"endpoints": [0,1], "curvature": [0.5, 0.2]}, {"endpoints": [2,1]},
+      {"endpoints": [3,2], "curvature": {"type": "circle", "params": [10, 0, 1]}}, {"endpoints": [3,0]}]},
+    "b": {"vertices": [[0,0],[30,0],[30,40],[0,40]], "edges": [{"endpoints": [0,1]}, {"endpoints": [1,2]},
+      {"endpoints": [2,3]}, {"endpoints": [3,0]}]}},
+    "stitches": [[{"panel": "a", "edge": 2}, {"panel": "b", "edge": 3}], [{"panel": "a", "edge": 3}, {"panel": "b", "edge": 2}, "right_wrong"]]},
+    "properties": {"units_in_meter": 100, "curvature_coords": "relative"}})";
+
 struct Case {
     const char* what;
     std::string text;
@@ -99,16 +110,7 @@ std::vector<Case> cases() {
     c.push_back({"GarmentCode: no panels", R"({"pattern": {"panels": {}}})"});
     c.push_back({"GarmentCode: vertex used by three edges", R"({"pattern": {"panels": {"a": {"vertices": [[0,0],[10,0],[10,10],[0,10]],
         "edges": [{"endpoints": [0,1]}, {"endpoints": [1,2]}, {"endpoints": [2,0]}, {"endpoints": [0,3]}]}}}})"});
-    // The fuzzer's pattern (tests/fuzz/corpus/pattern/refine-without-end.json): a circle arc whose
-    // curve nearly touches the panel's other edges; the strip mesher refined it without end.
-    c.push_back({"GarmentCode: curves that nearly touch (the strip refined without end)", R"({"pattern": {"panels": {
-        "a": {"vertices": [[0,0],[30,0],[30,40],[0,40]], "translation": [0,100,10], "rotation": [0,0,30], "edges": [
-          {"endpoints": [0,1], "curvature": [0.5, 0.2]}, {"endpoints": [2,1]},
-          {"endpoints": [3,2], "curvature": {"type": "circle", "params": [10, 0, 1]}}, {"endpoints": [3,0]}]},
-        "b": {"vertices": [[0,0],[30,0],[30,40],[0,40]], "edges": [{"endpoints": [0,1]}, {"endpoints": [1,2]},
-          {"endpoints": [2,3]}, {"endpoints": [3,0]}]}},
-        "stitches": [[{"panel": "a", "edge": 2}, {"panel": "b", "edge": 3}], [{"panel": "a", "edge": 3}, {"panel": "b", "edge": 2}, "right_wrong"]]},
-        "properties": {"units_in_meter": 100, "curvature_coords": "relative"}})"});
+    c.push_back({"GarmentCode: curves that nearly touch (the strip refined without end)", kCurvesNearlyTouch});
     return c;
 }
 
@@ -128,6 +130,19 @@ TEST_CASE("bake: malformed patterns return an error with a message") {
         CHECK_FALSE(status.error.empty());
         MESSAGE(std::string(c.what) << " -> " << status.error);
     }
+}
+
+TEST_CASE("bake: curves that nearly touch are refused, naming the panel and both edges") {
+    // With the tool's default particle cap: the strip's refinement stops at the panel's own cap.
+    Pattern pattern;
+    REQUIRE(parse_pattern(kCurvesNearlyTouch, ParseOptions{}, &pattern).ok());
+    MeshedGarment garment;
+    const Status status = mesh_garment(pattern, MeshOptions{}, &garment);
+    CHECK_FALSE(status.ok());
+    CAPTURE(status.error);
+    CHECK(status.error.find("panel 'a'") != std::string::npos);
+    CHECK(status.error.find("nearly touch") != std::string::npos);
+    CHECK(status.error.find("edges '2' and '3' come within") != std::string::npos);
 }
 
 TEST_CASE("bake: a valid pattern next to the malformed ones bakes") {

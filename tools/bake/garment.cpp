@@ -5,6 +5,7 @@
 #include <algorithm>
 #include <array>
 #include <cmath>
+#include <cstdio>
 #include <map>
 #include <numbers>
 #include <numeric>
@@ -24,6 +25,38 @@ constexpr double kStripPointsPerEstimate = 8.0, kStripPointsSlack = 1000.0;
 struct BakeError : std::runtime_error {
     using std::runtime_error::runtime_error;
 };
+
+// Where an outline comes closest to itself: of its segments' pairs, the one whose gap is least
+// against the way round the outline between them (so a corner's neighbours do not count), named by
+// their edges (for a panel the strip mesher gave up on).
+std::string closest_approach(const Panel& panel, const PanelOutline& outline) {
+    const std::vector<Point2>& q = outline.points;
+    const size_t n = q.size();
+    std::vector<double> along(n + 1, 0.0);  // arc length to point k
+    for (size_t k = 0; k < n; ++k) along[k + 1] = along[k] + std::hypot(q[(k + 1) % n].x - q[k].x, q[(k + 1) % n].y - q[k].y);
+    double best = INFINITY, best_gap = 0.0;
+    size_t best_i = 0, best_j = 0;
+    for (size_t i = 0; i < n; ++i)
+        for (size_t j = i + 2; j < n; ++j) {
+            if ((j + 1) % n == i) continue;  // the last segment ends where the first starts
+            const Point2 a = q[i], b = q[(i + 1) % n], c = q[j], d = q[(j + 1) % n];
+            const double gap = std::min({distance_to_segment(a, c, d), distance_to_segment(b, c, d),
+                                         distance_to_segment(c, a, b), distance_to_segment(d, a, b)});
+            const double round = std::min(along[j] - along[i + 1], along[n] - along[j + 1] + along[i]);
+            if (gap < best * round) best = gap / round, best_gap = gap, best_i = i, best_j = j;
+        }
+    if (!(best < INFINITY)) return "";
+    auto edge_of = [&](size_t k) {
+        const size_t e = size_t(std::upper_bound(outline.edge_first.begin(), outline.edge_first.end(), uint32_t(k)) -
+                                outline.edge_first.begin()) - 1;
+        return "'" + panel.edges[e].name + "'";
+    };
+    char gap_mm[32];
+    std::snprintf(gap_mm, sizeof gap_mm, "%.3g", best_gap * 1e3);
+    const std::string a = edge_of(best_i), b = edge_of(best_j);
+    return a == b ? "; edge " + a + " comes within " + gap_mm + " mm of itself"
+                  : "; edges " + a + " and " + b + " come within " + gap_mm + " mm";
+}
 
 struct PanelWork {
     std::vector<Point2> fine;     // the curved outline, finely
@@ -815,8 +848,9 @@ Status mesh_garment(const Pattern& pattern, const MeshOptions& options, MeshedGa
                                                       kStripPointsPerEstimate * w.particle_estimate + kStripPointsSlack));
                 try {
                     mesh_panel(w.outline, grid, criteria, fixed, &w.mesh);
-                } catch (const std::exception& e) {
-                    throw BakeError("panel '" + pattern.panels[p].name + "': " + e.what());
+                } catch (const StripRefinementCapped& e) {
+                    throw BakeError("panel '" + pattern.panels[p].name + "': " + e.what() +
+                                    closest_approach(pattern.panels[p], w.outline));
                 }
                 // Split outline segments: sampled there in the next round (the seam's other sides
                 // too), except at sharp corners and in the last round, where the mesher's points

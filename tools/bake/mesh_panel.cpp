@@ -201,8 +201,8 @@ void mesh_panel(const PanelOutline& outline, const PanelGrid& grid, const StripC
     mesher.set_seeds(seeds.begin(), seeds.end(), false);
     mesher.refine_mesh();
     if (cdt.number_of_vertices() > criteria.max_points)
-        throw std::runtime_error("the strip mesher passed " + std::to_string(criteria.max_points) +
-                                 " points without meeting its angle bound: the outline's curves nearly touch");
+        throw StripRefinementCapped("the strip mesher passed " + std::to_string(criteria.max_points) +
+                                    " points without meeting its angle bound: the outline's curves nearly touch");
 
     // Constraints the mesher split: walk along the constraint from each added vertex to the
     // original points at both ends.

@@ -10,6 +10,7 @@
 
 #include <cstddef>
 #include <cstdint>
+#include <stdexcept>
 #include <vector>
 
 #include "bake/pattern.h"
@@ -67,10 +68,15 @@ struct StripCriteria {
     size_t max_points = SIZE_MAX;  // past this many points the refinement stops and mesh_panel throws
 };
 
+// Thrown when the strip's refinement passes StripCriteria::max_points.
+struct StripRefinementCapped : std::runtime_error {
+    using std::runtime_error::runtime_error;
+};
+
 // Meshes the strip and joins it to the grid. Points the mesher put on an outline segment k with
 // fixed_segments[k] != 0 are taken out again (the segment stays whole; the triangles around it are
-// redone without refinement); fixed_segments may be empty (none fixed). Throws std::runtime_error
-// if CGAL fails.
+// redone without refinement); fixed_segments may be empty (none fixed). Throws
+// StripRefinementCapped past criteria.max_points, std::runtime_error if CGAL fails.
 void mesh_panel(const PanelOutline& outline, const PanelGrid& grid, const StripCriteria& criteria,
                 const std::vector<uint8_t>& fixed_segments, PanelMesh* out);
 
