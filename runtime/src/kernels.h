@@ -150,7 +150,9 @@ struct RenderOutput {
     float* normal_x = nullptr;  // unit normal
     float* normal_y = nullptr;
     float* normal_z = nullptr;
+    float* corners = nullptr;  // [kRenderCornerFloats * slots]: the particles packed for the gathers (render/render_mesh.h)
 };
+inline constexpr uint32_t kRenderCornerFloats = 8;
 
 struct WindArgs;
 struct SkinFrameArgs;

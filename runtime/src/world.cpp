@@ -127,6 +127,7 @@ void visit_cloth_arrays(const WorldDesc& desc, const ClothArrayCounts& n, ClothI
     if (n.render_vertices > 0) {
         RenderOutput& r = cloth.render;
         for (float** a : {&r.x, &r.y, &r.z, &r.normal_x, &r.normal_y, &r.normal_z}) visit(*a, n.render_vertices);
+        visit(r.corners, kRenderCornerFloats * n.slots);
     }
     CoarseState& c = cloth.coarse;
     for (float** a : {&c.x, &c.y, &c.z, &c.dx, &c.dy, &c.dz}) visit(*a, n.node_lanes);
