@@ -283,24 +283,38 @@ TEST_CASE("character motion: sprinting to 10 m/s and turning 180 degrees in 0.2 
     check_sprint_within_still_walk(0.5f, 1.1, 1.0);
 }
 
+namespace {
+
+// Two copies of the same one-character walk, stepped side by side for `frames` + 1 frames. Before
+// the last step, `last_frame(twin, t)` poses the second copy in place of its walk's animation (and
+// may act on it: a teleport, a reset).
+template <class LastFrame>
+void walk_twins(scenes::Crowd* first, scenes::Crowd* twin, uint32_t frames, LastFrame&& last_frame) {
+    REQUIRE(scenes::build_crowd(crowd_options(1), first).empty());
+    REQUIRE(scenes::build_crowd(crowd_options(1), twin).empty());
+    for (uint32_t frame = 1; frame <= frames + 1; ++frame) {
+        const float t = float(frame) * first->dt_s;
+        REQUIRE(scenes::animate_crowd(*first, t).empty());
+        if (frame <= frames)
+            REQUIRE(scenes::animate_crowd(*twin, t).empty());
+        else
+            last_frame(*twin, t);
+        REQUIRE(step(first->world, first->dt_s).ok());
+        REQUIRE(step(twin->world, twin->dt_s).ok());
+    }
+}
+
+}  // namespace
+
 TEST_CASE("character motion: a 10 m teleport leaves no stretch and no penetration after one frame") {
     // Two copies of the same walk; one character jumps 10 m and turns 90 degrees before frame 91.
     // After that frame its garments are no more stretched than the copy's that stayed, and no
     // deeper in its body.
     scenes::Crowd stays, jumps;
-    REQUIRE(scenes::build_crowd(crowd_options(1), &stays).empty());
-    REQUIRE(scenes::build_crowd(crowd_options(1), &jumps).empty());
     const uint32_t frames = 90;
-    for (uint32_t frame = 1; frame <= frames + 1; ++frame) {
-        const float t = float(frame) * stays.dt_s;
-        REQUIRE(scenes::animate_crowd(stays, t).empty());
-        if (frame <= frames)
-            REQUIRE(scenes::animate_crowd(jumps, t).empty());
-        else
-            REQUIRE(scenes::teleport_character(jumps, 0, {{10.0f, 0.0f, 0.0f}, turn_about_y(1.5707963f)}, t).empty());
-        REQUIRE(step(stays.world, stays.dt_s).ok());
-        REQUIRE(step(jumps.world, jumps.dt_s).ok());
-    }
+    walk_twins(&stays, &jumps, frames, [](scenes::Crowd& twin, float t) {
+        REQUIRE(scenes::teleport_character(twin, 0, {{10.0f, 0.0f, 0.0f}, turn_about_y(1.5707963f)}, t).empty());
+    });
     CharacterFigures stayed, jumped;
     measure(stays, &stayed);
     measure(jumps, &jumped);
@@ -336,35 +350,26 @@ TEST_CASE("character motion: reset_to_pose puts a walking character's garments b
     // copy's that walked on (within 10% + 1 percentage point: the dressed pose on a striding body is
     // not the walk's own).
     scenes::Crowd walks, resets;
-    REQUIRE(scenes::build_crowd(crowd_options(1), &walks).empty());
-    REQUIRE(scenes::build_crowd(crowd_options(1), &resets).empty());
-    const uint32_t frames = 90;
-    for (uint32_t frame = 1; frame <= frames + 1; ++frame) {
-        const float t = float(frame) * walks.dt_s;
-        REQUIRE(scenes::animate_crowd(walks, t).empty());
-        REQUIRE(scenes::animate_crowd(resets, t).empty());
-        if (frame == frames + 1) {
-            const scenes::CrowdCharacter& who = resets.characters[0];
-            for (ClothId cloth : {who.skirt, who.tee}) {
-                REQUIRE(teleport_cloth(resets.world, cloth, {{3.0f, 0.0f, 0.0f}, {}}).ok());
-                REQUIRE(reset_to_pose(resets.world, cloth).ok());
-                ClothView view;
-                REQUIRE(view_cloth(resets.world, cloth, &view).ok());
-                double fastest = 0.0, farthest_x = 0.0;
-                for (uint32_t s = 0; s < view.asset->slot_count; ++s) {
-                    if (view.asset->particle_of_slot[s] == kNoParticle) continue;
-                    fastest = std::max({fastest, double(std::fabs(view.x[s] - view.previous_x[s])),
-                                        double(std::fabs(view.y[s] - view.previous_y[s])),
-                                        double(std::fabs(view.z[s] - view.previous_z[s]))});
-                    farthest_x = std::max(farthest_x, double(std::fabs(view.x[s])));
-                }
-                CHECK(fastest == 0.0);
-                CHECK(farthest_x < 1.0);  // back on the body at the origin
+    walk_twins(&walks, &resets, 90, [](scenes::Crowd& twin, float t) {
+        REQUIRE(scenes::animate_crowd(twin, t).empty());
+        const scenes::CrowdCharacter& who = twin.characters[0];
+        for (ClothId cloth : {who.skirt, who.tee}) {
+            REQUIRE(teleport_cloth(twin.world, cloth, {{3.0f, 0.0f, 0.0f}, {}}).ok());
+            REQUIRE(reset_to_pose(twin.world, cloth).ok());
+            ClothView view;
+            REQUIRE(view_cloth(twin.world, cloth, &view).ok());
+            double fastest = 0.0, farthest_x = 0.0;
+            for (uint32_t s = 0; s < view.asset->slot_count; ++s) {
+                if (view.asset->particle_of_slot[s] == kNoParticle) continue;
+                fastest = std::max({fastest, double(std::fabs(view.x[s] - view.previous_x[s])),
+                                    double(std::fabs(view.y[s] - view.previous_y[s])),
+                                    double(std::fabs(view.z[s] - view.previous_z[s]))});
+                farthest_x = std::max(farthest_x, double(std::fabs(view.x[s])));
             }
+            CHECK(fastest == 0.0);
+            CHECK(farthest_x < 1.0);  // back on the body at the origin
         }
-        REQUIRE(step(walks.world, walks.dt_s).ok());
-        REQUIRE(step(resets.world, resets.dt_s).ok());
-    }
+    });
     CharacterFigures walked, reset;
     measure(walks, &walked);
     measure(resets, &reset);
