@@ -305,33 +305,21 @@ bool calm(const Particles& p, float h, float speed_m_s) {
 // Each step's share of a cloth's running energy baseline (an exponential mean over about 10 steps).
 constexpr float kEnergyBaselineShare = 0.1f;
 
-// One pass over the movable particles at the end of a step: non-finite positions, the box's
-// diagonal against the start pose's, and the kinetic energy per kg over the last substep (h) against
-// the running baseline. Returns HealthProblem bits.
-uint32_t find_health(ClothInstance& cloth, float h) {
-    const Particles& p = cloth.particles;
+// The health pass at the end of a step, over the movable particles (pinned and padding slots are
+// moved by the game or a body): one SIMD walk (health.h) for their box and the kinetic energy per
+// kg over the last substep (h) as the mean of |v|^2 / 2: a particle's mass is not weighed in (a
+// cooked cloth's particles nearly weigh the same), which saves a division a particle. A
+// non-finite position makes the sum non-finite. Returns HealthProblem bits.
+uint32_t find_health(const World& world, ClothInstance& cloth, float h) {
     HealthState& health = cloth.health;
-    uint32_t non_finite = 0;  // counted, not branched on; |NaN| <= max is false
-    float mass_kg = 0.0f, twice_energy = 0.0f;  // sum of m |dx|^2, then / h^2
-    float lo[3] = {INFINITY, INFINITY, INFINITY}, hi[3] = {-INFINITY, -INFINITY, -INFINITY};
-    for (uint32_t i = 0; i < p.slot_count; ++i) {
-        const float w = p.inverse_mass[i];
-        if (!(w > 0.0f)) continue;  // pinned, or a padding slot: the game or a body moves it
-        const float x = p.x[i], y = p.y[i], z = p.z[i];
-        non_finite += uint32_t(!(std::fabs(x) <= FLT_MAX) | !(std::fabs(y) <= FLT_MAX) | !(std::fabs(z) <= FLT_MAX));
-        const float dx = x - p.previous_x[i], dy = y - p.previous_y[i], dz = z - p.previous_z[i];
-        const float m = 1.0f / w;
-        mass_kg += m;
-        twice_energy += m * (dx * dx + dy * dy + dz * dz);
-        lo[0] = std::fmin(lo[0], x), lo[1] = std::fmin(lo[1], y), lo[2] = std::fmin(lo[2], z);
-        hi[0] = std::fmax(hi[0], x), hi[1] = std::fmax(hi[1], y), hi[2] = std::fmax(hi[2], z);
-    }
-    if (!(mass_kg > 0.0f)) return 0;  // nothing movable
+    HealthSums sums;
+    world.kernels->health_sums(cloth.particles, &sums);
+    if (!(sums.movable > 0.0f)) return 0;  // nothing movable
     uint32_t problems = 0;
-    const float energy = 0.5f * twice_energy / (h * h * mass_kg);
+    const float energy = 0.5f * sums.squared_m2 / (h * h * sums.movable);
     health.energy_J_per_kg = energy;
-    if (non_finite > 0 || !std::isfinite(energy)) problems |= kNonFinite;
-    const float ex = hi[0] - lo[0], ey = hi[1] - lo[1], ez = hi[2] - lo[2];
+    if (!std::isfinite(energy)) problems |= kNonFinite;
+    const float ex = sums.hi.x - sums.lo.x, ey = sums.hi.y - sums.lo.y, ez = sums.hi.z - sums.lo.z;
     const float extent = std::sqrt(ex * ex + ey * ey + ez * ez);
     if (health.start_extent_m > 0.0f && !(extent <= kOverstretchRatio * health.start_extent_m))
         problems |= kOverstretched;
@@ -360,7 +348,7 @@ void recover(World& world, ClothInstance& cloth) {
 void check_health(World& world, ClothInstance& cloth, float h) {
     PassTimer timer(world, cloth, Pass::health);
     HealthState& health = cloth.health;
-    health.problems = find_health(cloth, h);
+    health.problems = find_health(world, cloth, h);
     health.recovered = health.problems != 0 && cloth.settings.recovery != RecoveryPolicy::none;
     if (health.recovered) {
         recover(world, cloth);

@@ -287,7 +287,7 @@ enum { WEFT_HEALTH_NON_FINITE = 1, WEFT_HEALTH_OVERSTRETCHED = 2, WEFT_HEALTH_EN
 typedef struct WeftClothHealth {
     uint32_t problems;       /* WEFT_HEALTH_* bits */
     int recovered;           /* 1: the last step recovered it */
-    float energy_J_per_kg;   /* kinetic energy per kg of movable mass after the last step */
+    float energy_J_per_kg;   /* mean |v|^2 / 2 of its movable particles over the last substep */
     uint64_t recoveries;     /* since it was added */
 } WeftClothHealth;
 WeftResult weft_cloth_health(const WeftWorld* world, WeftClothId cloth, WeftClothHealth* out);

@@ -163,7 +163,8 @@ struct ClothDesc {
 // Steps in a row a cloth must be calm (every particle slower than ClothDesc::sleep_speed_m_s) to sleep.
 inline constexpr uint32_t kCalmStepsBeforeSleep = 30;
 
-// Health (cloth_health), checked at the end of every step of an awake cloth over its movable particles.
+// Health (cloth_health), checked at the end of every step of an awake cloth over its movable particles;
+// kinetic energy per kg is the mean |v|^2 / 2 over the last substep (particles weighed alike).
 inline constexpr float kOverstretchRatio = 4.0f;  // box diagonal beyond this times the start pose's
 inline constexpr float kEnergySpikeRatio = 10.0f;  // kinetic energy per kg beyond this times the baseline
 inline constexpr float kEnergyFloor_J_per_kg = 50.0f;  // the baseline is at least this (10 m/s)
@@ -296,7 +297,7 @@ enum HealthProblem : uint32_t {
 struct ClothHealth {
     uint32_t problems = 0;     // HealthProblem bits found by the last step
     bool recovered = false;    // the last step recovered it (problems says why)
-    float energy_J_per_kg = 0.0f;  // kinetic energy per kg of movable mass at the end of the last step
+    float energy_J_per_kg = 0.0f;  // mean |v|^2 / 2 of its movable particles over the last substep
     uint64_t recoveries = 0;   // recoveries since add_cloth
 };
 Result cloth_health(const World* world, ClothId cloth, ClothHealth* out);
