@@ -451,6 +451,36 @@ TEST_CASE("sleeping cloths allocate nothing: falling asleep, sleeping steps, wak
     }
 }
 
+TEST_CASE("a step that recovers a blown-up cloth allocates nothing, under each recovery policy") {
+    for (RecoveryPolicy policy : {RecoveryPolicy::last_good_state, RecoveryPolicy::rest_pose, RecoveryPolicy::dressed_pose}) {
+        CAPTURE(int(policy));
+        scenes::SceneOptions o;
+        o.n = 16;
+        scenes::Scene scene = scenes::seed_scene(scenes::SeedScene::drape, o);
+        scene.cloths[0].desc.recovery = policy;
+        scenes::SceneWorld w;
+        REQUIRE(scenes::build_scene(scene, &w).empty());
+        const ClothAsset& a = *w.cloths[0].asset;
+        uint32_t thrown = a.particle_count - 1;  // a movable particle: the bottom row's last
+        while (thrown > 0 && !(a.inverse_mass[a.slot_of_particle[thrown]] > 0.0f)) --thrown;
+        uint32_t failures = 0;
+        uint64_t allocations = 0;
+        {
+            CountingScope counting;
+            for (uint32_t i = 0; i < 100; ++i) {
+                if (i == 60)  // 1 km away: overstretched, recovered at the end of this step
+                    failures += !set_particle(w.world, w.cloths[0].id, thrown, {1000.0f, 0.0f, 0.0f},
+                                              a.inverse_mass[a.slot_of_particle[thrown]]).ok();
+                failures += !step(w.world, w.dt_s).ok();
+            }
+            allocations = counting.allocations();
+        }
+        CHECK(failures == 0);
+        CHECK(world_stats(w.world).total_recoveries == 1);
+        CHECK(allocations == 0);
+    }
+}
+
 TEST_CASE("a frame with tangents and a render mesh allocates nothing: step, read_normals, read_tangents, read_render_mesh") {
     const CookedCloth cooked = test::uv_grid_with_render_mesh(24);
     const uint32_t render_vertices = cooked.asset().render.vertex_count;

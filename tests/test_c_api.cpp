@@ -431,3 +431,53 @@ TEST_CASE("C API: a cloth with a sleep speed falls asleep on the sphere, wakes o
     CHECK_WEFT_ERROR(weft_wake_cloth(c->world, c->cloth), WEFT_STALE_ID);
     CHECK_WEFT_ERROR(weft_wake_cloth(nullptr, sleeper), WEFT_INVALID_ARGUMENT);
 }
+
+TEST_CASE("C API: a cloth with a recovery policy is reported and recovered after a forced blow-up, and bad policies are refused") {
+    const scenes::SceneOptions o = scene_options(8);
+    auto cpp = make_scene(SeedScene::sphere, o);
+    auto c = make_c_world(cpp->asset(), WEFT_SIMD_AUTOMATIC, scenes::seed_scene(SeedScene::sphere, o).colliders);
+    WeftClothDesc desc = weft_default_cloth_desc(c->asset);
+    CHECK(desc.recovery == WEFT_RECOVER_NONE);  // report only by default
+    REQUIRE_WEFT_OK(weft_remove_cloth(c->world, c->cloth));  // room for the recovering cloth
+    WeftClothId cloth = 0;
+    desc.recovery = WeftRecoveryPolicy(9);
+    CHECK_WEFT_ERROR(weft_add_cloth(c->world, &desc, &cloth), WEFT_INVALID_ARGUMENT);
+    desc.recovery = WEFT_RECOVER_LAST_GOOD;  // the world has no room for its copy
+    CHECK_WEFT_ERROR(weft_add_cloth(c->world, &desc, &cloth), WEFT_CAPACITY_EXCEEDED);
+    desc.recovery = WEFT_RECOVER_REST_POSE;
+    REQUIRE_WEFT_OK(weft_add_cloth(c->world, &desc, &cloth));
+    for (uint32_t frame = 0; frame < 30; ++frame) REQUIRE_WEFT_OK(weft_step(c->world, cpp->dt_s));
+    WeftClothHealth health{};
+    REQUIRE_WEFT_OK(weft_cloth_health(c->world, cloth, &health));
+    CHECK(health.problems == 0);
+    // The blow-up: gravity of 1 000 m/s^2 sideways (a whole cloth at tens of m/s in a frame or two).
+    REQUIRE_WEFT_OK(weft_set_gravity(c->world, {1000.0f, 0.0f, 0.0f}));
+    uint32_t frames = 0;
+    for (; frames < 3 && health.recovered == 0; ++frames) {
+        REQUIRE_WEFT_OK(weft_step(c->world, cpp->dt_s));
+        REQUIRE_WEFT_OK(weft_cloth_health(c->world, cloth, &health));
+    }
+    CHECK(health.recovered == 1);
+    CHECK((health.problems & WEFT_HEALTH_ENERGY_SPIKE) != 0);
+    CHECK(health.recoveries == 1);
+    WeftWorldHealth world_health{};
+    REQUIRE_WEFT_OK(weft_world_health(c->world, &world_health));
+    CHECK(world_health.unhealthy_cloths == 1);
+    CHECK(world_health.recovered_cloths == 1);
+    CHECK(world_health.total_recoveries == 1);
+    REQUIRE_WEFT_OK(weft_set_gravity(c->world, {0.0f, -9.81f, 0.0f}));
+    REQUIRE_WEFT_OK(weft_step(c->world, cpp->dt_s));
+    REQUIRE_WEFT_OK(weft_cloth_health(c->world, cloth, &health));
+    CHECK(health.problems == 0);
+    CHECK(health.recovered == 0);
+    CHECK_WEFT_ERROR(weft_cloth_health(c->world, cloth, nullptr), WEFT_INVALID_ARGUMENT);
+    CHECK_WEFT_ERROR(weft_cloth_health(c->world, c->cloth, &health), WEFT_STALE_ID);
+    CHECK_WEFT_ERROR(weft_world_health(nullptr, &world_health), WEFT_INVALID_ARGUMENT);
+    CHECK_WEFT_ERROR(weft_world_health(c->world, nullptr), WEFT_INVALID_ARGUMENT);
+
+    // weft_reserve_cloth_recovering sizes a world for the last good copy.
+    WeftWorldDesc wd = weft_default_world_desc();
+    REQUIRE_WEFT_OK(weft_reserve_cloth_recovering(&wd, c->asset, WEFT_RECOVER_LAST_GOOD));
+    CHECK(wd.max_last_good_particles > 0);
+    CHECK_WEFT_ERROR(weft_reserve_cloth_recovering(&wd, c->asset, WeftRecoveryPolicy(9)), WEFT_INVALID_ARGUMENT);
+}

@@ -91,6 +91,7 @@ TEST_CASE("pass names") {
     CHECK(std::string(pass_name(Pass::body)) == "body");
     CHECK(std::string(pass_name(Pass::normals)) == "normals");
     CHECK(std::string(pass_name(Pass::render_mesh)) == "render_mesh");
+    CHECK(std::string(pass_name(Pass::health)) == "health");
     CHECK(std::string(simd_path_name(SimdPath::scalar)) == "scalar");
     CHECK(std::string(simd_path_name(SimdPath::avx2)) == "avx2");
     CHECK(simd_path_available(SimdPath::scalar));

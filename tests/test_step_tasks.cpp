@@ -54,14 +54,34 @@ struct Sleep {
     uint64_t* sleeping = nullptr;  // out: WorldStats::sleeping_cloths after the last frame
 };
 
+// The first character's skirt blown up before one frame (a particle thrown 1 km), the crowd's cloths
+// with a recovery policy (ClothDesc::recovery).
+struct BlowUp {
+    RecoveryPolicy recovery = RecoveryPolicy::none;
+    uint32_t frame = 0;              // 0: none
+    uint64_t* recoveries = nullptr;  // out: WorldStats::total_recoveries after the last frame
+};
+
+void throw_a_particle(const scenes::Crowd& crowd) {
+    const ClothId skirt = crowd.characters[0].skirt;
+    ClothView view;
+    REQUIRE(view_cloth(crowd.world, skirt, &view).ok());
+    const ClothAsset& a = *view.asset;
+    uint32_t p = a.particle_count / 2;
+    while (p + 1 < a.particle_count && !(a.inverse_mass[a.slot_of_particle[p]] > 0.0f)) ++p;
+    REQUIRE(set_particle(crowd.world, skirt, p, {1000.0f, 0.0f, 0.0f}, a.inverse_mass[a.slot_of_particle[p]]).ok());
+}
+
 // The crowd stepped kFrames frames: by step() (with the pool's scheduler when `threads` > 0), or
 // by the stage calls with every item run on its own, last item first.
-uint64_t run_crowd(uint32_t characters, Drive drive, uint32_t threads, SimdPath path, const Sleep& sleep = {}) {
+uint64_t run_crowd(uint32_t characters, Drive drive, uint32_t threads, SimdPath path, const Sleep& sleep = {},
+                   const BlowUp& blow_up = {}) {
     std::unique_ptr<tools::ThreadPool> pool;
     scenes::CrowdOptions o = crowd_options(characters);
     o.simd = path;
     o.standing = sleep.standing;
     o.sleep_speed_m_s = sleep.speed_m_s;
+    o.recovery = blow_up.recovery;
     if (drive == Drive::step_with_pool) {
         pool = std::make_unique<tools::ThreadPool>(threads);
         o.scheduler = pool->scheduler();
@@ -72,6 +92,7 @@ uint64_t run_crowd(uint32_t characters, Drive drive, uint32_t threads, SimdPath 
     REQUIRE(e.empty());
     for (uint32_t frame = 1; frame <= sleep.frames; ++frame) {
         REQUIRE(scenes::animate_crowd(crowd, float(frame) * crowd.dt_s).empty());
+        if (frame == blow_up.frame) throw_a_particle(crowd);
         if (drive != Drive::items_backwards) {
             REQUIRE(step(crowd.world, crowd.dt_s).ok());
             continue;
@@ -83,6 +104,7 @@ uint64_t run_crowd(uint32_t characters, Drive drive, uint32_t threads, SimdPath 
         REQUIRE(end_step(crowd.world).ok());
     }
     if (sleep.sleeping != nullptr) *sleep.sleeping = world_stats(crowd.world).sleeping_cloths;
+    if (blow_up.recoveries != nullptr) *blow_up.recoveries = world_stats(crowd.world).total_recoveries;
     return hash_crowd(crowd);
 }
 
@@ -113,6 +135,25 @@ TEST_CASE("step as tasks: with one of two characters standing and its cloths asl
         CHECK(run_crowd(2, Drive::items_backwards, 0, path, sleep) == alone);
         CHECK(run_crowd(2, Drive::step_alone, 0, path, Sleep{1, 0.0f, kFramesToSleep}) != alone);  // sleeping shows
     }
+}
+
+TEST_CASE("step as tasks: a skirt blown up and recovered (last good state, dressed pose) gives the same bits on 1, 2 and 7 threads") {
+    for (RecoveryPolicy policy : {RecoveryPolicy::last_good_state, RecoveryPolicy::dressed_pose}) {
+        CAPTURE(int(policy));
+        const SimdPath path = SimdPath::automatic;
+        uint64_t recoveries = 0;
+        BlowUp blow_up{policy, kFrames / 2, &recoveries};
+        const uint64_t alone = run_crowd(2, Drive::step_alone, 0, path, {}, blow_up);
+        CHECK(recoveries == 1);  // the skirt, once, in the frame it was thrown
+        blow_up.recoveries = nullptr;
+        CHECK(run_crowd(2, Drive::step_with_pool, 1, path, {}, blow_up) == alone);
+        CHECK(run_crowd(2, Drive::step_with_pool, 2, path, {}, blow_up) == alone);
+        CHECK(run_crowd(2, Drive::step_with_pool, 7, path, {}, blow_up) == alone);
+        CHECK(run_crowd(2, Drive::items_backwards, 0, path, {}, blow_up) == alone);
+    }
+    // Without a blow-up a policy changes no bit of the walk.
+    CHECK(run_crowd(2, Drive::step_alone, 0, SimdPath::automatic, {}, BlowUp{RecoveryPolicy::last_good_state}) ==
+          run_crowd(2, Drive::step_alone, 0, SimdPath::automatic));
 }
 
 TEST_CASE("sleep: a standing character's cloths sleep through the same pose and wake when its body moves") {
@@ -462,6 +503,7 @@ void abuse_a_dressed_character(float violent_settle_s) {
         CHECK(after.finite_and_bounded);
         CHECK(after.mean_speed_m_s < 0.005);
         CHECK(after.max_strain <= 1.1 * start.max_strain + 0.01);
+        CHECK(world_stats(crowd.world).unhealthy_cloths == 0);  // cloth_health: every garment healthy
     };
 
     // 1. Body vertices with NaN or 1e30: refused, and nothing changes (the cloths' and the body's

@@ -241,6 +241,7 @@ TEST_SUITE("stress") {
         const Outcome o = watch(w->world, w->cloths[0].id, kSteps, w->dt_s, scene.colliders);
         report("flag, wind 200 m/s", o);
         CHECK(o.finite);
+        CHECK(world_stats(w->world).unhealthy_cloths == 0);  // cloth_health: the gale ends healthy
         CHECK(o.max_extent_m < 6.0);  // held by its pole and tethers; no rest in a gale
     }
 
@@ -374,6 +375,7 @@ TEST_SUITE("stress") {
             });
             report("drape, sphere teleported 10 m into it and out", o);
             CHECK(o.finite);
+            CHECK(world_stats(w->world).unhealthy_cloths == 0);
             CHECK(o.max_extent_m < 3.0);
             CHECK(o.penetration_second_half_m <= o.penetration_first_half_m + 1e-4);
             CHECK(o.penetration_first_half_m < 1e-3);
@@ -400,6 +402,7 @@ TEST_SUITE("stress") {
             });
             report("drape, sphere sweeping through at 50 m/s", o);
             CHECK(o.finite);
+            CHECK(world_stats(w->world).unhealthy_cloths == 0);
             CHECK(o.max_extent_m < 3.0);
             CHECK(o.penetration_second_half_m <= o.penetration_first_half_m + 1e-4);
             CHECK(o.final_speed < 0.01);

@@ -33,6 +33,7 @@ std::string add_garment(Crowd& c, const SceneWorld& sample, const CrowdCharacter
     desc.translation_m = who.offset_m;
     desc.linear_inertia = desc.angular_inertia = inertia;
     desc.sleep_speed_m_s = c.sleep_speed_m_s;
+    desc.recovery = c.recovery;
     if (Result r = add_cloth(c.world, desc, out); !r.ok()) return r.message;
     if (Result r = set_cloth_body(c.world, *out, who.body); !r.ok()) return r.message;
     if (garment.asset->attachment_count > 0)
@@ -104,7 +105,7 @@ std::string build_crowd(const CrowdOptions& options, Crowd* out) {
     for (uint32_t k = 0; k < options.characters; ++k) {
         for (const SceneWorld* sample : {&c.skirt, &c.tee}) {
             const ClothAsset& asset = *sample->cloths[0].asset;
-            reserve_cloth(wd, asset);
+            reserve_cloth(wd, asset, options.recovery);
             if (sample->body->spec.collision == BodyCollision::skin_constraints) wd.max_skin_constraints += asset.skin.count;
             if (sample->body->spec.collision == BodyCollision::cached_planes) wd.max_cached_plane_bodies = options.characters;
         }
@@ -127,6 +128,7 @@ std::string build_crowd(const CrowdOptions& options, Crowd* out) {
     c.pose.resize(body.rest.size());
     c.inertia = options.inertia;
     c.sleep_speed_m_s = options.sleep_speed_m_s;
+    c.recovery = options.recovery;
     c.characters.resize(options.characters);
     for (uint32_t k = 0; k < options.characters; ++k) {
         CrowdCharacter& who = c.characters[k];

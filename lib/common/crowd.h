@@ -26,6 +26,7 @@ struct CrowdOptions {
     float inertia = 1.0f;  // the cloths' linear and angular inertia (ClothDesc; 1: world space)
     uint32_t standing = 0;        // the first this many characters stand still in the dressed pose
     float sleep_speed_m_s = 0.0f;  // the cloths' ClothDesc::sleep_speed_m_s (0: they never sleep)
+    RecoveryPolicy recovery = RecoveryPolicy::none;  // the cloths' ClothDesc::recovery
     SimdPath simd = SimdPath::automatic;
     bool profile = false;
 };
@@ -53,6 +54,7 @@ struct Crowd {
     float dt_s = 0.0f;
     float inertia = 1.0f;    // CrowdOptions::inertia
     float sleep_speed_m_s = 0.0f;  // CrowdOptions::sleep_speed_m_s
+    RecoveryPolicy recovery = RecoveryPolicy::none;  // CrowdOptions::recovery
     uint32_t particles = 0;  // summed over the cloths
 
     Crowd() = default;

@@ -165,12 +165,18 @@ Result reset_to_pose(World* world, ClothId cloth) {
                           "cloth %u has no skin constraints or attachments: nothing says where on a body it goes",
                           cloth.index);
     wake(c);
-    place_at_start(*world->kernels, c);
+    forget_last_good(c);
+    place_on_body(*world, c);
+    return {};
+}
+
+void place_on_body(const World& world, ClothInstance& c) {
+    place_at_start(*world.kernels, c);
     const Particles& p = c.particles;
     if (c.skin_body != ~0u) {  // S = P + rest offset * N on the hull as it is now (constraints/skin.h)
-        const BodyState& body = world->bodies[c.skin_body];
+        const BodyState& body = world.bodies[c.skin_body];
         const SkinState& s = c.skin_state;
-        world->kernels->skin_frames(s, SkinFrameArgs{body.hull, body.hull, body.normals});
+        world.kernels->skin_frames(s, SkinFrameArgs{body.hull, body.hull, body.normals});
         for (uint32_t k = 0; k < s.count; ++k) {
             const uint32_t slot = s.slot[k];
             p.x[slot] = p.previous_x[slot] = std::fma(s.rest_offset_m[k], s.normal[0][k], s.point[0][k]);
@@ -180,15 +186,14 @@ Result reset_to_pose(World* world, ClothId cloth) {
         c.skin_points_current = true;  // P at this hull: the next step moves it from here
     }
     if (c.attached_body != ~0u) {
-        follow_attachments(world->bodies[c.attached_body], *c.asset, p, 1.0f);
+        follow_attachments(world.bodies[c.attached_body], *c.asset, p, 1.0f);
         for (uint32_t k = 0; k < c.asset->attachment_count; ++k) {
             const uint32_t s = c.asset->slot_of_particle[c.asset->attached_particle[k]];
             p.previous_x[s] = p.x[s], p.previous_y[s] = p.y[s], p.previous_z[s] = p.z[s];
         }
     }
-    if (p.normal_x != nullptr) world->kernels->vertex_normals(p, *c.asset);
+    if (p.normal_x != nullptr) world.kernels->vertex_normals(p, *c.asset);
     c.previous_root = c.root;  // carried from the root it stands at now
-    return {};
 }
 
 }  // namespace weft

@@ -142,6 +142,13 @@ struct ParticleBounds {
     Vec3 lo, hi;  // metres; lo > hi on every axis when no particle moves
 };
 
+// The health pass's sums over the movable particles (health.h).
+struct HealthSums {
+    Vec3 lo, hi;             // their box, metres (lo > hi when none moves)
+    float squared_m2 = 0.0f; // sum of |x - x_prev|^2 (NaN or infinite when a position is)
+    float movable = 0.0f;    // how many
+};
+
 // One cloth's driven render mesh (WorldDesc::render_meshes), by render vertex.
 struct RenderOutput {
     float* x = nullptr;  // position, metres
@@ -174,6 +181,7 @@ struct Kernels {
     // Skin constraints (constraints/skin.h): their skinned frames once a step, then max distance
     // and backstop every substep at `t` (0..1) into the step.
     void (*particle_bounds)(const Particles&, ParticleBounds*);
+    void (*health_sums)(const Particles&, HealthSums*);
     void (*skin_frames)(const SkinState&, const SkinFrameArgs&);
     void (*project_skin)(const Particles&, const SkinState&, float t);
     void (*vertex_normals)(const Particles&, const ClothAsset&);

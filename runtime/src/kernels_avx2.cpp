@@ -5,6 +5,7 @@
 #include "constraints/distance.h"
 #include "constraints/skin.h"
 #include "constraints/tethers.h"
+#include "health.h"
 #include "integrate/verlet.h"
 #include "kernels.h"
 #include "render/normals.h"
@@ -23,7 +24,7 @@ const Kernels* avx2_kernels() {
     static constexpr Kernels kernels{SimdPath::avx2, integrate_verlet<F>, solve_coarse_level<F>,
                                      {project_run<F, true>, project_run<F, false>},
                                      {project_indexed<F, true>, project_indexed<F, false>},
-                                     project_tethers<F>, collide<F>, apply_wind<F>, particle_bounds<F>, skin_frames<F>, project_skin<F>,
+                                     project_tethers<F>, collide<F>, apply_wind<F>, particle_bounds<F>, health_sums<F>, skin_frames<F>, project_skin<F>,
                                      vertex_normals<F, false>, vertex_normals<F, true>, render_mesh<F>};
     return &kernels;
 }

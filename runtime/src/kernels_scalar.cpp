@@ -6,6 +6,7 @@
 #include "constraints/distance.h"
 #include "constraints/skin.h"
 #include "constraints/tethers.h"
+#include "health.h"
 #include "integrate/verlet.h"
 #include "kernels.h"
 #include "render/normals.h"
@@ -18,7 +19,7 @@ const Kernels& scalar_kernels() {
     static constexpr Kernels kernels{SimdPath::scalar, integrate_verlet<F>, solve_coarse_level<F>,
                                      {project_run<F, true>, project_run<F, false>},
                                      {project_indexed<F, true>, project_indexed<F, false>},
-                                     project_tethers<F>, collide<F>, apply_wind<F>, particle_bounds<F>, skin_frames<F>, project_skin<F>,
+                                     project_tethers<F>, collide<F>, apply_wind<F>, particle_bounds<F>, health_sums<F>, skin_frames<F>, project_skin<F>,
                                      vertex_normals<F, false>, vertex_normals<F, true>, render_mesh<F>};
     return kernels;
 }

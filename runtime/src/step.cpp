@@ -12,7 +12,9 @@
 //      skin_constraints body skips both for the cloths its skin constraints bind)
 //   5. after the last substep, the render output (the normals feature): vertex normals (and
 //      tangents), then the render mesh driven by them
-//   6. with ClothDesc::sleep_speed_m_s, whether the cloth was calm: after kCalmStepsBeforeSleep
+//   6. its health (non-finite, overstretched, an energy spike: cloth_health), and with a
+//      ClothDesc::recovery policy, the recovery of an unhealthy cloth
+//   7. with ClothDesc::sleep_speed_m_s, whether the cloth was calm: after kCalmStepsBeforeSleep
 //      calm steps it sleeps, and its steps run nothing until something wakes it (world.cpp: wake)
 // 3a runs before 2 on the coarse nodes' own Verlet prediction, so that its correction rides along
 // in the integration pass (one trip through the particle arrays instead of two).
@@ -25,6 +27,8 @@
 // moved body's refit), then the cloths (all of the above for one cloth, which writes only its own
 // particles and counters and reads the bodies and colliders); end_step then adds the counters up
 // in a fixed order. So any split of the items over threads gives the same bits.
+#include <algorithm>
+#include <cfloat>
 #include <chrono>
 #include <cmath>
 #include <cstring>
@@ -298,6 +302,71 @@ bool calm(const Particles& p, float h, float speed_m_s) {
     return fast == 0;
 }
 
+// Each step's share of a cloth's running energy baseline (an exponential mean over about 10 steps).
+constexpr float kEnergyBaselineShare = 0.1f;
+
+// The health pass at the end of a step, over the movable particles (pinned and padding slots are
+// moved by the game or a body): one SIMD walk (health.h) for their box and the kinetic energy per
+// kg over the last substep (h) as the mean of |v|^2 / 2: a particle's mass is not weighed in (a
+// cooked cloth's particles nearly weigh the same), which saves a division a particle. A
+// non-finite position makes the sum non-finite. Returns HealthProblem bits.
+uint32_t find_health(const World& world, ClothInstance& cloth, float h) {
+    HealthState& health = cloth.health;
+    HealthSums sums;
+    world.kernels->health_sums(cloth.particles, &sums);
+    if (!(sums.movable > 0.0f)) return 0;  // nothing movable
+    uint32_t problems = 0;
+    const float energy = 0.5f * sums.squared_m2 / (h * h * sums.movable);
+    health.energy_J_per_kg = energy;
+    if (!std::isfinite(energy)) problems |= kNonFinite;
+    const float ex = sums.hi.x - sums.lo.x, ey = sums.hi.y - sums.lo.y, ez = sums.hi.z - sums.lo.z;
+    const float extent = std::sqrt(ex * ex + ey * ey + ez * ez);
+    if (health.start_extent_m > 0.0f && !(extent <= kOverstretchRatio * health.start_extent_m))
+        problems |= kOverstretched;
+    if (energy > kEnergySpikeRatio * std::max(health.baseline_J_per_kg, kEnergyFloor_J_per_kg)) problems |= kEnergySpike;
+    return problems;
+}
+
+// An unhealthy cloth's recovery (ClothDesc::recovery). The last good state falls back to the
+// dressed pose while no copy is saved, and the dressed pose to the rest pose without a body binding.
+void recover(World& world, ClothInstance& cloth) {
+    const RecoveryPolicy policy = cloth.settings.recovery;
+    const bool on_body = cloth.skin_body != ~0u || cloth.attached_body != ~0u;
+    if (policy == RecoveryPolicy::last_good_state && cloth.last_good.saved) {
+        restore_last_good(*world.kernels, cloth);
+    } else if (policy != RecoveryPolicy::rest_pose && on_body) {
+        place_on_body(world, cloth);
+    } else {
+        place_at_start(*world.kernels, cloth);
+        cloth.has_root = false;  // as reset_cloth: the next set_cloth_root starts afresh
+    }
+    wake(cloth);  // its calm steps count afresh
+}
+
+// 6. After a step: the cloth's health, its recovery when its policy asks, and the running
+// baseline and last good copy that healthy steps keep.
+void check_health(World& world, ClothInstance& cloth, float h) {
+    PassTimer timer(world, cloth, Pass::health);
+    HealthState& health = cloth.health;
+    health.problems = find_health(world, cloth, h);
+    health.recovered = health.problems != 0 && cloth.settings.recovery != RecoveryPolicy::none;
+    if (health.recovered) {
+        recover(world, cloth);
+        health.recoveries += 1;
+        health.healthy_steps = 0;
+        return;  // the baseline keeps its healthy value
+    }
+    if (std::isfinite(health.energy_J_per_kg))  // a lasting rise becomes the baseline: a spike is brief
+        health.baseline_J_per_kg += kEnergyBaselineShare * (health.energy_J_per_kg - health.baseline_J_per_kg);
+    if (health.problems != 0) {
+        health.healthy_steps = 0;
+        return;
+    }
+    health.healthy_steps += 1;
+    if (cloth.last_good.x != nullptr && (!cloth.last_good.saved || health.healthy_steps % kLastGoodRefreshSteps == 0))
+        save_last_good(cloth);
+}
+
 // After a step: counts the cloth's calm steps and puts it to sleep after kCalmStepsBeforeSleep of
 // them, with its box found for the colliders that may wake it.
 void count_calm_steps(World& world, ClothInstance& cloth, float h) {
@@ -311,6 +380,7 @@ void count_calm_steps(World& world, ClothInstance& cloth, float h) {
 
 void step_cloth(World& world, ClothInstance& cloth, float dt) {
     cloth.counts.skipped = cloth.sleeping;
+    cloth.health.recovered = false;
     if (cloth.sleeping) return;  // until something wakes it (world.cpp: wake)
     const float h = dt / float(cloth.split.substeps);
     find_skin_frames(world, cloth);                            // the skinned frames of 3d
@@ -335,7 +405,8 @@ void step_cloth(World& world, ClothInstance& cloth, float dt) {
     }
     find_contact_anchors(world, cloth);
     find_vertex_normals(world, cloth);                         // 5. render output: vertex normals
-    count_calm_steps(world, cloth, h);                         // 6. asleep when calm long enough
+    check_health(world, cloth, h);                             // 6. health, and recovery
+    count_calm_steps(world, cloth, h);                         // 7. asleep when calm long enough
 }
 
 uint64_t count_projections(const World& world, BatchLayout layout) {
@@ -441,7 +512,7 @@ Result end_step(World* world) {
     if (!world->step_open) return make_error(ErrorCode::invalid_argument, "no step is open: call begin_step first");
     WorldStats& stats = world->stats;
     stats.colliders_skipped = stats.body_contacts = stats.body_rays = stats.body_queried = 0;
-    stats.sleeping_cloths = 0;
+    stats.sleeping_cloths = stats.unhealthy_cloths = stats.recovered_cloths = 0;
     stats.body_refits = stats.body_embree_refits = 0;
     for (uint32_t i = 0; i < world->body_slots; ++i) {  // in body order, then cloth order
         const BodyState& body = world->bodies[i];
@@ -458,8 +529,13 @@ Result end_step(World* world) {
         stats.body_rays += c.body.rays;
         stats.body_queried += c.body.queried;
         stats.sleeping_cloths += uint64_t(world->cloths[i].slot.live && world->cloths[i].sleeping);
+        const HealthState& health = world->cloths[i].health;
+        const bool stepped = world->cloths[i].slot.live && !c.skipped;
+        stats.unhealthy_cloths += uint64_t(stepped && health.problems != 0);
+        stats.recovered_cloths += uint64_t(stepped && health.recovered);
     }
     for (uint32_t i = 0; i < world->collider_slots; ++i) world->colliders[i].motion_m = {};
+    stats.total_recoveries += stats.recovered_cloths;
     stats.steps += 1;
     stats.run_projections = count_projections(*world, BatchLayout::run);
     stats.indexed_projections = count_projections(*world, BatchLayout::indexed);

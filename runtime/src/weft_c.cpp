@@ -93,6 +93,7 @@ WorldDesc to_cpp(const WeftWorldDesc& d) {
     w.max_triangle_lanes = d.max_triangle_lanes;
     w.render_meshes = d.render_meshes != 0;
     w.max_render_vertices = d.max_render_vertices;
+    w.max_last_good_particles = d.max_last_good_particles;
     w.gravity_m_s2 = to_cpp(d.gravity_m_s2);
     w.air_density_kg_m3 = d.air_density_kg_m3;
     w.simd = d.simd <= WEFT_SIMD_AVX2 ? SimdPath(d.simd) : SimdPath(0xFF);  // refused by create_world
@@ -235,6 +236,15 @@ WeftResult weft_reserve_cloth(WeftWorldDesc* desc, const WeftAsset* asset) {
     return {};
 }
 
+WeftResult weft_reserve_cloth_recovering(WeftWorldDesc* desc, const WeftAsset* asset, WeftRecoveryPolicy recovery) {
+    if (desc == nullptr) return to_c(make_error(ErrorCode::invalid_argument, "desc is null"));
+    if (uint32_t(recovery) > WEFT_RECOVER_DRESSED_POSE)
+        return to_c(make_error(ErrorCode::invalid_argument, "unknown recovery policy %u", unsigned(recovery)));
+    if (WeftResult r = weft_reserve_cloth(desc, asset); r.code != WEFT_OK) return r;
+    if (recovery == WEFT_RECOVER_LAST_GOOD) desc->max_last_good_particles += asset->asset.slot_count;
+    return {};
+}
+
 WeftResult weft_world_memory_requirements(const WeftWorldDesc* desc, WeftMemoryRequirements* out) {
     if (desc == nullptr || out == nullptr) return to_c(make_error(ErrorCode::invalid_argument, "desc or out is null"));
     const MemoryRequirements need = world_memory_requirements(to_cpp(*desc));
@@ -279,6 +289,7 @@ WeftClothDesc weft_default_cloth_desc(const WeftAsset* asset) {
     c.drag_coefficient = d.drag_coefficient;
     c.lift_coefficient = d.lift_coefficient;
     c.sleep_speed_m_s = d.sleep_speed_m_s;
+    c.recovery = WeftRecoveryPolicy(d.recovery);
     if (live_asset(asset).ok() && asset->asset.has_fabric) {  // the fabric the pattern named (as weft-sim)
         const Fabric& f = asset->asset.fabric;
         for (uint32_t k = 0; k < 3; ++k) c.compliance_m_per_n[k] = f.compliance_m_per_n[k];
@@ -300,6 +311,8 @@ WeftResult weft_add_cloth(WeftWorld* world, const WeftClothDesc* desc, WeftCloth
     c.drag_coefficient = desc->drag_coefficient;
     c.lift_coefficient = desc->lift_coefficient;
     c.sleep_speed_m_s = desc->sleep_speed_m_s;
+    c.recovery = uint32_t(desc->recovery) <= WEFT_RECOVER_DRESSED_POSE ? RecoveryPolicy(desc->recovery)
+                                                                    : RecoveryPolicy(0xFF);  // refused by add_cloth
     ClothId id;
     if (Result r = add_cloth(world->world, c, &id); !r.ok()) return to_c(r);
     *out_cloth = to_c_id(id.index, id.generation);
@@ -463,6 +476,23 @@ WeftResult weft_cloth_is_sleeping(const WeftWorld* world, WeftClothId cloth, int
 WeftResult weft_wake_cloth(WeftWorld* world, WeftClothId cloth) {
     if (Result r = live_world(world); !r.ok()) return to_c(r);
     return to_c(wake_cloth(world->world, cloth_id(cloth)));
+}
+
+WeftResult weft_cloth_health(const WeftWorld* world, WeftClothId cloth, WeftClothHealth* out) {
+    if (Result r = live_world(world); !r.ok()) return to_c(r);
+    if (out == nullptr) return to_c(make_error(ErrorCode::invalid_argument, "out is null"));
+    ClothHealth h;
+    if (Result r = cloth_health(world->world, cloth_id(cloth), &h); !r.ok()) return to_c(r);
+    *out = {h.problems, h.recovered ? 1 : 0, h.energy_J_per_kg, h.recoveries};
+    return {};
+}
+
+WeftResult weft_world_health(const WeftWorld* world, WeftWorldHealth* out) {
+    if (Result r = live_world(world); !r.ok()) return to_c(r);
+    if (out == nullptr) return to_c(make_error(ErrorCode::invalid_argument, "out is null"));
+    const WorldStats stats = world_stats(world->world);
+    *out = {stats.unhealthy_cloths, stats.recovered_cloths, stats.total_recoveries};
+    return {};
 }
 
 }  // extern "C"

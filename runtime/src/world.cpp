@@ -53,6 +53,7 @@ const char* pass_name(Pass pass) {
         case Pass::body: return "body";
         case Pass::normals: return "normals";
         case Pass::render_mesh: return "render_mesh";
+        case Pass::health: return "health";
         case Pass::count: break;
     }
     return "unknown";
@@ -74,14 +75,16 @@ struct ClothArrayCounts {
     size_t plane_floats = 0;   // contact planes, per cached_planes body (a world with them)
     size_t triangle_lanes = 0; // the tangents' uv gradients (a world with tangents)
     size_t render_vertices = 0; // the render mesh's vertices (a world with render meshes)
+    size_t last_good = 0;       // the last good copy's slots (RecoveryPolicy::last_good_state)
 };
 
 // The entries of a cloth's per-triangle arrays in the normals pass's walk: the runs' lanes, then
 // one per triangle done one at a time (as ClothAsset::wind_rest_area).
 uint32_t triangle_lanes(const ClothAsset& a) { return a.wind_lane_count + a.triangle_count - a.wind_run_triangles; }
 
-ClothArrayCounts cloth_array_counts(const WorldDesc& desc, const ClothAsset& asset) {
+ClothArrayCounts cloth_array_counts(const WorldDesc& desc, const ClothAsset& asset, RecoveryPolicy recovery) {
     ClothArrayCounts n;
+    n.last_good = recovery == RecoveryPolicy::last_good_state ? asset.slot_count : 0;
     n.slots = asset.slot_count;
     n.node_lanes = size_t(asset.coarse_slot_count) + kCoarseNodePadding;
     n.nodes = asset.coarse_slot_count;
@@ -106,6 +109,7 @@ ClothArrayCounts capacity_array_counts(const WorldDesc& desc) {
     n.plane_floats = size_t(kContactPlaneArrays) * desc.max_cached_plane_bodies * desc.max_particles;
     n.triangle_lanes = desc.tangents ? desc.max_triangle_lanes : 0;
     n.render_vertices = desc.render_meshes ? desc.max_render_vertices : 0;
+    n.last_good = desc.max_last_good_particles;
     return n;
 }
 
@@ -138,6 +142,10 @@ void visit_cloth_arrays(const WorldDesc& desc, const ClothArrayCounts& n, ClothI
     visit(c.holds, n.nodes);
     if (n.body_order > 0) visit(cloth.body_order, n.body_order);
     if (n.plane_floats > 0) visit(cloth.contact_planes, n.plane_floats);
+    if (n.last_good > 0) {
+        LastGoodState& g = cloth.last_good;
+        for (float** a : {&g.x, &g.y, &g.z, &g.previous_x, &g.previous_y, &g.previous_z}) visit(*a, n.last_good);
+    }
 }
 
 // Asset validation stamps every particle slot and every coarse node slot.
@@ -183,7 +191,7 @@ Result check_world_desc(const WorldDesc& desc) {
         desc.max_coarse_nodes > (1u << 28) || desc.max_bodies > (1u << 10) ||
         desc.max_body_vertices > (1u << 26) || desc.max_body_triangles > (1u << 26) ||
         desc.max_skin_constraints > (1u << 28) || desc.max_triangle_lanes > (1u << 28) ||
-        desc.max_render_vertices > (1u << 28))
+        desc.max_render_vertices > (1u << 28) || desc.max_last_good_particles > (1u << 28))
         return make_error(ErrorCode::out_of_range, "a capacity is absurdly large");
     if (!is_finite(desc.gravity_m_s2) || !std::isfinite(desc.air_density_kg_m3))
         return make_error(ErrorCode::non_finite, "gravity or air density is not finite");
@@ -248,6 +256,9 @@ Result check_cloth_settings(const ClothDesc& desc) {
         return make_error(ErrorCode::out_of_range, "tether slack is negative");
     if (desc.drag_coefficient < 0.0f || desc.lift_coefficient < 0.0f)
         return make_error(ErrorCode::out_of_range, "drag and lift coefficients must be >= 0");
+    if (desc.recovery != RecoveryPolicy::none && desc.recovery != RecoveryPolicy::last_good_state &&
+        desc.recovery != RecoveryPolicy::rest_pose && desc.recovery != RecoveryPolicy::dressed_pose)
+        return make_error(ErrorCode::invalid_argument, "unknown recovery policy");
     if (!std::isfinite(desc.sleep_speed_m_s))
         return make_error(ErrorCode::non_finite, "sleep_speed_m_s is not finite");
     if (desc.sleep_speed_m_s < 0.0f || desc.sleep_speed_m_s > 1000.0f)
@@ -377,6 +388,15 @@ void place_at_start(const Kernels& kernels, ClothInstance& cloth) {
     }
     cloth.held_plane_slots = 0;
     for (uint32_t i = 0; i < lattice_plane_slots(a); ++i) cloth.held_plane_slots += !(p.inverse_mass[i] > 0.0f);
+    start_from_new_positions(kernels, cloth);
+    cloth.previous_substep_s = 0.0f;
+}
+
+// What follows from the positions after a jump (place_at_start, restore_last_good): no contact
+// anchors or wind from before it, the render output found again.
+void start_from_new_positions(const Kernels& kernels, ClothInstance& cloth) {
+    const ClothAsset& a = *cloth.asset;
+    const Particles& p = cloth.particles;
     clear_contact_anchors(cloth);
     if (p.wind_x != nullptr) {
         std::memset(p.wind_x, 0, sizeof(float) * a.slot_count);
@@ -388,7 +408,28 @@ void place_at_start(const Kernels& kernels, ClothInstance& cloth) {
     else if (p.normal_x != nullptr)
         kernels.vertex_normals(p, a);
     if (cloth.render.x != nullptr) kernels.render_mesh(p, a, cloth.render);
-    cloth.previous_substep_s = 0.0f;
+}
+
+void save_last_good(ClothInstance& cloth) {
+    const Particles& p = cloth.particles;
+    LastGoodState& g = cloth.last_good;
+    const size_t bytes = sizeof(float) * size_t(p.slot_count);
+    std::memcpy(g.x, p.x, bytes), std::memcpy(g.y, p.y, bytes), std::memcpy(g.z, p.z, bytes);
+    std::memcpy(g.previous_x, p.previous_x, bytes), std::memcpy(g.previous_y, p.previous_y, bytes);
+    std::memcpy(g.previous_z, p.previous_z, bytes);
+    g.previous_substep_s = cloth.previous_substep_s;
+    g.saved = true;
+}
+
+void restore_last_good(const Kernels& kernels, ClothInstance& cloth) {
+    const Particles& p = cloth.particles;
+    const LastGoodState& g = cloth.last_good;
+    const size_t bytes = sizeof(float) * size_t(p.slot_count);
+    std::memcpy(p.x, g.x, bytes), std::memcpy(p.y, g.y, bytes), std::memcpy(p.z, g.z, bytes);
+    std::memcpy(p.previous_x, g.previous_x, bytes), std::memcpy(p.previous_y, g.previous_y, bytes);
+    std::memcpy(p.previous_z, g.previous_z, bytes);
+    cloth.previous_substep_s = g.previous_substep_s;
+    start_from_new_positions(kernels, cloth);
 }
 
 
@@ -453,14 +494,14 @@ Result find_collider(const World* world, ColliderId id) {
 
 // A cloth's arrays moved by `delta` bytes (compaction): its pointers follow.
 void rebase_cloth(const WorldDesc& desc, ClothInstance& cloth, ptrdiff_t delta) {
-    visit_cloth_arrays(desc, cloth_array_counts(desc, *cloth.asset), cloth,
+    visit_cloth_arrays(desc, cloth_array_counts(desc, *cloth.asset, cloth.settings.recovery), cloth,
                        [&](auto*& array, size_t) { rebase(array, delta); });
 }
 
-size_t cloth_region_bytes(const WorldDesc& desc, const ClothAsset& asset) {
+size_t cloth_region_bytes(const WorldDesc& desc, const ClothAsset& asset, RecoveryPolicy recovery) {
     ArenaSizer sizer;
     ClothInstance shape;
-    visit_cloth_arrays(desc, cloth_array_counts(desc, asset), shape,
+    visit_cloth_arrays(desc, cloth_array_counts(desc, asset, recovery), shape,
                        [&](auto*& array, size_t count) { sizer.add(sizeof(*array) * count); });
     return sizer.bytes;
 }
@@ -510,8 +551,9 @@ Result reserve_instance_memory(World& world, size_t bytes, Arena* out_arena, Reg
     return {};
 }
 
-void reserve_cloth(WorldDesc& desc, const ClothAsset& asset) {
+void reserve_cloth(WorldDesc& desc, const ClothAsset& asset, RecoveryPolicy recovery) {
     desc.max_cloths += 1;
+    if (recovery == RecoveryPolicy::last_good_state) desc.max_last_good_particles += asset.slot_count;
     desc.max_particles += asset.slot_count;
     desc.max_constraints += asset.lane_count;
     desc.max_coarse_nodes += asset.coarse_slot_count;
@@ -599,6 +641,10 @@ Result add_cloth(World* world, const ClothDesc& desc, ClothId* out_cloth) {
     if (render_vertices > world->desc.max_render_vertices - world->render_vertices_used)
         return make_error(ErrorCode::capacity_exceeded, "cloth needs %u render mesh vertices, %u left", render_vertices,
                           world->desc.max_render_vertices - world->render_vertices_used);
+    const uint32_t last_good = desc.recovery == RecoveryPolicy::last_good_state ? asset.slot_count : 0;
+    if (last_good > world->desc.max_last_good_particles - world->last_good_used)
+        return make_error(ErrorCode::capacity_exceeded, "cloth needs %u last good slots (max_last_good_particles), %u left",
+                          last_good, world->desc.max_last_good_particles - world->last_good_used);
     if (world->desc.tangents && asset.uv == nullptr)
         return make_error(ErrorCode::invalid_argument, "the world has tangents but the asset has no texture coordinates");
     if (Result r = validate_asset_with_scratch(asset, world->validation_scratch, validation_scratch_count(world->desc));
@@ -608,13 +654,13 @@ Result add_cloth(World* world, const ClothDesc& desc, ClothId* out_cloth) {
     // Carve the cloth's arrays in a region of their own (the sizing above says they fit).
     Arena room;
     Region region;
-    if (Result r = reserve_instance_memory(*world, cloth_region_bytes(world->desc, asset), &room, &region); !r.ok())
+    if (Result r = reserve_instance_memory(*world, cloth_region_bytes(world->desc, asset, desc.recovery), &room, &region); !r.ok())
         return r;
     ClothInstance& cloth = world->cloths[index];
     const uint32_t generation = cloth.slot.generation;
     cloth = ClothInstance();
     cloth.slot = {true, generation, region};
-    const ClothArrayCounts counts = cloth_array_counts(world->desc, asset);
+    const ClothArrayCounts counts = cloth_array_counts(world->desc, asset, desc.recovery);
     visit_cloth_arrays(world->desc, counts, cloth, [&](auto*& array, size_t count) {
         array = room.allocate_array<std::remove_reference_t<decltype(*array)>>(count);
     });
@@ -632,7 +678,9 @@ Result add_cloth(World* world, const ClothDesc& desc, ClothId* out_cloth) {
         for (uint32_t i = 0; i < asset.coarse_slot_count + kCoarseNodePadding; ++i) node_array[i] = 0.0f;
     if (cloth.particles.tangent_x != nullptr) tangent_uv_gradients(asset, cloth.particles);
     place_at_start(*world->kernels, cloth);
+    cloth.health.start_extent_m = start_extent_m(asset);
     world->particles_used += asset.slot_count;
+    world->last_good_used += last_good;
     world->triangle_lanes_used += tangent_lanes;
     world->render_vertices_used += render_vertices;
     world->constraints_used += asset.lane_count;
@@ -652,6 +700,7 @@ Result remove_cloth(World* world, ClothId id) {
     world->coarse_nodes_used -= asset.coarse_slot_count;
     if (world->desc.tangents) world->triangle_lanes_used -= triangle_lanes(asset);
     if (world->desc.render_meshes) world->render_vertices_used -= asset.render.vertex_count;
+    if (cloth.last_good.x != nullptr) world->last_good_used -= asset.slot_count;
     world->cloths_live -= 1;
     const InstanceSlot slot = cloth.slot;
     cloth = ClothInstance();  // its regions (arrays, skin constraints) are free with it
@@ -745,6 +794,10 @@ Result set_cloth_settings(World* world, ClothId cloth, const ClothDesc& desc) {
     ClothInstance& c = world->cloths[cloth.index];
     if (desc.asset != c.asset)
         return make_error(ErrorCode::invalid_argument, "a cloth's asset cannot change");
+    // The last good copy's arrays are carved at add_cloth: a cloth has them, or cannot take the policy.
+    if ((desc.recovery == RecoveryPolicy::last_good_state) != (c.settings.recovery == RecoveryPolicy::last_good_state))
+        return make_error(ErrorCode::invalid_argument,
+                          "RecoveryPolicy::last_good_state is chosen at add_cloth (its copy's memory), not changed after");
     if (desc.contact_tethers && !c.settings.contact_tethers) clear_contact_anchors(c);  // none are current
     wake(c);
     c.settings = desc;
@@ -835,7 +888,7 @@ Result set_particle(World* world, ClothId cloth, uint32_t particle, Vec3 positio
         return make_error(ErrorCode::out_of_range, "inverse mass is negative");
     const uint32_t s = c.asset->slot_of_particle[particle];
     Particles& p = c.particles;
-    wake(c);
+    wake(c);  // the last good copy stays: a particle put somewhere absurd is what it undoes
     p.x[s] = p.previous_x[s] = position_m.x;
     p.y[s] = p.previous_y[s] = position_m.y;
     p.z[s] = p.previous_z[s] = position_m.z;
@@ -848,6 +901,7 @@ Result set_particle(World* world, ClothId cloth, uint32_t particle, Vec3 positio
 Result reset_cloth(World* world, ClothId cloth) {
     if (Result r = find_cloth(world, cloth); !r.ok()) return r;
     wake(world->cloths[cloth.index]);
+    forget_last_good(world->cloths[cloth.index]);
     place_at_start(*world->kernels, world->cloths[cloth.index]);
     world->cloths[cloth.index].has_root = false;  // the next set_cloth_root starts afresh
     return {};
@@ -886,6 +940,7 @@ Result teleport_cloth(World* world, ClothId cloth, const Transform& root, bool d
     if (Result r = find_cloth(world, cloth); !r.ok()) return r;
     if (Result r = check_root(root); !r.ok()) return r;
     wake(world->cloths[cloth.index]);
+    forget_last_good(world->cloths[cloth.index]);
     jump_to_root(world->cloths[cloth.index], root, drop_velocity);
     return {};
 }
@@ -901,6 +956,26 @@ Result wake_cloth(World* world, ClothId cloth) {
     if (Result r = find_cloth(world, cloth); !r.ok()) return r;
     wake(world->cloths[cloth.index]);
     return {};
+}
+
+Result cloth_health(const World* world, ClothId cloth, ClothHealth* out) {
+    if (Result r = find_cloth(world, cloth); !r.ok()) return r;
+    if (out == nullptr) return make_error(ErrorCode::invalid_argument, "out is null");
+    const HealthState& h = world->cloths[cloth.index].health;
+    *out = {h.problems, h.recovered, h.energy_J_per_kg, h.recoveries};
+    return {};
+}
+
+float start_extent_m(const ClothAsset& a) {
+    float lo[3] = {INFINITY, INFINITY, INFINITY}, hi[3] = {-INFINITY, -INFINITY, -INFINITY};
+    for (uint32_t i = 0; i < a.slot_count; ++i) {
+        if (!(a.inverse_mass[i] > 0.0f)) continue;
+        const float p[3] = {a.start_x[i], a.start_y[i], a.start_z[i]};
+        for (int k = 0; k < 3; ++k) lo[k] = std::min(lo[k], p[k]), hi[k] = std::max(hi[k], p[k]);
+    }
+    if (!(lo[0] <= hi[0])) return 0.0f;  // nothing movable
+    return std::sqrt((hi[0] - lo[0]) * (hi[0] - lo[0]) + (hi[1] - lo[1]) * (hi[1] - lo[1]) +
+                     (hi[2] - lo[2]) * (hi[2] - lo[2]));
 }
 
 // --- sleeping cloths ----------------------------------------------------------------------------

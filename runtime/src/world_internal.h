@@ -22,6 +22,29 @@ struct ClothStepCounts {
     bool skipped = false;  // asleep: the step ran nothing
 };
 
+// A cloth's copy of a healthy step (RecoveryPolicy::last_good_state), in the world's block.
+struct LastGoodState {
+    float* x = nullptr;  // [slot_count] each: positions and previous positions, metres
+    float* y = nullptr;
+    float* z = nullptr;
+    float* previous_x = nullptr;
+    float* previous_y = nullptr;
+    float* previous_z = nullptr;
+    float previous_substep_s = 0.0f;
+    bool saved = false;  // false until a healthy step copies the cloth (or after a reset or teleport)
+};
+
+// Health (cloth_health): the last step's findings and what the next step compares against.
+struct HealthState {
+    uint32_t problems = 0;  // HealthProblem bits of the last step
+    bool recovered = false;
+    float energy_J_per_kg = 0.0f;
+    float baseline_J_per_kg = 0.0f;  // running mean of the energy over finite steps
+    float start_extent_m = 0.0f;     // the start pose's box diagonal over movable particles
+    uint32_t healthy_steps = 0;      // in a row, for the last good copy's refresh
+    uint64_t recoveries = 0;
+};
+
 // Vertex normals are computed when asked for, or needed by tangents or render meshes.
 inline bool has_normals(const WorldDesc& d) { return d.normals || d.tangents || d.render_meshes; }
 
@@ -59,6 +82,8 @@ struct alignas(64) ClothInstance {  // a cache line of its own: cloths step on d
     bool sleeping = false;
     bool bounds_known = false;
     ParticleBounds bounds{};
+    HealthState health;
+    LastGoodState last_good;  // arrays only when added with RecoveryPolicy::last_good_state
     // Character motion: the root the game gave (set_cloth_root), the root of the last step, and
     // whether a root was given yet.
     Transform root, previous_root;
@@ -120,6 +145,7 @@ struct World {
     uint32_t coarse_nodes_used = 0;
     uint32_t triangle_lanes_used = 0;
     uint32_t render_vertices_used = 0;  // by the cloths' tangent uv gradients (WorldDesc::tangents)
+    uint32_t last_good_used = 0;        // slots of the cloths' last good copies
 
     Vec3 gravity_m_s2{};
     Vec3 wind_m_s{};
@@ -179,6 +205,11 @@ void refit_embree(World& world, BodyState& body);
 
 // Puts a cloth at its asset's start pose (plus its translation), at rest (add_cloth, reset_cloth).
 void place_at_start(const Kernels& kernels, ClothInstance& cloth);
+// After positions jumped: contact anchors and wind cleared, the render output found again.
+void start_from_new_positions(const Kernels& kernels, ClothInstance& cloth);
+// The last good copy (RecoveryPolicy::last_good_state): positions, previous positions and h_prev.
+void save_last_good(ClothInstance& cloth);
+void restore_last_good(const Kernels& kernels, ClothInstance& cloth);
 
 // Sleeping cloths. wake: a sleeping cloth steps again from rest (previous positions = positions);
 // any cloth counts its calm steps afresh. The others wake the cloths a change may move: every
@@ -193,6 +224,13 @@ bool same_transform(const Transform& a, const Transform& b);
 bool same_collider(const ColliderDesc& a, const ColliderDesc& b);
 // A collider's shape in the kernels' form (no motion).
 ColliderKernelArgs collider_shape_args(const ColliderDesc& desc);
+
+// Health: the start pose's extent (add_cloth), and the dressed pose on the body as posed now
+// (reset_to_pose and RecoveryPolicy::dressed_pose; the cloth has skin constraints or attachments).
+float start_extent_m(const ClothAsset& asset);
+void place_on_body(const World& world, ClothInstance& cloth);
+// A reset or teleport: the last good copy is of elsewhere, so the next healthy step copies afresh.
+inline void forget_last_good(ClothInstance& cloth) { cloth.last_good.saved = false; cloth.health.healthy_steps = 0; }
 
 // Checks a finite vector (no NaN or infinity).
 bool is_finite(Vec3 v);

@@ -245,7 +245,7 @@ int run_garment(uint32_t steps, bool as_json, const std::vector<GarmentModel>& a
         struct Run {
             GarmentModel model;
             scenes::SceneWorld sw;
-            std::vector<double> step_us, integrate_us, constraints_us, body_us, capsules_us, normals_us, other_us, plain_us;
+            std::vector<double> step_us, integrate_us, constraints_us, body_us, capsules_us, normals_us, health_us, other_us, plain_us;
             std::vector<double> springs_us, coarse_us, tethers_us;  // the parts of constraints_us
             double deepest = 0.0, max_strain = 0.0, strain_sum = 0.0, queried = 0.0;
             uint64_t projections = 0;  // spring lanes projected a step (padding excluded)
@@ -310,7 +310,8 @@ int run_garment(uint32_t steps, bool as_json, const std::vector<GarmentModel>& a
                 r.body_us.push_back(body);
                 r.capsules_us.push_back(pass(Pass::collide));
                 r.normals_us.push_back(pass(Pass::normals));
-                r.other_us.push_back(us - integrate - constraints - body - pass(Pass::normals));
+                r.health_us.push_back(pass(Pass::health));
+                r.other_us.push_back(us - integrate - constraints - body - pass(Pass::normals) - pass(Pass::health));
                 if (&r == &runs[0]) r.plain_us.push_back(baseline);
                 // Penetration by the exact hull query (query_body), whatever model stepped the cloth.
                 r.deepest = std::max(r.deepest, metrics::max_body_penetration_m(sw.world, sw.body->id, cloth));
@@ -358,6 +359,7 @@ int run_garment(uint32_t steps, bool as_json, const std::vector<GarmentModel>& a
                                 {"limb_capsules_us", median(r.capsules_us)},
                                 {"body_share", step_us > 0 ? body_us / step_us : 0.0},
                                 {"normals_us", median(r.normals_us)},
+                                {"health_us", median(r.health_us)},  // cloth_health's pass
                                 // The render output, measured once per scene in the render world (above).
                                 {"normals_with_tangents_us", median(render.normals_us)},
                                 {"tangents_us", tangents_us},

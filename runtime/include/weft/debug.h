@@ -15,7 +15,8 @@ namespace weft {
 // `body`: the body colliders (refit of moved bodies, closest-point queries, tunnelling rays).
 // `normals`: the vertex normals the step ends with (WorldDesc::normals).
 // normals: the vertex normals (and tangents, WorldDesc::tangents); render_mesh: the render meshes.
-enum class Pass : uint8_t { wind = 0, integrate, coarse, constraints, tethers, collide, body, normals, render_mesh, count };
+// health: the end of step health check and any recovery (cloth_health).
+enum class Pass : uint8_t { wind = 0, integrate, coarse, constraints, tethers, collide, body, normals, render_mesh, health, count };
 const char* pass_name(Pass pass);
 
 struct WorldStats {
@@ -47,6 +48,11 @@ struct WorldStats {
     uint64_t memory_compactions = 0;
     // Cloths asleep after the last step (ClothDesc::sleep_speed_m_s): the next runs nothing for them.
     uint64_t sleeping_cloths = 0;
+    // Health (cloth_health): cloths found unhealthy by the last step, those recovered at its end,
+    // and recoveries over all steps.
+    uint64_t unhealthy_cloths = 0;
+    uint64_t recovered_cloths = 0;
+    uint64_t total_recoveries = 0;
 };
 
 WorldStats world_stats(const World* world);

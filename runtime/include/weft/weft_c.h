@@ -140,6 +140,7 @@ typedef struct WeftWorldDesc {
     uint32_t max_triangle_lanes; /* weft_reserve_cloth adds the asset's; carved only with tangents */
     int render_meshes;           /* non-zero: each step drives the cloths' render meshes (weft_read_render_mesh) */
     uint32_t max_render_vertices; /* weft_reserve_cloth adds the asset's */
+    uint32_t max_last_good_particles; /* weft_reserve_cloth_recovering adds the asset's for WEFT_RECOVER_LAST_GOOD */
 } WeftWorldDesc;
 
 /* No capacity, gravity (0, -9.81, 0) m/s^2, air 1.2 kg/m^3, no wind, the widest SIMD path. */
@@ -147,6 +148,17 @@ WeftWorldDesc weft_default_world_desc(void);
 
 /* Adds one instance of `asset` to the capacities. */
 WeftResult weft_reserve_cloth(WeftWorldDesc* desc, const WeftAsset* asset);
+
+/* What a step does with a cloth it finds unhealthy (weft/world.h, RecoveryPolicy). */
+typedef WEFT_ENUM(WeftRecoveryPolicy) {
+    WEFT_RECOVER_NONE = 0,       /* report only */
+    WEFT_RECOVER_LAST_GOOD = 1,  /* back to its copy of a recent healthy step */
+    WEFT_RECOVER_REST_POSE = 2,  /* back to the asset's start pose, at rest */
+    WEFT_RECOVER_DRESSED_POSE = 3 /* the dressed pose on its body as posed now; else the rest pose */
+} WeftRecoveryPolicy;
+
+/* weft_reserve_cloth for a cloth added with `recovery` (WEFT_RECOVER_LAST_GOOD: room for its copy). */
+WeftResult weft_reserve_cloth_recovering(WeftWorldDesc* desc, const WeftAsset* asset, WeftRecoveryPolicy recovery);
 
 WeftResult weft_world_memory_requirements(const WeftWorldDesc* desc, WeftMemoryRequirements* out);
 
@@ -165,6 +177,7 @@ typedef struct WeftClothDesc {
     float drag_coefficient;        /* wind, with the world's wind feature */
     float lift_coefficient;
     float sleep_speed_m_s;         /* every particle slower than this (m/s) for 30 steps: it sleeps; 0 = never */
+    WeftRecoveryPolicy recovery;   /* what a step does with it when unhealthy; WEFT_RECOVER_NONE: report only */
 } WeftClothDesc;
 
 /* world.h's ClothDesc defaults, with the compliance and damping of the asset's fabric if it has one. */
@@ -267,6 +280,26 @@ WeftResult weft_read_render_mesh(const WeftWorld* world, WeftClothId cloth, Weft
  * explicitly (it steps again from rest). */
 WeftResult weft_cloth_is_sleeping(const WeftWorld* world, WeftClothId cloth, int* out_sleeping);
 WeftResult weft_wake_cloth(WeftWorld* world, WeftClothId cloth);
+
+/* Health (weft/world.h, cloth_health): the HealthProblem bits the last step found (WEFT_HEALTH_*; 0:
+ * healthy), whether its recovery policy put it back at the end of that step, and counts. */
+enum { WEFT_HEALTH_NON_FINITE = 1, WEFT_HEALTH_OVERSTRETCHED = 2, WEFT_HEALTH_ENERGY_SPIKE = 4 };
+typedef struct WeftClothHealth {
+    uint32_t problems;       /* WEFT_HEALTH_* bits */
+    int recovered;           /* 1: the last step recovered it */
+    float energy_J_per_kg;   /* mean |v|^2 / 2 of its movable particles over the last substep */
+    uint64_t recoveries;     /* since it was added */
+} WeftClothHealth;
+WeftResult weft_cloth_health(const WeftWorld* world, WeftClothId cloth, WeftClothHealth* out);
+
+/* The world's health counts (weft/debug.h, WorldStats): the last step's unhealthy and recovered
+ * cloths, and recoveries over all steps. */
+typedef struct WeftWorldHealth {
+    uint64_t unhealthy_cloths;
+    uint64_t recovered_cloths;
+    uint64_t total_recoveries;
+} WeftWorldHealth;
+WeftResult weft_world_health(const WeftWorld* world, WeftWorldHealth* out);
 
 #ifdef __cplusplus
 }

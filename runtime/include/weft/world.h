@@ -70,6 +70,7 @@ struct WorldDesc {
     uint32_t max_skin_constraints = 0;     // summed over the cloths (weft/attachments.h); reserve_cloth adds
     uint32_t max_triangle_lanes = 0;       // summed over the cloths, for `tangents`; reserve_cloth adds
     uint32_t max_render_vertices = 0;      // summed over the cloths, for `render_meshes`; reserve_cloth adds
+    uint32_t max_last_good_particles = 0;  // summed slots of cloths with RecoveryPolicy::last_good_state
 
     // Features: a pass that is not enabled is not in the step at all (and costs nothing).
     bool wind = false;
@@ -95,6 +96,15 @@ enum class SpringProjection : uint8_t {
 inline constexpr float kMinRelaxation = 0.5f;
 inline constexpr float kMaxRelaxation = 1.0f;
 inline constexpr uint32_t kMaxCoarseSubsteps = 8;  // substeps of an explicit split with coarse_level
+
+// What the step does with a cloth it finds unhealthy (docs/architecture.md, "Health and recovery"),
+// at the end of that step: the cloth is healthy after it.
+enum class RecoveryPolicy : uint8_t {
+    none,             // report only (cloth_health); the cloth goes on as it is
+    last_good_state,  // back to its copy of a recent healthy step (needs max_last_good_particles)
+    rest_pose,        // back to the asset's start pose, at rest (as reset_cloth)
+    dressed_pose,     // the dressed pose on its body as posed now (reset_to_pose); else rest_pose
+};
 
 // How a cloth spends its solver budget.
 enum class BudgetPolicy : uint8_t {
@@ -146,10 +156,19 @@ struct ClothDesc {
     float max_inertial_speed_m_s = 1000.0f;   // root motion beyond this speed carries the cloth rigidly
 
     float sleep_speed_m_s = 0.0f;  // at rest below this, m/s, it skips its steps until woken; 0: never
+
+    RecoveryPolicy recovery = RecoveryPolicy::none;  // what an unhealthy step does (cloth_health)
 };
 
 // Steps in a row a cloth must be calm (every particle slower than ClothDesc::sleep_speed_m_s) to sleep.
 inline constexpr uint32_t kCalmStepsBeforeSleep = 30;
+
+// Health (cloth_health), checked at the end of every step of an awake cloth over its movable particles;
+// kinetic energy per kg is the mean |v|^2 / 2 over the last substep (particles weighed alike).
+inline constexpr float kOverstretchRatio = 4.0f;  // box diagonal beyond this times the start pose's
+inline constexpr float kEnergySpikeRatio = 10.0f;  // kinetic energy per kg beyond this times the baseline
+inline constexpr float kEnergyFloor_J_per_kg = 50.0f;  // the baseline is at least this (10 m/s)
+inline constexpr uint32_t kLastGoodRefreshSteps = 15;  // healthy steps in a row between copies
 
 // Ids name a place in the world's instance array and the generation of what holds it: removing an
 // instance bumps the generation, so its old id is refused (ErrorCode::stale_id) even after another
@@ -166,8 +185,8 @@ struct ClothId {
 // --- creation -------------------------------------------------------------------------------
 
 // Adds to `desc` the capacity one instance of `asset` needs (a cloth, its particle slots, constraint
-// lanes and coarse nodes).
-void reserve_cloth(WorldDesc& desc, const ClothAsset& asset);
+// lanes and coarse nodes; with RecoveryPolicy::last_good_state, the slots of its copy).
+void reserve_cloth(WorldDesc& desc, const ClothAsset& asset, RecoveryPolicy recovery = RecoveryPolicy::none);
 
 MemoryRequirements world_memory_requirements(const WorldDesc& desc);
 
@@ -267,6 +286,21 @@ Result teleport_cloth(World* world, ClothId cloth, const Transform& root, bool d
 // that makes it step again (with zero velocity) and count its calm steps afresh.
 Result cloth_is_sleeping(const World* world, ClothId cloth, bool* out_sleeping);
 Result wake_cloth(World* world, ClothId cloth);
+
+// A cloth's health as of its last step: what was wrong (HealthProblem bits; 0: healthy) and
+// whether its RecoveryPolicy put it back at the end of that step.
+enum HealthProblem : uint32_t {
+    kNonFinite = 1u << 0,      // a position is NaN or infinite
+    kOverstretched = 1u << 1,  // its box's diagonal is beyond kOverstretchRatio times the start pose's
+    kEnergySpike = 1u << 2,    // kinetic energy per kg beyond kEnergySpikeRatio times its baseline
+};
+struct ClothHealth {
+    uint32_t problems = 0;     // HealthProblem bits found by the last step
+    bool recovered = false;    // the last step recovered it (problems says why)
+    float energy_J_per_kg = 0.0f;  // mean |v|^2 / 2 of its movable particles over the last substep
+    uint64_t recoveries = 0;   // recoveries since add_cloth
+};
+Result cloth_health(const World* world, ClothId cloth, ClothHealth* out);
 
 SimdPath world_simd_path(const World* world);
 
