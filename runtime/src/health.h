@@ -10,37 +10,47 @@
 
 namespace weft {
 
-// Lanes that are summed in the order of their slots within a lane, then lane by lane: a path's
-// result is the same bits on every thread count (the paths' sums may differ in the last bits).
+// Summed in kSimdWidth lanes on every path (the scalar path keeps one accumulator per lane, slot i
+// in lane i % kSimdWidth), the lanes then in order: the scalar and SIMD paths give the same bits,
+// so both flag (and recover) the same cloths.
 template <class F>
 void health_sums(const Particles& p, HealthSums* out) {
     using namespace simd;
+    constexpr uint32_t W = F::width, G = kSimdWidth / W;  // G accumulators of W lanes
+    static_assert(kSimdWidth % W == 0);
     const F inf = splat(std::numeric_limits<float>::infinity(), F{}), zero = splat(0.0f, F{}), one = splat(1.0f, F{});
     const F minus_inf = zero - inf;
-    F lo[3] = {inf, inf, inf}, hi[3] = {minus_inf, minus_inf, minus_inf};
-    F squared = zero, movable = zero;
+    F lo[G][3], hi[G][3], squared[G], movable[G];
+    for (uint32_t g = 0; g < G; ++g) {
+        for (int k = 0; k < 3; ++k) lo[g][k] = inf, hi[g][k] = minus_inf;
+        squared[g] = zero, movable[g] = zero;
+    }
     const float* const xyz[3] = {p.x, p.y, p.z};
     const float* const previous[3] = {p.previous_x, p.previous_y, p.previous_z};
-    for (uint32_t i = 0; i < p.slot_count; i += F::width) {
-        const auto moves = load(p.inverse_mass + i, F{}) > zero;
-        F d2 = zero;
-        for (int k = 0; k < 3; ++k) {
-            const F v = load(xyz[k] + i, F{});
-            const F d = v - load(previous[k] + i, F{});
-            d2 = d2 + d * d;
-            lo[k] = min(lo[k], select(moves, v, inf));
-            hi[k] = max(hi[k], select(moves, v, minus_inf));
+    for (uint32_t i = 0; i < p.slot_count; i += kSimdWidth)  // slot_count is a multiple of kSimdWidth
+        for (uint32_t g = 0; g < G; ++g) {
+            const uint32_t at = i + g * W;
+            const auto moves = load(p.inverse_mass + at, F{}) > zero;
+            F d2 = zero;
+            for (int k = 0; k < 3; ++k) {
+                const F v = load(xyz[k] + at, F{});
+                const F d = v - load(previous[k] + at, F{});
+                d2 = d2 + d * d;
+                lo[g][k] = min(lo[g][k], select(moves, v, inf));
+                hi[g][k] = max(hi[g][k], select(moves, v, minus_inf));
+            }
+            squared[g] = squared[g] + select(moves, d2, zero);
+            movable[g] = movable[g] + select(moves, one, zero);
         }
-        squared = squared + select(moves, d2, zero);
-        movable = movable + select(moves, one, zero);
+    float l[3][kSimdWidth], h[3][kSimdWidth], s[kSimdWidth], m[kSimdWidth];
+    for (uint32_t g = 0; g < G; ++g) {
+        for (int k = 0; k < 3; ++k) store(l[k] + g * W, lo[g][k]), store(h[k] + g * W, hi[g][k]);
+        store(s + g * W, squared[g]), store(m + g * W, movable[g]);
     }
-    float l[3][F::width], h[3][F::width], s[F::width], m[F::width];
-    for (int k = 0; k < 3; ++k) store(l[k], lo[k]), store(h[k], hi[k]);
-    store(s, squared), store(m, movable);
     HealthSums r{{l[0][0], l[1][0], l[2][0]}, {h[0][0], h[1][0], h[2][0]}, s[0], m[0]};
     float* const box_lo[3] = {&r.lo.x, &r.lo.y, &r.lo.z};
     float* const box_hi[3] = {&r.hi.x, &r.hi.y, &r.hi.z};
-    for (uint32_t j = 1; j < F::width; ++j) {
+    for (uint32_t j = 1; j < kSimdWidth; ++j) {
         for (int k = 0; k < 3; ++k) *box_lo[k] = std::min(*box_lo[k], l[k][j]), *box_hi[k] = std::max(*box_hi[k], h[k][j]);
         r.squared_m2 += s[j], r.movable += m[j];
     }
