@@ -59,6 +59,7 @@ struct alignas(64) ClothInstance {  // a cache line of its own: cloths step on d
     bool sleeping = false;
     bool bounds_known = false;
     ParticleBounds bounds{};
+    float priority = 0.0f;  // the frame budget's (set_cloth_priority): higher keeps its sweeps longer
     // Character motion: the root the game gave (set_cloth_root), the root of the last step, and
     // whether a root was given yet.
     Transform root, previous_root;
@@ -123,6 +124,8 @@ struct World {
 
     Vec3 gravity_m_s2{};
     Vec3 wind_m_s{};
+    float frame_budget_us = 0.0f;      // set_frame_budget_us; 0: off
+    uint32_t* budget_order = nullptr;  // [max_cloths]: scratch, the cloths the budget may cut by priority
     WorldStats stats;
     bool step_open = false;  // between begin_step and end_step
     float step_dt_s = 0.0f;  // the open step's dt
@@ -193,6 +196,11 @@ bool same_transform(const Transform& a, const Transform& b);
 bool same_collider(const ColliderDesc& a, const ColliderDesc& b);
 // A collider's shape in the kernels' form (no motion).
 ColliderKernelArgs collider_shape_args(const ColliderDesc& desc);
+
+// The frame budget (budget.cpp), at begin_step: sets each cloth's split for this step from its
+// settings, cutting the sweeps of the lowest priorities until the estimate fits the budget, and
+// writes the budget's WorldStats. Reads no clock: the same inputs give the same splits.
+void spend_frame_budget(World& world);
 
 // Checks a finite vector (no NaN or infinity).
 bool is_finite(Vec3 v);

@@ -47,6 +47,12 @@ struct WorldStats {
     uint64_t memory_compactions = 0;
     // Cloths asleep after the last step (ClothDesc::sleep_speed_m_s): the next runs nothing for them.
     uint64_t sleeping_cloths = 0;
+    // The frame budget (set_frame_budget_us), last step: the cloths' estimated cost in microseconds
+    // (also with the budget off), the cloths it ran with fewer sweeps than their own, and the
+    // sweeps (substeps x iterations) the awake cloths ran, summed.
+    double budget_estimate_us = 0.0;
+    uint64_t budget_cloths_cut = 0;
+    uint64_t budget_sweeps = 0;
 };
 
 WorldStats world_stats(const World* world);

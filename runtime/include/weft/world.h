@@ -82,6 +82,10 @@ struct WorldDesc {
 
     SimdPath simd = SimdPath::automatic;
     StepScheduler scheduler;  // how step() hands out its work items (above)
+
+    // The frame budget's cost model (set_frame_budget_us; docs/architecture.md, "Frame budget"):
+    float budget_ns_per_lane = 0.5f;      // ns a constraint lane costs per sweep (fine and coarse)
+    float budget_ns_per_particle = 6.0f;  // ns a particle slot costs per substep (integration, collision)
 };
 
 // How a spring's length correction is evaluated (runtime/src/constraints/distance.h).
@@ -147,6 +151,9 @@ struct ClothDesc {
 
     float sleep_speed_m_s = 0.0f;  // at rest below this, m/s, it skips its steps until woken; 0: never
 };
+
+// The frame budget never cuts a cloth below this many sweeps a step (nor below its own ClothDesc::sweeps).
+inline constexpr uint32_t kBudgetFloorSweeps = 2;
 
 // Steps in a row a cloth must be calm (every particle slower than ClothDesc::sleep_speed_m_s) to sleep.
 inline constexpr uint32_t kCalmStepsBeforeSleep = 30;
@@ -267,6 +274,15 @@ Result teleport_cloth(World* world, ClothId cloth, const Transform& root, bool d
 // that makes it step again (with zero velocity) and count its calm steps afresh.
 Result cloth_is_sleeping(const World* world, ClothId cloth, bool* out_sleeping);
 Result wake_cloth(World* world, ClothId cloth);
+
+// The frame budget (docs/architecture.md, "Frame budget"): each step, the cloths' estimated cost
+// (WorldDesc::budget_ns_per_lane, budget_ns_per_particle: no clock is read, so the bits stay the
+// same) is fitted to `budget_us` by cutting the sweeps of the lowest-priority cloths on the automatic
+// policy, lowest first, down to kBudgetFloorSweeps. 0: off, the default (every cloth its own sweeps).
+Result set_frame_budget_us(World* world, float budget_us);
+// A cloth's priority for the budget (the game's: e.g. nearness to the camera); higher keeps its
+// sweeps longer, equal ones are cut from the highest slot down. 0 at add_cloth.
+Result set_cloth_priority(World* world, ClothId cloth, float priority);
 
 SimdPath world_simd_path(const World* world);
 
