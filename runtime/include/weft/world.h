@@ -84,8 +84,8 @@ struct WorldDesc {
     StepScheduler scheduler;  // how step() hands out its work items (above)
 
     // The frame budget's cost model (set_frame_budget_us; docs/architecture.md, "Frame budget"):
-    float budget_ns_per_lane = 0.5f;      // ns a constraint lane costs per sweep (fine and coarse)
-    float budget_ns_per_particle = 6.0f;  // ns a particle slot costs per substep (integration, collision)
+    float budget_ns_per_lane = 1.25f;      // ns a constraint lane costs per sweep (fine and coarse)
+    float budget_ns_per_particle = 15.0f;  // ns a particle slot costs per substep (integration, collision)
 };
 
 // How a spring's length correction is evaluated (runtime/src/constraints/distance.h).
