@@ -338,16 +338,25 @@ TEST_CASE("stepping four cloths on a thread pool of three allocates nothing, on 
 }
 
 #ifdef WEFT_SAMPLE_ASSETS_DIR  // the dressed skirt and tee are baked by weft-bake: built with the tools only
-TEST_CASE("1000 despawns and spawns of a dressed character allocate nothing and leave the world's pools as they were") {
-    // Two walking characters in skirt and tee (lib/common/crowd.h); the second leaves and comes
-    // back every frame: its cloths, limb capsules and body removed, then added, bound and stepped.
+namespace {
+
+// Walking characters in skirt and tee (lib/common/crowd.h).
+scenes::CrowdOptions crowd_options(uint32_t characters) {
     scenes::CrowdOptions o;
-    o.characters = 2;
+    o.characters = characters;
     o.skirt_scene = std::string(WEFT_SOURCE_DIR) + "/samples/scenes/skirt-walk.json";
     o.tee_scene = std::string(WEFT_SOURCE_DIR) + "/samples/scenes/tee-walk.json";
     o.asset_dirs = {WEFT_SAMPLE_ASSETS_DIR};
+    return o;
+}
+
+}  // namespace
+
+TEST_CASE("1000 despawns and spawns of a dressed character allocate nothing and leave the world's pools as they were") {
+    // Two walking characters; the second leaves and comes back every frame: its cloths, limb
+    // capsules and body removed, then added, bound and stepped.
     scenes::Crowd crowd;
-    const std::string built = scenes::build_crowd(o, &crowd);
+    const std::string built = scenes::build_crowd(crowd_options(2), &crowd);
     INFO(built);
     REQUIRE(built.empty());
     REQUIRE(step(crowd.world, crowd.dt_s).ok());
@@ -372,6 +381,31 @@ TEST_CASE("1000 despawns and spawns of a dressed character allocate nothing and 
     CHECK(world_usage(crowd.world) == start);
     CHECK(world_stats(crowd.world).memory_compactions == 0);  // each comes back to the room it left
     CHECK(step_stage_items(crowd.world, StepStage::cloths) == 4);
+}
+
+TEST_CASE("the frame budget allocates nothing: cutting sweeps by priority, priorities changed every frame, refusals") {
+    scenes::Crowd crowd;
+    REQUIRE(scenes::build_crowd(crowd_options(3), &crowd).empty());
+    REQUIRE(step(crowd.world, crowd.dt_s).ok());
+    const float budget_us = float(0.6 * world_stats(crowd.world).budget_estimate_us);
+    uint64_t allocations = 0, cut = 0;
+    uint32_t failures = 0;
+    for (uint32_t frame = 1; frame <= 60; ++frame) {
+        failures += !scenes::animate_crowd(crowd, float(frame) * crowd.dt_s).empty();  // the game's: not counted
+        CountingScope counting;
+        failures += !set_frame_budget_us(crowd.world, budget_us).ok();
+        for (uint32_t k = 0; k < 3; ++k)  // the nearest character turns round the crowd
+            for (ClothId cloth : {crowd.characters[k].skirt, crowd.characters[k].tee})
+                failures += !set_cloth_priority(crowd.world, cloth, float((k + frame) % 3)).ok();
+        failures += set_cloth_priority(crowd.world, crowd.characters[0].skirt, std::nanf("")).ok();
+        failures += set_frame_budget_us(crowd.world, -1.0f).ok();
+        failures += !step(crowd.world, crowd.dt_s).ok();
+        cut += world_stats(crowd.world).budget_cloths_cut;
+        allocations += counting.allocations();
+    }
+    CHECK(failures == 0);
+    CHECK(cut > 0);  // the budget cut
+    CHECK(allocations == 0);
 }
 #endif
 

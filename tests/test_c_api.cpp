@@ -1,6 +1,8 @@
 // The C interface (weft/weft_c.h): the seed drape and sphere driven through it step to the same bits
 // as through world.h, and bad input (null pointers, small blocks, corrupt files, dead handles) gives
 // an error code and a message, never a crash.
+#include <cmath>
+
 #include "common/asset_writer.h"
 #include "support/test_support.h"
 #include "weft/weft_c.h"
@@ -480,4 +482,46 @@ TEST_CASE("C API: a cloth with a recovery policy is reported and recovered after
     REQUIRE_WEFT_OK(weft_reserve_cloth_recovering(&wd, c->asset, WEFT_RECOVER_LAST_GOOD));
     CHECK(wd.max_last_good_particles > 0);
     CHECK_WEFT_ERROR(weft_reserve_cloth_recovering(&wd, c->asset, WeftRecoveryPolicy(9)), WEFT_INVALID_ARGUMENT);
+}
+
+TEST_CASE("C API: a frame budget cuts a cloth's sweeps to fit, reports what it did, refuses bad input") {
+    const scenes::SceneOptions o = scene_options(8);
+    auto cpp = make_scene(SeedScene::sphere, o);
+    auto c = make_c_world(cpp->asset(), WEFT_SIMD_AUTOMATIC, scenes::seed_scene(SeedScene::sphere, o).colliders);
+    WeftClothDesc desc = weft_default_cloth_desc(c->asset);
+    desc.sweeps = 10;  // held by the sphere: 3 substeps x 3 iterations, cut to as few as 2 x 1
+    REQUIRE_WEFT_OK(weft_remove_cloth(c->world, c->cloth));
+    WeftClothId cloth = 0;
+    REQUIRE_WEFT_OK(weft_add_cloth(c->world, &desc, &cloth));
+    REQUIRE_WEFT_OK(weft_step(c->world, cpp->dt_s));  // off by default
+    WeftFrameBudgetStats own{};
+    REQUIRE_WEFT_OK(weft_frame_budget_stats(c->world, &own));
+    CHECK(own.estimate_us > 0.0);
+    CHECK(own.cloths_cut == 0);
+    CHECK(own.sweeps == 9);
+    const float budget_us = float(0.5 * own.estimate_us);
+    REQUIRE_WEFT_OK(weft_set_frame_budget_us(c->world, budget_us));
+    REQUIRE_WEFT_OK(weft_set_cloth_priority(c->world, cloth, 1.0f));
+    REQUIRE_WEFT_OK(weft_step(c->world, cpp->dt_s));
+    WeftFrameBudgetStats cut{};
+    REQUIRE_WEFT_OK(weft_frame_budget_stats(c->world, &cut));
+    CHECK(cut.cloths_cut == 1);
+    CHECK(cut.sweeps < own.sweeps);
+    CHECK(cut.sweeps >= 2);
+    CHECK(cut.estimate_us <= double(budget_us));
+
+    CHECK_WEFT_ERROR(weft_set_frame_budget_us(c->world, -5.0f), WEFT_OUT_OF_RANGE);
+    CHECK_WEFT_ERROR(weft_set_frame_budget_us(c->world, std::nanf("")), WEFT_NON_FINITE);
+    CHECK_WEFT_ERROR(weft_set_frame_budget_us(nullptr, 1.0f), WEFT_INVALID_ARGUMENT);
+    CHECK_WEFT_ERROR(weft_set_cloth_priority(c->world, cloth, std::nanf("")), WEFT_NON_FINITE);
+    CHECK_WEFT_ERROR(weft_set_cloth_priority(c->world, c->cloth, 1.0f), WEFT_STALE_ID);
+    CHECK_WEFT_ERROR(weft_frame_budget_stats(c->world, nullptr), WEFT_INVALID_ARGUMENT);
+    REQUIRE_WEFT_OK(weft_step(c->world, cpp->dt_s));  // the refusals changed nothing: still cut
+    REQUIRE_WEFT_OK(weft_frame_budget_stats(c->world, &cut));
+    CHECK(cut.cloths_cut == 1);
+    REQUIRE_WEFT_OK(weft_set_frame_budget_us(c->world, 0.0f));  // off: its own sweeps again
+    REQUIRE_WEFT_OK(weft_step(c->world, cpp->dt_s));
+    REQUIRE_WEFT_OK(weft_frame_budget_stats(c->world, &cut));
+    CHECK(cut.cloths_cut == 0);
+    CHECK(cut.sweeps == own.sweeps);
 }

@@ -1,6 +1,6 @@
 // The step as tasks (weft/world.h, StepScheduler and the stage calls): a world of several dressed,
 // walking characters gives the same bits however its work items are spread over threads, and the
-// stage calls refuse what is out of order.
+// stage calls refuse what is out of order. Also the frame budget (set_frame_budget_us) on the crowd.
 #include <algorithm>
 #include <cmath>
 #include <memory>
@@ -52,6 +52,8 @@ struct Sleep {
     float speed_m_s = 0.0f;
     uint32_t frames = kFrames;
     uint64_t* sleeping = nullptr;  // out: WorldStats::sleeping_cloths after the last frame
+    // The frame budget (set_frame_budget_us), us; 0: never set. Character k's cloths get priority -k.
+    float budget_us = 0.0f;
 };
 
 // The first character's skirt blown up before one frame (a particle thrown 1 km), the crowd's cloths
@@ -90,6 +92,12 @@ uint64_t run_crowd(uint32_t characters, Drive drive, uint32_t threads, SimdPath 
     const std::string e = scenes::build_crowd(o, &crowd);
     INFO(e);
     REQUIRE(e.empty());
+    if (sleep.budget_us > 0.0f) {
+        REQUIRE(set_frame_budget_us(crowd.world, sleep.budget_us).ok());
+        for (uint32_t k = 0; k < characters; ++k)
+            for (ClothId cloth : {crowd.characters[k].skirt, crowd.characters[k].tee})
+                REQUIRE(set_cloth_priority(crowd.world, cloth, -float(k)).ok());
+    }
     for (uint32_t frame = 1; frame <= sleep.frames; ++frame) {
         REQUIRE(scenes::animate_crowd(crowd, float(frame) * crowd.dt_s).empty());
         if (frame == blow_up.frame) throw_a_particle(crowd);
@@ -154,6 +162,161 @@ TEST_CASE("step as tasks: a skirt blown up and recovered (last good state, dress
     // Without a blow-up a policy changes no bit of the walk.
     CHECK(run_crowd(2, Drive::step_alone, 0, SimdPath::automatic, {}, BlowUp{RecoveryPolicy::last_good_state}) ==
           run_crowd(2, Drive::step_alone, 0, SimdPath::automatic));
+}
+
+namespace {
+
+// The crowd's estimated step cost (WorldStats::budget_estimate_us), us: without a budget, or with
+// one (1 us: every cloth at the floor).
+double crowd_estimate_us(uint32_t characters, float budget_us = 0.0f) {
+    scenes::Crowd crowd;
+    REQUIRE(scenes::build_crowd(crowd_options(characters), &crowd).empty());
+    REQUIRE(set_frame_budget_us(crowd.world, budget_us).ok());
+    REQUIRE(scenes::animate_crowd(crowd, crowd.dt_s).empty());
+    REQUIRE(step(crowd.world, crowd.dt_s).ok());
+    return world_stats(crowd.world).budget_estimate_us;
+}
+
+}  // namespace
+
+TEST_CASE("frame budget: with one under the estimate, the same bits on 1, 2 and 7 threads, and other bits than without") {
+    const float budget_us = float(0.6 * crowd_estimate_us(3));
+    for (const SimdPath path : available_paths()) {
+        CAPTURE(simd_path_name(path));
+        Sleep budget;
+        budget.budget_us = budget_us;
+        const uint64_t alone = run_crowd(3, Drive::step_alone, 0, path, budget);
+        CHECK(run_crowd(3, Drive::step_with_pool, 1, path, budget) == alone);
+        CHECK(run_crowd(3, Drive::step_with_pool, 2, path, budget) == alone);
+        CHECK(run_crowd(3, Drive::step_with_pool, 7, path, budget) == alone);
+        CHECK(run_crowd(3, Drive::items_backwards, 0, path, budget) == alone);
+        CHECK(run_crowd(3, Drive::step_alone, 0, path) != alone);  // the budget shows
+    }
+}
+
+TEST_CASE("frame budget: off, or over the estimate, changes no bit") {
+    const uint64_t never_set = run_crowd(3, Drive::step_alone, 0, SimdPath::automatic);
+    Sleep roomy;  // every cloth fits: nothing is cut
+    roomy.budget_us = float(2.0 * crowd_estimate_us(3));
+    CHECK(run_crowd(3, Drive::step_alone, 0, SimdPath::automatic, roomy) == never_set);
+
+    // On for some frames, then off: the crowd runs its own splits again (the bits differ by then,
+    // so the check is on the splits).
+    scenes::Crowd crowd;
+    REQUIRE(scenes::build_crowd(crowd_options(2), &crowd).empty());
+    const ClothId skirt = crowd.characters[1].skirt;
+    SolverSplit own, cut, again;
+    REQUIRE(cloth_solver_split(crowd.world, skirt, &own).ok());
+    REQUIRE(set_frame_budget_us(crowd.world, 1.0f).ok());  // far under: everything at the floor
+    REQUIRE(scenes::animate_crowd(crowd, crowd.dt_s).empty());
+    REQUIRE(step(crowd.world, crowd.dt_s).ok());
+    REQUIRE(cloth_solver_split(crowd.world, skirt, &cut).ok());
+    CHECK(cut.substeps * cut.iterations < own.substeps * own.iterations);
+    REQUIRE(set_frame_budget_us(crowd.world, 0.0f).ok());
+    REQUIRE(cloth_solver_split(crowd.world, skirt, &again).ok());
+    CHECK(again.substeps == own.substeps);
+    CHECK(again.iterations == own.iterations);
+    REQUIRE(step(crowd.world, crowd.dt_s).ok());
+    CHECK(world_stats(crowd.world).budget_cloths_cut == 0);
+}
+
+namespace {
+
+// Each cloth's sweeps this step (substeps x iterations), in cloth order.
+std::vector<uint32_t> crowd_sweeps(const scenes::Crowd& crowd) {
+    std::vector<uint32_t> sweeps;
+    for (const scenes::CrowdCharacter& who : crowd.characters)
+        for (ClothId cloth : {who.skirt, who.tee}) {
+            SolverSplit split;
+            REQUIRE(cloth_solver_split(crowd.world, cloth, &split).ok());
+            sweeps.push_back(split.substeps * split.iterations);
+        }
+    return sweeps;
+}
+
+}  // namespace
+
+TEST_CASE("frame budget: the lowest priorities lose sweeps first, the estimate fits, and a change of priority moves the cut") {
+    scenes::Crowd crowd;
+    REQUIRE(scenes::build_crowd(crowd_options(3), &crowd).empty());
+    World* w = crowd.world;
+    const std::vector<uint32_t> own = crowd_sweeps(crowd);
+    // Room for one character at its own sweeps, one at the floor, and one half way between.
+    const double full_us = crowd_estimate_us(1), floor_us = crowd_estimate_us(1, 1.0f);
+    const float budget_us = float(full_us + 2.0 * floor_us + 0.5 * (full_us - floor_us));
+    REQUIRE(set_frame_budget_us(w, budget_us).ok());
+    // Character 0 nearest, then 1, then 2 (cloth order: skirt 0, tee 0, skirt 1, ...).
+    const auto prioritise = [&](const float (&by_character)[3]) {
+        for (uint32_t k = 0; k < 3; ++k)
+            for (ClothId cloth : {crowd.characters[k].skirt, crowd.characters[k].tee})
+                REQUIRE(set_cloth_priority(w, cloth, by_character[k]).ok());
+    };
+    prioritise({3.0f, 2.0f, 1.0f});
+    for (uint32_t frame = 1; frame <= 5; ++frame) {
+        REQUIRE(scenes::animate_crowd(crowd, float(frame) * crowd.dt_s).empty());
+        REQUIRE(step(w, crowd.dt_s).ok());
+        const WorldStats stats = world_stats(w);
+        CHECK(stats.budget_estimate_us <= double(budget_us));
+        CHECK(stats.budget_cloths_cut > 0);
+    }
+    std::vector<uint32_t> sweeps = crowd_sweeps(crowd);
+    CHECK(sweeps[0] == own[0]);  // the nearest character keeps its own sweeps
+    CHECK(sweeps[1] == own[1]);
+    CHECK(sweeps[4] == kBudgetFloorSweeps);  // the farthest is cut first, to the floor
+    CHECK(sweeps[5] == kBudgetFloorSweeps);
+    CHECK(sweeps[2] + sweeps[3] < own[2] + own[3]);  // the middle one in part
+    CHECK(sweeps[2] + sweeps[3] > 2 * kBudgetFloorSweeps);
+    for (uint32_t s : sweeps) CHECK(s >= kBudgetFloorSweeps);  // never below the floor
+    uint64_t total = 0;
+    for (uint32_t s : sweeps) total += s;
+    CHECK(world_stats(w).budget_sweeps == total);
+
+    prioritise({1.0f, 2.0f, 3.0f});  // the camera turned: character 2 is nearest now
+    REQUIRE(scenes::animate_crowd(crowd, 6.0f * crowd.dt_s).empty());
+    REQUIRE(step(w, crowd.dt_s).ok());
+    sweeps = crowd_sweeps(crowd);
+    CHECK(sweeps[4] == own[4]);
+    CHECK(sweeps[5] == own[5]);
+    CHECK(sweeps[0] == kBudgetFloorSweeps);
+    CHECK(sweeps[1] == kBudgetFloorSweeps);
+    CHECK(world_stats(w).budget_estimate_us <= double(budget_us));
+
+    // A budget no cut can meet: every cloth at the floor, never 0, the estimate over the budget.
+    REQUIRE(set_frame_budget_us(w, 1.0f).ok());
+    REQUIRE(step(w, crowd.dt_s).ok());
+    for (uint32_t s : crowd_sweeps(crowd)) CHECK(s == kBudgetFloorSweeps);
+    CHECK(world_stats(w).budget_cloths_cut == 6);
+    CHECK(world_stats(w).budget_estimate_us > 1.0);
+}
+
+TEST_CASE("frame budget: bad input is refused and changes nothing") {
+    scenes::Crowd crowd;
+    REQUIRE(scenes::build_crowd(crowd_options(2), &crowd).empty());
+    World* w = crowd.world;
+    const float budget_us = float(0.6 * crowd_estimate_us(2));
+    REQUIRE(set_frame_budget_us(w, budget_us).ok());
+    REQUIRE(set_cloth_priority(w, crowd.characters[0].skirt, 1.0f).ok());
+    REQUIRE(set_cloth_priority(w, crowd.characters[0].tee, 1.0f).ok());
+    CHECK(set_frame_budget_us(w, -1.0f).code == ErrorCode::out_of_range);
+    CHECK(set_frame_budget_us(w, std::nanf("")).code == ErrorCode::non_finite);
+    CHECK(set_frame_budget_us(w, INFINITY).code == ErrorCode::non_finite);
+    CHECK(set_frame_budget_us(nullptr, 1.0f).code == ErrorCode::invalid_argument);
+    CHECK(set_cloth_priority(w, crowd.characters[1].skirt, std::nanf("")).code == ErrorCode::non_finite);
+    CHECK(set_cloth_priority(w, crowd.characters[1].tee, -INFINITY).code == ErrorCode::non_finite);
+    CHECK(set_cloth_priority(w, ClothId{100, 0}, 1.0f).code == ErrorCode::out_of_range);
+    REQUIRE(begin_step(w, crowd.dt_s).ok());  // nothing changes the world while a step is open
+    CHECK(set_frame_budget_us(w, 0.0f).code != ErrorCode::ok);
+    CHECK(set_cloth_priority(w, crowd.characters[1].skirt, 9.0f).code != ErrorCode::ok);
+    REQUIRE(end_step(w).ok());
+    // As before the refusals: the budget is on and character 1 (priority 0) is cut, not character 0.
+    REQUIRE(step(w, crowd.dt_s).ok());
+    const std::vector<uint32_t> sweeps = crowd_sweeps(crowd);
+    CHECK(world_stats(w).budget_cloths_cut > 0);
+    CHECK(sweeps[2] + sweeps[3] < sweeps[0] + sweeps[1]);
+    // A removed cloth's id is stale.
+    const ClothId gone = crowd.characters[1].tee;
+    REQUIRE(scenes::despawn_character(crowd, 1).empty());
+    CHECK(set_cloth_priority(w, gone, 1.0f).code == ErrorCode::stale_id);
 }
 
 TEST_CASE("sleep: a standing character's cloths sleep through the same pose and wake when its body moves") {

@@ -1,5 +1,6 @@
 // One step of the world: the seed's algorithm (section 2.3), per cloth, per substep.
 //
+//   0. at begin_step, with a frame budget: each cloth's split for this step (budget.cpp)
 //   1. external forces: gravity and damping (folded into Verlet), wind drag and lift (eq. 2-4)
 //   2. Verlet integration
 //   3. spring correction: a) `coarse_iterations` sweeps of the coarse level (if any; with contact
@@ -489,6 +490,7 @@ Result begin_step(World* world, float dt_s) {
         // The plain reference pass (a diagnostic) commits Embree scenes: here, on this thread.
         if (body.reference_queries && body.refit_pending) refit_embree(*world, body);
     }
+    spend_frame_budget(*world);  // this step's splits: every cloth its own, or cut to fit the budget
     world->step_dt_s = dt_s;
     world->step_open = true;
     return {};

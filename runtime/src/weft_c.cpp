@@ -495,4 +495,22 @@ WeftResult weft_world_health(const WeftWorld* world, WeftWorldHealth* out) {
     return {};
 }
 
+WeftResult weft_set_frame_budget_us(WeftWorld* world, float budget_us) {
+    if (Result r = live_world(world); !r.ok()) return to_c(r);
+    return to_c(set_frame_budget_us(world->world, budget_us));
+}
+
+WeftResult weft_set_cloth_priority(WeftWorld* world, WeftClothId cloth, float priority) {
+    if (Result r = live_world(world); !r.ok()) return to_c(r);
+    return to_c(set_cloth_priority(world->world, cloth_id(cloth), priority));
+}
+
+WeftResult weft_frame_budget_stats(const WeftWorld* world, WeftFrameBudgetStats* out) {
+    if (Result r = live_world(world); !r.ok()) return to_c(r);
+    if (out == nullptr) return to_c(make_error(ErrorCode::invalid_argument, "out is null"));
+    const WorldStats stats = world_stats(world->world);
+    *out = {stats.budget_estimate_us, stats.budget_cloths_cut, stats.budget_sweeps};
+    return {};
+}
+
 }  // extern "C"

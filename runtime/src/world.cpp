@@ -168,6 +168,7 @@ ArenaSizer size_world(const WorldDesc& desc) {
     sizer.add(sizeof(ColliderState) * desc.max_colliders);
     sizer.add(sizeof(uint32_t) * validation_scratch_count(desc));
     sizer.add(sizeof(Region) * (size_t(desc.max_cloths) + desc.max_bodies));
+    sizer.add(sizeof(uint32_t) * desc.max_cloths);  // budget_order
     // The cloths' arrays: each cloth's start on a cache line, so each may waste up to one per array.
     ClothInstance shape;
     visit_cloth_arrays(desc, capacity_array_counts(desc), shape, [&](auto*& array, size_t count) {
@@ -202,6 +203,10 @@ Result check_world_desc(const WorldDesc& desc) {
                           desc.max_cached_plane_bodies, desc.max_bodies);
     if (desc.max_bodies > 0 && (desc.max_body_vertices < 3 || desc.max_body_triangles < 1))
         return make_error(ErrorCode::invalid_argument, "bodies need max_body_vertices >= 3 and max_body_triangles >= 1");
+    if (!std::isfinite(desc.budget_ns_per_lane) || !std::isfinite(desc.budget_ns_per_particle))
+        return make_error(ErrorCode::non_finite, "the frame budget's cost model is not finite");
+    if (desc.budget_ns_per_lane < 0.0f || desc.budget_ns_per_particle < 0.0f)
+        return make_error(ErrorCode::out_of_range, "the frame budget's cost model is negative");
     if (desc.simd != SimdPath::automatic && !simd_path_available(desc.simd))
         return make_error(ErrorCode::unsupported, "SIMD path '%s' is not available in this build or CPU",
                           simd_path_name(desc.simd));
@@ -588,6 +593,7 @@ Result create_world(const WorldDesc& desc, void* memory, size_t bytes, World** o
     for (uint32_t i = 0; i < desc.max_colliders; ++i) new (&world->colliders[i]) ColliderState();
     world->validation_scratch = arena.allocate_array<uint32_t>(validation_scratch_count(desc));
     world->regions = arena.allocate_array<Region>(size_t(desc.max_cloths) + desc.max_bodies);
+    world->budget_order = arena.allocate_array<uint32_t>(desc.max_cloths);
     world->bodies = arena.allocate_array<BodyState>(desc.max_bodies);
     for (uint32_t i = 0; i < desc.max_bodies; ++i) new (&world->bodies[i]) BodyState();
     if (desc.max_bodies > 0) {
@@ -976,6 +982,27 @@ float start_extent_m(const ClothAsset& a) {
     if (!(lo[0] <= hi[0])) return 0.0f;  // nothing movable
     return std::sqrt((hi[0] - lo[0]) * (hi[0] - lo[0]) + (hi[1] - lo[1]) * (hi[1] - lo[1]) +
                      (hi[2] - lo[2]) * (hi[2] - lo[2]));
+}
+
+Result set_frame_budget_us(World* world, float budget_us) {
+    if (world == nullptr) return make_error(ErrorCode::invalid_argument, "world is null");
+    if (Result r = refuse_while_stepping(world); !r.ok()) return r;
+    if (!std::isfinite(budget_us)) return make_error(ErrorCode::non_finite, "frame budget is not finite");
+    if (budget_us < 0.0f) return make_error(ErrorCode::out_of_range, "frame budget %g us is negative", double(budget_us));
+    world->frame_budget_us = budget_us;
+    if (budget_us == 0.0f)  // off: every cloth runs its own split again from now on
+        for (uint32_t i = 0; i < world->cloth_slots; ++i) {
+            ClothInstance& c = world->cloths[i];
+            if (c.slot.live) c.split = resolve_split(c.settings, *c.asset);
+        }
+    return {};
+}
+
+Result set_cloth_priority(World* world, ClothId cloth, float priority) {
+    if (Result r = find_cloth(world, cloth); !r.ok()) return r;
+    if (!std::isfinite(priority)) return make_error(ErrorCode::non_finite, "cloth priority is not finite");
+    world->cloths[cloth.index].priority = priority;
+    return {};
 }
 
 // --- sleeping cloths ----------------------------------------------------------------------------

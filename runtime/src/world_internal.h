@@ -84,6 +84,7 @@ struct alignas(64) ClothInstance {  // a cache line of its own: cloths step on d
     ParticleBounds bounds{};
     HealthState health;
     LastGoodState last_good;  // arrays only when added with RecoveryPolicy::last_good_state
+    float priority = 0.0f;  // the frame budget's (set_cloth_priority): higher keeps its sweeps longer
     // Character motion: the root the game gave (set_cloth_root), the root of the last step, and
     // whether a root was given yet.
     Transform root, previous_root;
@@ -149,6 +150,8 @@ struct World {
 
     Vec3 gravity_m_s2{};
     Vec3 wind_m_s{};
+    float frame_budget_us = 0.0f;      // set_frame_budget_us; 0: off
+    uint32_t* budget_order = nullptr;  // [max_cloths]: scratch, the cloths the budget may cut by priority
     WorldStats stats;
     bool step_open = false;  // between begin_step and end_step
     float step_dt_s = 0.0f;  // the open step's dt
@@ -231,6 +234,11 @@ float start_extent_m(const ClothAsset& asset);
 void place_on_body(const World& world, ClothInstance& cloth);
 // A reset or teleport: the last good copy is of elsewhere, so the next healthy step copies afresh.
 inline void forget_last_good(ClothInstance& cloth) { cloth.last_good.saved = false; cloth.health.healthy_steps = 0; }
+
+// The frame budget (budget.cpp), at begin_step: sets each cloth's split for this step from its
+// settings, cutting the sweeps of the lowest priorities until the estimate fits the budget, and
+// writes the budget's WorldStats. Reads no clock: the same inputs give the same splits.
+void spend_frame_budget(World& world);
 
 // Checks a finite vector (no NaN or infinity).
 bool is_finite(Vec3 v);

@@ -605,6 +605,10 @@ int main(int argc, char** argv) {
     crowd->add_option("--sleep-speed", crowd_o.sleep_speed_m_s,
                       "m/s: a cloth whose particles all stay slower sleeps (ClothDesc::sleep_speed_m_s; 0: never)")
         ->check(CLI::Range(0.0f, 10.0f))->capture_default_str();
+    crowd->add_option("--budget-us", crowd_o.budget_us,
+                      "us: also step each crowd under this frame budget (set_frame_budget_us), priority by "
+                      "nearness to a camera in front; 0: off")
+        ->check(CLI::Range(0.0f, 1.0e7f))->capture_default_str();
     crowd->add_flag("--json", crowd_o.json, "one JSON object per thread count");
     bench::CorpusOptions corpus_o;
     CLI::App* corpus = app.add_subcommand("corpus", "a folder of sewing patterns baked flat and sewn, one JSON line per garment and a summary");

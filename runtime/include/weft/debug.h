@@ -53,6 +53,12 @@ struct WorldStats {
     uint64_t unhealthy_cloths = 0;
     uint64_t recovered_cloths = 0;
     uint64_t total_recoveries = 0;
+    // The frame budget (set_frame_budget_us), last step: the cloths' estimated cost in microseconds
+    // (also with the budget off), the cloths it ran with fewer sweeps than their own, and the
+    // sweeps (substeps x iterations) the awake cloths ran, summed.
+    double budget_estimate_us = 0.0;
+    uint64_t budget_cloths_cut = 0;
+    uint64_t budget_sweeps = 0;
 };
 
 WorldStats world_stats(const World* world);

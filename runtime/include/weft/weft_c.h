@@ -301,6 +301,19 @@ typedef struct WeftWorldHealth {
 } WeftWorldHealth;
 WeftResult weft_world_health(const WeftWorld* world, WeftWorldHealth* out);
 
+/* The frame budget (weft/world.h: set_frame_budget_us): microseconds a step's cloths may cost by
+ * the world's cost model (no clock is read); the lowest priorities lose sweeps first, down to 2.
+ * 0 = off, the default. A priority (0 at add) is the game's: higher keeps its sweeps longer. */
+WeftResult weft_set_frame_budget_us(WeftWorld* world, float budget_us);
+WeftResult weft_set_cloth_priority(WeftWorld* world, WeftClothId cloth, float priority);
+/* What the budget did last step (weft/debug.h: WorldStats::budget_*). */
+typedef struct WeftFrameBudgetStats {
+    double estimate_us;   /* the awake cloths' estimated cost (also with the budget off) */
+    uint64_t cloths_cut;  /* cloths that ran fewer sweeps than their own */
+    uint64_t sweeps;      /* substeps x iterations, summed over the awake cloths */
+} WeftFrameBudgetStats;
+WeftResult weft_frame_budget_stats(const WeftWorld* world, WeftFrameBudgetStats* out);
+
 #ifdef __cplusplus
 }
 #endif

@@ -83,6 +83,10 @@ struct WorldDesc {
 
     SimdPath simd = SimdPath::automatic;
     StepScheduler scheduler;  // how step() hands out its work items (above)
+
+    // The frame budget's cost model (set_frame_budget_us; docs/architecture.md, "Frame budget"):
+    float budget_ns_per_lane = 1.25f;      // ns a constraint lane costs per sweep (fine and coarse)
+    float budget_ns_per_particle = 15.0f;  // ns a particle slot costs per substep (integration, collision)
 };
 
 // How a spring's length correction is evaluated (runtime/src/constraints/distance.h).
@@ -159,6 +163,9 @@ struct ClothDesc {
 
     RecoveryPolicy recovery = RecoveryPolicy::none;  // what an unhealthy step does (cloth_health)
 };
+
+// The frame budget never cuts a cloth below this many sweeps a step (nor below its own ClothDesc::sweeps).
+inline constexpr uint32_t kBudgetFloorSweeps = 2;
 
 // Steps in a row a cloth must be calm (every particle slower than ClothDesc::sleep_speed_m_s) to sleep.
 inline constexpr uint32_t kCalmStepsBeforeSleep = 30;
@@ -301,6 +308,15 @@ struct ClothHealth {
     uint64_t recoveries = 0;   // recoveries since add_cloth
 };
 Result cloth_health(const World* world, ClothId cloth, ClothHealth* out);
+
+// The frame budget (docs/architecture.md, "Frame budget"): each step, the cloths' estimated cost
+// (WorldDesc::budget_ns_per_lane, budget_ns_per_particle: no clock is read, so the bits stay the
+// same) is fitted to `budget_us` by cutting the sweeps of the lowest-priority cloths on the automatic
+// policy, lowest first, down to kBudgetFloorSweeps. 0: off, the default (every cloth its own sweeps).
+Result set_frame_budget_us(World* world, float budget_us);
+// A cloth's priority for the budget (the game's: e.g. nearness to the camera); higher keeps its
+// sweeps longer, equal ones are cut from the highest slot down. 0 at add_cloth.
+Result set_cloth_priority(World* world, ClothId cloth, float priority);
 
 SimdPath world_simd_path(const World* world);
 
