@@ -390,6 +390,40 @@ TEST_CASE("sewing: bad input is refused with a message") {
     CHECK(s.error.find("is more than 0.5 m from the body") != std::string::npos);
 }
 
+TEST_CASE("sewing: the sewing world steps a garment with its fabric's compliance, as a scene does") {
+    // A 30 cm square held by one edge, flat beside the mannequin, droops for a second: a compliant
+    // fabric must move otherwise than the seed's hard correction (the drape's stored pose is the
+    // rest of the solver the game runs; the sewing world once stepped every fabric hard).
+    auto droop = [](const char* fabric) {
+        const std::string pattern = std::string(R"({"format": "weft-pattern", "version": 1, "units": "m", "fabric": )") + fabric +
+                                    R"(, "panels": [{"name": "p", "vertices": [[0, 0], [0.3, 0], [0.3, 0.3], [0, 0.3]],
+              "edges": [{"name": "foot", "endpoints": [0, 1]}, {"name": "fly", "endpoints": [1, 2]},
+                        {"name": "head", "endpoints": [2, 3]}, {"name": "pole", "endpoints": [3, 0]}],
+              "placement": {"rotation_deg": [90, 0, 0], "translation": [1.0, 1.2, 0]}}], "pins": [{"panel": "p", "edge": "head"}]})";
+        bake::Baked baked;
+        const bake::Status s = bake::bake_pattern(pattern, bake::BakeOptions{}, &baked);
+        INFO(s.error);
+        REQUIRE(s.ok());
+        assets::LoadedAsset loaded;
+        REQUIRE(assets::load_asset_copy(baked.bytes.data(), baked.bytes.size(), &loaded).ok());
+        bake::BodyWorld w;
+        REQUIRE(bake::open_body_world(loaded.asset, mannequin(), bake::SewOptions{}, 9.81f, 1.0f, &w).ok());
+        for (int frame = 0; frame < 60; ++frame) REQUIRE(step(w.world, bake::SewOptions{}.dt_s).ok());
+        std::vector<Vec3> x(loaded.asset.particle_count);
+        read_positions(w.world, w.cloth, x.data(), loaded.asset.particle_count);
+        return x;
+    };
+    const std::vector<Vec3> hard = droop(R"({"shear_compliance": 0, "bend_compliance": 0})");
+    const std::vector<Vec3> soft = droop(R"({"shear_compliance": 1, "bend_compliance": 1})");
+    REQUIRE(hard.size() == soft.size());
+    float apart = 0.0f;
+    for (size_t p = 0; p < hard.size(); ++p)
+        apart = std::max(apart, std::sqrt((hard[p].x - soft[p].x) * (hard[p].x - soft[p].x) + (hard[p].y - soft[p].y) * (hard[p].y - soft[p].y) +
+                                          (hard[p].z - soft[p].z) * (hard[p].z - soft[p].z)));
+    MESSAGE("largest distance between the hard and the compliant droop: " << apart * 1000.0f << " mm");
+    CHECK(apart > 1e-4f);
+}
+
 TEST_CASE("attachments: the skirt's waistband follows the walking mannequin exactly") {
     const bake::SewBody& body = mannequin();
     const Dressed* d = &dressed("skirt.json");

@@ -219,6 +219,8 @@ Status open_world(const ClothAsset* asset, const SewBody& body, const SewOptions
     c.asset = asset;
     c.sweeps = o.sweeps;
     c.damping_per_s = damping_per_s;
+    // The fabric's compliance, as a scene gives the loaded asset: the stored pose is that solver's rest.
+    for (uint32_t k = 0; k < kConstraintKindCount; ++k) c.compliance_m_per_n[k] = asset->fabric.compliance_m_per_n[k];
     if (Result r = add_cloth(w->world, c, &w->cloth); !r.ok()) return {std::string("garment: ") + r.message};
     return {};
 }
