@@ -519,6 +519,24 @@ TEST_CASE("C API: a frame budget cuts a cloth's sweeps to fit, reports what it d
     REQUIRE_WEFT_OK(weft_step(c->world, cpp->dt_s));  // the refusals changed nothing: still cut
     REQUIRE_WEFT_OK(weft_frame_budget_stats(c->world, &cut));
     CHECK(cut.cloths_cut == 1);
+    // The cost model is the game's to set: twice the cost per lane and per particle, twice the estimate.
+    WeftWorldDesc dear = weft_default_world_desc();
+    REQUIRE_WEFT_OK(weft_reserve_cloth(&dear, c->asset));
+    dear.budget_ns_per_lane *= 2.0f, dear.budget_ns_per_particle *= 2.0f;
+    WeftMemoryRequirements need{};
+    REQUIRE_WEFT_OK(weft_world_memory_requirements(&dear, &need));
+    Block block = alloc_block(need);
+    WeftWorld* world = nullptr;
+    REQUIRE_WEFT_OK(weft_create_world(&dear, block.get(), need.bytes, &world));
+    REQUIRE_WEFT_OK(weft_add_cloth(world, &desc, &cloth));
+    REQUIRE_WEFT_OK(weft_step(world, cpp->dt_s));
+    WeftFrameBudgetStats doubled{};
+    REQUIRE_WEFT_OK(weft_frame_budget_stats(world, &doubled));
+    CHECK(doubled.estimate_us == doctest::Approx(2.0 * own.estimate_us).epsilon(1e-6));
+    weft_destroy_world(world);
+    dear.budget_ns_per_lane = -1.0f;
+    CHECK_WEFT_ERROR(weft_create_world(&dear, block.get(), need.bytes, &world), WEFT_OUT_OF_RANGE);
+
     REQUIRE_WEFT_OK(weft_set_frame_budget_us(c->world, 0.0f));  // off: its own sweeps again
     REQUIRE_WEFT_OK(weft_step(c->world, cpp->dt_s));
     REQUIRE_WEFT_OK(weft_frame_budget_stats(c->world, &cut));

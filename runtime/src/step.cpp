@@ -29,7 +29,6 @@
 // particles and counters and reads the bodies and colliders); end_step then adds the counters up
 // in a fixed order. So any split of the items over threads gives the same bits.
 #include <algorithm>
-#include <cfloat>
 #include <chrono>
 #include <cmath>
 #include <cstring>

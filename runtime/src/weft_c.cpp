@@ -94,6 +94,8 @@ WorldDesc to_cpp(const WeftWorldDesc& d) {
     w.render_meshes = d.render_meshes != 0;
     w.max_render_vertices = d.max_render_vertices;
     w.max_last_good_particles = d.max_last_good_particles;
+    w.budget_ns_per_lane = d.budget_ns_per_lane;
+    w.budget_ns_per_particle = d.budget_ns_per_particle;
     w.gravity_m_s2 = to_cpp(d.gravity_m_s2);
     w.air_density_kg_m3 = d.air_density_kg_m3;
     w.simd = d.simd <= WEFT_SIMD_AVX2 ? SimdPath(d.simd) : SimdPath(0xFF);  // refused by create_world
@@ -219,6 +221,8 @@ WeftWorldDesc weft_default_world_desc(void) {
     w.gravity_m_s2 = {d.gravity_m_s2.x, d.gravity_m_s2.y, d.gravity_m_s2.z};
     w.air_density_kg_m3 = d.air_density_kg_m3;
     w.simd = WeftSimdPath(d.simd);
+    w.budget_ns_per_lane = d.budget_ns_per_lane;
+    w.budget_ns_per_particle = d.budget_ns_per_particle;
     return w;
 }
 

@@ -141,9 +141,12 @@ typedef struct WeftWorldDesc {
     int render_meshes;           /* non-zero: each step drives the cloths' render meshes (weft_read_render_mesh) */
     uint32_t max_render_vertices; /* weft_reserve_cloth adds the asset's */
     uint32_t max_last_good_particles; /* weft_reserve_cloth_recovering adds the asset's for WEFT_RECOVER_LAST_GOOD */
+    float budget_ns_per_lane;     /* the frame budget's cost model (weft/world.h): ns a constraint lane per sweep */
+    float budget_ns_per_particle; /* ns a particle slot per substep */
 } WeftWorldDesc;
 
-/* No capacity, gravity (0, -9.81, 0) m/s^2, air 1.2 kg/m^3, no wind, the widest SIMD path. */
+/* No capacity, gravity (0, -9.81, 0) m/s^2, air 1.2 kg/m^3, no wind, the widest SIMD path, the
+   frame budget's default cost model. */
 WeftWorldDesc weft_default_world_desc(void);
 
 /* Adds one instance of `asset` to the capacities. */
