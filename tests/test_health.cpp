@@ -24,11 +24,7 @@ constexpr uint32_t kSettleFrames = 60;  // 2 s at the seed's dt: the drape has s
 std::unique_ptr<scenes::SceneWorld> drape(RecoveryPolicy recovery, uint32_t n = 16, SimdPath path = SimdPath::automatic) {
     scenes::Scene scene = scenes::seed_scene(scenes::SeedScene::drape, scene_options(n, path));
     scene.cloths[0].desc.recovery = recovery;
-    auto w = std::make_unique<scenes::SceneWorld>();
-    const std::string e = scenes::build_scene(scene, w.get());
-    INFO(e);
-    REQUIRE(e.empty());
-    return w;
+    return test::build_scene_world(scene);
 }
 
 ClothHealth health_of(const scenes::SceneWorld& w) {

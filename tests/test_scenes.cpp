@@ -88,9 +88,7 @@ void build_grid_on_mannequin(const char* model, scenes::SceneWorld* w) {
                              R"("body": {"mannequin": {}, "collision": ")" + model + "\"}}";
     scenes::Scene scene;
     REQUIRE(scenes::parse_scene(text, ".", &scene).empty());
-    const std::string error = scenes::build_scene(scene, w);
-    INFO(error);
-    REQUIRE(error.empty());
+    test::require_scene(scene, w);
 }
 
 }  // namespace

@@ -31,11 +31,7 @@ std::unique_ptr<scenes::SceneWorld> seed_world(scenes::SeedScene which, float sl
         far.radius_m = 0.5f;
         scene.colliders.push_back(far);
     }
-    auto w = std::make_unique<scenes::SceneWorld>();
-    const std::string e = scenes::build_scene(scene, w.get());
-    INFO(e);
-    REQUIRE(e.empty());
-    return w;
+    return test::build_scene_world(scene);
 }
 
 bool sleeping(const scenes::SceneWorld& w) {

@@ -72,14 +72,7 @@ void report(const std::string& name, const Outcome& o) {
     MESSAGE(text);
 }
 
-// Builds a scene; the world lives on the heap because the world points into SceneWorld's arrays.
-std::unique_ptr<scenes::SceneWorld> build(const scenes::Scene& scene) {
-    auto w = std::make_unique<scenes::SceneWorld>();
-    const std::string err = scenes::build_scene(scene, w.get());
-    INFO(err);
-    REQUIRE(err.empty());
-    return w;
-}
+std::unique_ptr<scenes::SceneWorld> build(const scenes::Scene& scene) { return test::build_scene_world(scene); }
 
 scenes::Scene default_scene(SeedScene which, uint32_t n, uint32_t sweeps = 3) {
     scenes::SceneOptions o = test::scene_options(n);

@@ -42,6 +42,21 @@ inline std::vector<SimdPath> available_paths() {
     return paths;
 }
 
+// Builds `scene` into `w`, failing the test with build_scene's message.
+inline void require_scene(const scenes::Scene& scene, scenes::SceneWorld* w, const std::vector<std::string>& asset_dirs = {}) {
+    const std::string error = scenes::build_scene(scene, w, asset_dirs);
+    INFO(error);
+    REQUIRE(error.empty());
+}
+
+// The same into a SceneWorld on the heap (the world points into its arrays, so it must not move).
+inline std::unique_ptr<scenes::SceneWorld> build_scene_world(const scenes::Scene& scene,
+                                                             const std::vector<std::string>& asset_dirs = {}) {
+    auto w = std::make_unique<scenes::SceneWorld>();
+    require_scene(scene, w.get(), asset_dirs);
+    return w;
+}
+
 inline scenes::SceneOptions scene_options(uint32_t n, SimdPath path = SimdPath::automatic) {
     scenes::SceneOptions o;
     o.n = n;
