@@ -1,11 +1,12 @@
 // Determinism across builds (test_determinism.cpp: within one): the same inputs give the same bits
 // whatever the SIMD path, the build (Release, or RelWithDebInfo with the sanitizers) and the
-// compiler. The positions after a fixed run of the seed scenes and of the dressed skirt walking on
+// compiler. The sample assets' bytes, and the positions after a fixed run of the seed scenes and of the dressed skirt walking on
 // the mannequin are hashed (XXH64 of the caller-order floats) and compared with the values
 // committed in tests/determinism.txt. A change that moves results on purpose (a new projection
 // order, a new default) updates that file in the same commit; the failure message gives the line.
 #include <cstdio>
 #include <fstream>
+#include <iterator>
 #include <map>
 #include <sstream>
 #include <string>
@@ -70,6 +71,14 @@ uint64_t skirt_walk_hash(SimdPath path) {
     }
     return hash_positions(scenes::cloth_positions(world)[0]);
 }
+
+// The bytes of an asset this build's weft-bake wrote (samples/assets.json).
+uint64_t sample_asset_hash(const std::string& name) {
+    std::ifstream in(std::string(WEFT_SAMPLE_ASSETS_DIR) + "/" + name + ".weft", std::ios::binary);
+    const std::string bytes((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+    REQUIRE(!bytes.empty());
+    return xxh64(bytes.data(), bytes.size(), 0);
+}
 #endif
 
 }  // namespace
@@ -88,5 +97,13 @@ TEST_CASE("determinism: the dressed skirt walking hashes to the committed value 
     const uint64_t scalar = skirt_walk_hash(SimdPath::scalar);
     for (const SimdPath path : available_paths()) CHECK(skirt_walk_hash(path) == scalar);
     check_committed("skirt-walk", scalar);
+}
+
+// Whichever compiler built weft-bake, flat and sewn alike (the sewing runs the runtime's step).
+TEST_CASE("determinism: weft-bake writes the sample assets' committed bytes") {
+    for (const char* name : {"sheet", "flag", "skirt", "tee", "skirt-dressed", "tee-dressed"}) {
+        CAPTURE(name);
+        check_committed(std::string("asset-") + name, sample_asset_hash(name));
+    }
 }
 #endif
