@@ -151,3 +151,18 @@ TEST_CASE("real garments: a sewn skirt's seam particles keep lattice nodes, so i
     CHECK(contiguous >= 0.76);
     CHECK(lane_padding(a).tethers.ratio() < 0.175);
 }
+
+TEST_CASE("real garments: cloth caught in the armpit's crease is kept outside the skin (gc_1001_0057)") {
+    // Before: a particle of the armhole's edge lay inside the arm by the armpit, in front of the
+    // torso's hull: the closest hull point (the untangling's) was the torso's, inside the arm too,
+    // and the taut edge took it back after every untangling (1 particle inside). Now it goes to the
+    // closest hull point outside the skin and is kept outside after every step of the drape.
+    if (!have_shared()) return;
+    const Sewn s = sew_corpus("gc_1001_0057");
+    INFO(s.status.error);
+    REQUIRE(s.status.ok());
+    const bake::SewReport& r = s.baked.sew_report;
+    CHECK(r.untangled_particles > 0);
+    CHECK(r.particles_inside_body == 0);
+    CHECK(r.max_seam_gap_m == 0.0);
+}

@@ -280,7 +280,11 @@ std::vector<std::vector<uint32_t>> boundary_loops(const std::vector<uint32_t>& t
     return loops;
 }
 
-std::vector<bool> buried_hull_triangles(const SewBody& body, float thickness_m) {
+namespace {
+
+// The body's offset hull: every vertex out by thickness_m along its area-weighted normal, as
+// add_body makes it.
+SewBody offset_hull(const SewBody& body, float thickness_m) {
     std::vector<Vec3> normal(body.positions.size(), Vec3{0.0f, 0.0f, 0.0f});
     for (size_t t = 0; t + 2 < body.triangles.size(); t += 3) {
         const Vec3 a = body.positions[body.triangles[t]], b = body.positions[body.triangles[t + 1]],
@@ -296,6 +300,13 @@ std::vector<bool> buried_hull_triangles(const SewBody& body, float thickness_m) 
         const float l = length(normal[v]);
         if (l > 0.0f) hull.positions[v] = add(hull.positions[v], scale(normal[v], thickness_m / l));
     }
+    return hull;
+}
+
+}  // namespace
+
+std::vector<bool> buried_hull_triangles(const SewBody& body, float thickness_m) {
+    const SewBody hull = offset_hull(body, thickness_m);
     const BodyInsideTest inside(hull);
     std::vector<bool> buried(body.triangles.size() / 3, false);
     for (size_t t = 0; t < buried.size(); ++t) {
@@ -327,6 +338,77 @@ SewBody exterior_of(const SewBody& body, float thickness_m, std::vector<uint32_t
     if (whole_triangle != nullptr) *whole_triangle = std::move(kept);
     return out;
 }
+
+// The closest point of triangle abc to p (Ericson, Real-Time Collision Detection, 5.1.5).
+Vec3 closest_on_triangle(Vec3 p, Vec3 a, Vec3 b, Vec3 c) {
+    const Vec3 ab = sub(b, a), ac = sub(c, a), ap = sub(p, a);
+    const float d1 = dot(ab, ap), d2 = dot(ac, ap);
+    if (d1 <= 0.0f && d2 <= 0.0f) return a;
+    const Vec3 bp = sub(p, b);
+    const float d3 = dot(ab, bp), d4 = dot(ac, bp);
+    if (d3 >= 0.0f && d4 <= d3) return b;
+    const float vc = d1 * d4 - d3 * d2;
+    if (vc <= 0.0f && d1 >= 0.0f && d3 <= 0.0f) return add(a, scale(ab, d1 / (d1 - d3)));
+    const Vec3 cp = sub(p, c);
+    const float d5 = dot(ab, cp), d6 = dot(ac, cp);
+    if (d6 >= 0.0f && d5 <= d6) return c;
+    const float vb = d5 * d2 - d1 * d6;
+    if (vb <= 0.0f && d2 >= 0.0f && d6 <= 0.0f) return add(a, scale(ac, d2 / (d2 - d6)));
+    const float va = d3 * d6 - d5 * d4;
+    if (va <= 0.0f && d4 - d3 >= 0.0f && d5 - d6 >= 0.0f) return add(b, scale(sub(c, b), (d4 - d3) / ((d4 - d3) + (d5 - d6))));
+    const float denom = 1.0f / (va + vb + vc);
+    return add(a, add(scale(ab, vb * denom), scale(ac, vc * denom)));
+}
+
+// Where a particle found inside the skin by ray parity goes: the closest point of the collided
+// hull (the buried triangles left out) that is itself outside the skin. The closest hull point
+// alone is often another body part's, facing the particle: one 27 mm inside the arm by the armpit
+// is 22 mm in front of the torso's hull, and that point lies inside the arm too.
+class OutsideHull {
+public:
+    // How far past the closest candidate a particle's own candidates are kept, metres: a particle
+    // held outside is searched again every frame, among the triangles near it only.
+    static constexpr float kNear_m = 0.05f;
+
+    OutsideHull(const SewBody& collided, float thickness_m, const BodyInsideTest& inside)
+        : hull_(offset_hull(collided, thickness_m)), inside_(inside) {}
+
+    // The outside hull point closest to p among `near` (all triangles when empty; then `near`
+    // becomes the triangles within kNear_m of the closest candidate). False when there is none.
+    bool find(Vec3 p, std::vector<uint32_t>* near, Vec3* out) const {
+        const bool all = near->empty();
+        const size_t count = all ? hull_.triangles.size() / 3 : near->size();
+        std::vector<std::pair<float, uint32_t>> order(count);
+        for (size_t i = 0; i < count; ++i) {
+            const uint32_t t = all ? uint32_t(i) : (*near)[i];
+            order[i] = {dot_self(sub(point(t, p), p)), t};
+        }
+        std::sort(order.begin(), order.end());
+        for (const auto& [d2, t] : order) {
+            const Vec3 q = point(t, p);
+            if (inside_.contains(q)) continue;
+            if (all) {  // the triangles near enough to be the answer in later frames
+                const float reach = std::sqrt(d2) + kNear_m;
+                for (const auto& [e2, u] : order) {
+                    if (e2 > reach * reach) break;
+                    near->push_back(u);
+                }
+            }
+            *out = q;
+            return true;
+        }
+        return false;
+    }
+
+private:
+    static float dot_self(Vec3 a) { return dot(a, a); }
+    Vec3 point(uint32_t t, Vec3 p) const {
+        const uint32_t* v = &hull_.triangles[3 * t];
+        return closest_on_triangle(p, hull_.positions[v[0]], hull_.positions[v[1]], hull_.positions[v[2]]);
+    }
+    SewBody hull_;
+    const BodyInsideTest& inside_;
+};
 
 }  // namespace
 
@@ -748,16 +830,30 @@ Status sew_garment(const ClothMeshDesc& unsewn, const std::vector<uint32_t>& att
         watch(before, false);
         // Particles the sewing left deeper inside the body than the step's contacts reach stay
         // there (a band pulled through the waist's side as its seams closed): at rest they go to
-        // the closest hull point, found with a 0.5 m reach, and the drape goes on.
-        BodyWorld reach;
-        if (Status s = open_body_world(sewn.asset(), *drape_body, o, 0.0f, 1.0f, &reach, 0.5f); !s.ok()) return s;
+        // the closest hull point outside the skin (OutsideHull) and the drape goes on. In a
+        // crease (the armpit, between the legs) the step's closest triangle is another part's,
+        // facing the particle, and a taut edge took it back in after each untangling: so from
+        // then on it is kept outside after every step, as a collision that knew the body part
+        // would.
         const BodyInsideTest inside(drape_body == &body ? closed_body : whole_body);
+        const OutsideHull outside(*drape_body, o.body_thickness_m, inside);
+        std::vector<uint32_t> held;                 // particles found inside at rest
+        std::vector<std::vector<uint32_t>> near;    // their hull triangles (OutsideHull::find)
+        const auto hold_out = [&](uint32_t q, std::vector<uint32_t>* triangles, Vec3* at) {
+            Vec3 to;
+            if (!outside.find(*at, triangles, &to)) return false;
+            *at = to;
+            set_particle(w.world, w.cloth, q, to, 1.0f / g.masses[q]);
+            return true;
+        };
         uint32_t calm = 0, frames = 0;
         for (uint32_t round = 0;; ++round) {
             while (frames++ < o.max_drape_frames && calm < o.rest_frames) {
                 if (Result r = step(w.world, o.dt_s); !r.ok()) return {r.message};
                 ++rep.drape_frames;
                 read_positions(w.world, w.cloth, now.data(), m);
+                for (size_t k = 0; k < held.size(); ++k)
+                    if (inside.contains(now[held[k]])) hold_out(held[k], &near[k], &now[held[k]]);
                 double sum = 0.0;
                 for (uint32_t q = 0; q < m; ++q) sum += length(sub(now[q], before[q]));
                 rep.mean_speed_m_s = sum / m / o.dt_s;
@@ -769,10 +865,11 @@ Status sew_garment(const ClothMeshDesc& unsewn, const std::vector<uint32_t>& att
             uint32_t moved = 0;
             for (uint32_t q = 0; q < m; ++q) {
                 if (g.masses[q] == 0.0f || !inside.contains(before[q])) continue;
-                BodyContact c;
-                if (!query_body(reach.world, reach.body, before[q], &c).ok() || !c.found) continue;
-                before[q] = c.hull_point;
-                set_particle(w.world, w.cloth, q, c.hull_point, 1.0f / g.masses[q]);
+                const auto it = std::find(held.begin(), held.end(), q);
+                std::vector<uint32_t> triangles;  // searched among all: it went past its near ones
+                if (!hold_out(q, &triangles, &before[q])) continue;
+                if (it == held.end()) held.push_back(q), near.push_back(std::move(triangles));
+                else near[it - held.begin()] = std::move(triangles);
                 ++moved;
             }
             if (moved == 0) break;

@@ -16,7 +16,8 @@
 //      keep their flat corners (ClothMeshDesc::rest_corners) so rest lengths still come from the
 //      flat panels;
 //   3. draping: the sewn garment steps under full gravity until its mean speed stays below
-//      rest_speed (or max_drape_frames), and that pose is the start state;
+//      rest_speed (or max_drape_frames), and that pose is the start state; particles found inside
+//      the skin at rest go out to the closest hull point outside it and are kept outside;
 //   4. skin constraints: every free particle of that pose bound to the closest triangle of the whole
 //      body's offset hull at rest (cook_skin_binding), stored in the asset (ClothAsset::skin).
 // The runtime does the stepping (weft/body.h: Embree offset-hull collisions), so what the baker
@@ -67,7 +68,9 @@ struct SewOptions {
     float rest_speed_m_s = 0.001f;      // the drape is at rest below this mean speed...
     uint32_t rest_frames = 30;          // ...held for this many frames in a row
     uint32_t max_drape_frames = 900;
-    uint32_t untangle_rounds = 3;       // at rest, particles inside the body go out to the hull, this often at most
+    // At rest, particles inside the body (ray parity) go out to the closest hull point outside the
+    // skin, this often at most, and are kept outside after every step from then on.
+    uint32_t untangle_rounds = 3;
     uint32_t sweeps = 8;                // the solver's budget per step (ClothDesc::sweeps): the game's for this garment
     // The body's friction while the seams close: the panels are dragged around the body then, and
     // friction caught the pencil dress's back on mean_all's shoulders (start strain, draped at 16
@@ -112,7 +115,7 @@ struct SewReport {
     double max_seam_gap_m = 0.0;     // largest source-to-target distance when the sources merge
     double max_penetration_m = 0.0;  // deepest particle below the body's offset hull, dressed pose
     uint32_t particles_inside_body = 0;   // inside the skin (ray parity against the body)
-    uint32_t untangled_particles = 0;     // moved out of the body to its hull during the drape
+    uint32_t untangled_particles = 0;     // moved out of the body to its hull at rest during the drape (per round)
     double max_skin_penetration_m = 0.0;  // of those within the hull's reach: how deep below the skin
     double mean_speed_m_s = 0.0;     // over the last drape frame
     uint32_t body_triangles = 0;
