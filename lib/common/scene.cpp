@@ -202,6 +202,24 @@ SceneWorld& SceneWorld::operator=(SceneWorld&& other) noexcept {
     return *this;
 }
 
+Scene garment_on_blending_body(const std::string& asset_path, const std::string& body_path,
+                               const std::string& blend_to_path, float blend_s) {
+    Scene scene;
+    scene.name = "garment-on-blending-body";
+    scene.dt_s = 1.0f / 60.0f;
+    BodySpec body;
+    body.mesh_path = body_path;
+    body.blend_to_path = blend_to_path;
+    body.animation = BodyAnimation::blend;
+    body.period_s = 2.0f * blend_s;  // rest -> blend_to in blend_s
+    scene.body = body;
+    ClothSpec cloth;
+    cloth.name = "garment";
+    cloth.asset_path = asset_path;
+    scene.cloths.push_back(cloth);
+    return scene;
+}
+
 std::string animate_body(SceneWorld& w, float t_s) {
     if (!w.body || w.body->spec.animation == BodyAnimation::still) return {};
     SceneBody& b = *w.body;

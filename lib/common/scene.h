@@ -165,6 +165,12 @@ struct SceneWorld {
 // (where a build put its baked assets). Returns the failure message (empty on success).
 std::string build_scene(const Scene& scene, SceneWorld* out, const std::vector<std::string>& asset_dirs = {});
 
+// One baked garment (`asset_path`, looked up as build_scene does) on a body mesh that blends from
+// its pose to `blend_to_path` over `blend_s` seconds and back, at 60 frames a second: a garment on a
+// moving body (weft-bench corpus --blend-to).
+Scene garment_on_blending_body(const std::string& asset_path, const std::string& body_path,
+                               const std::string& blend_to_path, float blend_s);
+
 // Moves the scene's body to its pose at time t (seconds since the start) through
 // set_body_vertices; nothing for a still body or a scene without one. Call before step().
 std::string animate_body(SceneWorld& world, float t_s);

@@ -58,19 +58,8 @@ void run_moving(const std::vector<std::byte>& asset_bytes, const CorpusOptions& 
     std::filesystem::create_directories(dir);
     std::ofstream(dir + "/garment.weft", std::ios::binary)
         .write(reinterpret_cast<const char*>(asset_bytes.data()), std::streamsize(asset_bytes.size()));
-    scenes::Scene scene;
-    scene.name = "corpus-moving";
-    scene.dt_s = 1.0f / 60.0f;
-    scenes::BodySpec body;
-    body.mesh_path = std::filesystem::absolute(o.body).string();
-    body.blend_to_path = std::filesystem::absolute(o.blend_to).string();
-    body.animation = scenes::BodyAnimation::blend;
-    body.period_s = 2.0f * o.moving_s;  // rest -> blend_to in moving_s
-    scene.body = body;
-    scenes::ClothSpec cloth;
-    cloth.name = "garment";
-    cloth.asset_path = "garment.weft";
-    scene.cloths.push_back(cloth);
+    const scenes::Scene scene = scenes::garment_on_blending_body(
+        "garment.weft", std::filesystem::absolute(o.body).string(), std::filesystem::absolute(o.blend_to).string(), o.moving_s);
     scenes::SceneWorld sw;
     const std::string e = scenes::build_scene(scene, &sw, {dir});
     std::filesystem::remove_all(dir);

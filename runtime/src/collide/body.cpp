@@ -103,6 +103,23 @@ Vec3 surface_motion(const BodyState& body, uint32_t triangle, Barycentric w, flo
     return {m[0], m[1], m[2]};
 }
 
+// The hull point and normal at a closest-point search's answer, and how deep `x` lies behind that
+// tangent plane (> 0: inside), metres.
+struct HullPlane {
+    Barycentric w;
+    float point[3], normal[3];
+    float depth;
+};
+HullPlane hull_plane_at(const BodyState& body, const body_query::Best& best, const float* x) {
+    HullPlane h;
+    h.w = {1.0f - best.v - best.w, best.v, best.w};
+    interpolate(body, best.triangle, h.w, h.point, h.normal);
+    float to_hull[3];
+    sub3(h.point, x, to_hull);
+    h.depth = dot3(to_hull, h.normal);
+    return h;
+}
+
 // A particle that crossed the hull since its previous position: the entry point, or false. The ray
 // starts `back` metres behind the previous position: a particle projected onto the hull last
 // substep may sit a rounding error inside it, and a ray from there would first meet the hull from
@@ -435,12 +452,10 @@ void collide_clusters(const Particles& particles, const uint32_t* order, const B
                     lost |= (q.rays >> k & 1u) << k;  // moved far and met no hull on the way: below
                     continue;
                 }
-                w = {1.0f - best.v - best.w, best.v, best.w};
-                float hull_point[3], to_hull[3];
-                interpolate(body, best.triangle, w, hull_point, normal);
+                const HullPlane h = hull_plane_at(body, best, x);
+                w = h.w, penetration = h.depth;
+                for (int a = 0; a < 3; ++a) normal[a] = h.normal[a];
                 plane_triangle[k] = best.triangle, plane_at[k] = w;
-                sub3(hull_point, x, to_hull);
-                penetration = dot3(to_hull, normal);
                 if (!(penetration > 0.0f)) continue;
                 triangle = best.triangle;
             }
@@ -471,21 +486,41 @@ void collide_clusters(const Particles& particles, const uint32_t* order, const B
             for (uint32_t k = 0; k < n; ++k) {
                 const Best& best = lost_q.best[k];
                 if (!(lost >> k & 1u) || !(best.distance2 < std::numeric_limits<float>::infinity())) continue;
-                const Barycentric w{1.0f - best.v - best.w, best.v, best.w};
-                float hull_point[3], normal[3], to_hull[3];
-                interpolate(body, best.triangle, w, hull_point, normal);
-                plane_triangle[k] = best.triangle, plane_at[k] = w;
-                sub3(hull_point, q.point[k], to_hull);
-                const float penetration = dot3(to_hull, normal);
+                const HullPlane h = hull_plane_at(body, best, q.point[k]);
+                plane_triangle[k] = best.triangle, plane_at[k] = h.w;
                 // Only a particle that came from the surface it is now under (within reach of it
                 // before this substep): one that was already behind that surface's plane (a point
                 // outside in a crease, behind another part's tangent plane) or far in front of it
                 // is not taken to have cut under it.
                 const uint32_t i = slot[k];
                 const float previous[3] = {p.previous_x[i], p.previous_y[i], p.previous_z[i]};
-                sub3(hull_point, previous, to_hull);
-                const float was = dot3(to_hull, normal);  // how deep the particle was behind it
-                if (penetration > 0.0f && was <= thickness && was >= -reach) respond(k, best.triangle, w, normal, penetration);
+                float to_hull[3];
+                sub3(h.point, previous, to_hull);
+                const float was = dot3(to_hull, h.normal);  // how deep the particle was behind it
+                if (h.depth > 0.0f && was <= thickness && was >= -reach) {
+                    respond(k, best.triangle, h.w, h.normal, h.depth);
+                    lost &= ~(1u << k);
+                }
+            }
+            // Through a thin part (an arm, a leg) the closest surface is the far side, which the
+            // particle never reached (its ray slipped between two triangles, each traced in its own
+            // frame): those still lost go back out of the surface closest to where they started
+            // the substep, if they are behind it.
+            if (lost != 0) {
+                for (uint32_t k = 0; k < n; ++k) {
+                    const uint32_t i = slot[k];
+                    lost_q.point[k][0] = p.previous_x[i], lost_q.point[k][1] = p.previous_y[i], lost_q.point[k][2] = p.previous_z[i];
+                }
+                lost_q.active = lost;
+                counts.queried += uint64_t(__builtin_popcount(search(body.hierarchy, reach, lost_q, lost_candidates, false)));
+            }
+            for (uint32_t k = 0; k < n; ++k) {
+                const Best& best = lost_q.best[k];
+                if (!(lost >> k & 1u) || !(best.distance2 < std::numeric_limits<float>::infinity())) continue;
+                const HullPlane h = hull_plane_at(body, best, q.point[k]);
+                if (!(h.depth > 0.0f)) continue;
+                plane_triangle[k] = best.triangle, plane_at[k] = h.w;
+                respond(k, best.triangle, h.w, h.normal, h.depth);
             }
         }
         // In a crease of the hull (between the thighs, in the armpit) the push out of one surface
@@ -522,19 +557,15 @@ void collide_clusters(const Particles& particles, const uint32_t* order, const B
                 if (!(pushed >> k & 1u)) continue;
                 const Best& best = q.best[k];
                 if (!(best.distance2 < std::numeric_limits<float>::infinity())) continue;
-                const Barycentric w{1.0f - best.v - best.w, best.v, best.w};
-                float hull_point[3], normal[3], to_hull[3];
-                interpolate(body, best.triangle, w, hull_point, normal);
-                sub3(hull_point, q.point[k], to_hull);
-                const float penetration = dot3(to_hull, normal);
-                if (!(penetration > 0.0f)) continue;
+                const HullPlane h = hull_plane_at(body, best, q.point[k]);
+                if (!(h.depth > 0.0f)) continue;
                 const uint32_t i = slot[k];
-                p.x[i] = q.point[k][0] + normal[0] * penetration;
-                p.y[i] = q.point[k][1] + normal[1] * penetration;
-                p.z[i] = q.point[k][2] + normal[2] * penetration;
-                moved |= penetration > kCreaseTolerance_m ? 1u << k : 0u;
+                p.x[i] = q.point[k][0] + h.normal[0] * h.depth;
+                p.y[i] = q.point[k][1] + h.normal[1] * h.depth;
+                p.z[i] = q.point[k][2] + h.normal[2] * h.depth;
+                moved |= h.depth > kCreaseTolerance_m ? 1u << k : 0u;
                 pushed_from[k] = best.triangle;
-                crease_triangle[k] = best.triangle, crease_at[k] = w;
+                crease_triangle[k] = best.triangle, crease_at[k] = h.w;
             }
             pushed = moved;
         }
@@ -618,14 +649,11 @@ BodyContact closest_hull_point_hierarchy(const BodyState& body, const float* poi
     path_for(path).search(body.hierarchy, reach, q, candidates, false);
     const Best& best = q.best[0];
     if (!(best.distance2 < std::numeric_limits<float>::infinity())) return contact;
-    const Barycentric w{1.0f - best.v - best.w, best.v, best.w};
-    float hull_point[3], normal[3], to_hull[3];
-    interpolate(body, best.triangle, w, hull_point, normal);
-    sub3(hull_point, point, to_hull);
+    const HullPlane h = hull_plane_at(body, best, point);
     contact.found = true;
-    contact.penetration_m = dot3(to_hull, normal);
-    contact.hull_point = {hull_point[0], hull_point[1], hull_point[2]};
-    contact.normal = {normal[0], normal[1], normal[2]};
+    contact.penetration_m = h.depth;
+    contact.hull_point = {h.point[0], h.point[1], h.point[2]};
+    contact.normal = {h.normal[0], h.normal[1], h.normal[2]};
     contact.triangle = best.triangle;
     return contact;
 }
