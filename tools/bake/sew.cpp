@@ -5,6 +5,7 @@
 #include <chrono>
 #include <cmath>
 #include <cstdlib>
+#include <functional>
 #include <map>
 #include <memory>
 #include <numeric>
@@ -377,21 +378,31 @@ public:
     bool find(Vec3 p, std::vector<uint32_t>* near, Vec3* out) const {
         const bool all = near->empty();
         const size_t count = all ? hull_.triangles.size() / 3 : near->size();
-        std::vector<std::pair<float, uint32_t>> order(count);
+        // The candidates in increasing (distance squared, triangle), the order a full sort gives,
+        // taken from a heap only as far as the answer and its near list need.
+        std::vector<std::pair<float, uint32_t>> heap(count);
         for (size_t i = 0; i < count; ++i) {
             const uint32_t t = all ? uint32_t(i) : (*near)[i];
-            order[i] = {dot_self(sub(point(t, p), p)), t};
+            heap[i] = {dot_self(sub(point(t, p), p)), t};
         }
-        std::sort(order.begin(), order.end());
-        for (const auto& [d2, t] : order) {
+        const auto later = std::greater<>();
+        std::make_heap(heap.begin(), heap.end(), later);
+        const auto next = [&] {
+            std::pop_heap(heap.begin(), heap.end(), later);
+            const std::pair<float, uint32_t> closest = heap.back();
+            heap.pop_back();
+            return closest;
+        };
+        std::vector<uint32_t> taken;  // the candidates so far, nearest first (all within the answer's distance)
+        while (!heap.empty()) {
+            const auto [d2, t] = next();
+            if (all) taken.push_back(t);
             const Vec3 q = point(t, p);
             if (inside_.contains(q)) continue;
             if (all) {  // the triangles near enough to be the answer in later frames
                 const float reach = std::sqrt(d2) + kNear_m;
-                for (const auto& [e2, u] : order) {
-                    if (e2 > reach * reach) break;
-                    near->push_back(u);
-                }
+                while (!heap.empty() && !(heap.front().first > reach * reach)) taken.push_back(next().second);
+                *near = std::move(taken);
             }
             *out = q;
             return true;
