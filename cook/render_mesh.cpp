@@ -10,6 +10,7 @@
 
 #include "asset/garment_checks.h"
 #include "error.h"
+#include "weft/closest_point.h"
 #include "weft/cook.h"
 
 namespace weft {
@@ -29,36 +30,12 @@ D3 normalised(D3 a) {
 }
 D3 d3(Vec3 v) { return {v.x, v.y, v.z}; }
 
-// The closest point of triangle (a, b, c) to p as barycentric weights (Ericson, Real-Time Collision
-// Detection, 5.1.5).
-D3 closest_on_triangle(D3 p, D3 a, D3 b, D3 c) {
-    const D3 ab = b - a, ac = c - a, ap = p - a;
-    const double d1 = dot(ab, ap), d2 = dot(ac, ap);
-    if (d1 <= 0 && d2 <= 0) return {1, 0, 0};
-    const D3 bp = p - b;
-    const double d3_ = dot(ab, bp), d4 = dot(ac, bp);
-    if (d3_ >= 0 && d4 <= d3_) return {0, 1, 0};
-    const double vc = d1 * d4 - d3_ * d2;
-    if (vc <= 0 && d1 >= 0 && d3_ <= 0) {
-        const double v = d1 / (d1 - d3_);
-        return {1 - v, v, 0};
-    }
-    const D3 cp = p - c;
-    const double d5 = dot(ab, cp), d6 = dot(ac, cp);
-    if (d6 >= 0 && d5 <= d6) return {0, 0, 1};
-    const double vb = d5 * d2 - d1 * d6;
-    if (vb <= 0 && d2 >= 0 && d6 <= 0) {
-        const double w = d2 / (d2 - d6);
-        return {1 - w, 0, w};
-    }
-    const double va = d3_ * d6 - d5 * d4;
-    if (va <= 0 && (d4 - d3_) >= 0 && (d5 - d6) >= 0) {
-        const double w = (d4 - d3_) / ((d4 - d3_) + (d5 - d6));
-        return {0, 1 - w, w};
-    }
-    const double denom = 1.0 / (va + vb + vc);
-    const double v = vb * denom, w = vc * denom;
-    return {1 - v - w, v, w};
+// The closest point of triangle (a, b, c) to p as barycentric weights (Ericson 5.1.5,
+// weft/closest_point.h).
+D3 closest_weights(D3 p, D3 a, D3 b, D3 c) {
+    const double pp[3] = {p.x, p.y, p.z}, pa[3] = {a.x, a.y, a.z}, pb[3] = {b.x, b.y, b.z}, pc[3] = {c.x, c.y, c.z};
+    const BarycentricWeights<double> w = closest_on_triangle(pp, pa, pb, pc);
+    return {w.w0, w.w1, w.w2};
 }
 
 // Uniform grid over the triangles' boxes, cells of `cell` metres.
@@ -217,7 +194,7 @@ Result bind_render_mesh(const RenderMeshDesc& mesh, CookedCloth* cloth, double* 
         double best = std::numeric_limits<double>::infinity();
         auto consider = [&](uint32_t t) {
             const uint32_t* c = a.triangles + 3 * size_t(t);
-            const D3 b = closest_on_triangle(p, x[c[0]], x[c[1]], x[c[2]]);
+            const D3 b = closest_weights(p, x[c[0]], x[c[1]], x[c[2]]);
             const D3 d = p - point(t, b);
             const double d2 = dot(d, d);
             if (d2 < best || (d2 == best && t < best_t)) best = d2, best_t = t, best_b = b;
@@ -243,7 +220,7 @@ Result bind_render_mesh(const RenderMeshDesc& mesh, CookedCloth* cloth, double* 
         double d = dot(p - point(best_t, b), normal_at(best_t, b));
         for (int refine = 0; refine < 2; ++refine) {
             const uint32_t* c = a.triangles + 3 * size_t(best_t);
-            b = closest_on_triangle(p - d * normal_at(best_t, b), x[c[0]], x[c[1]], x[c[2]]);
+            b = closest_weights(p - d * normal_at(best_t, b), x[c[0]], x[c[1]], x[c[2]]);
             d = dot(p - point(best_t, b), normal_at(best_t, b));
         }
         if (std::fabs(d) > 1.0)

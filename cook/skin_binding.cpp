@@ -8,6 +8,7 @@
 #include <limits>
 
 #include "error.h"
+#include "weft/closest_point.h"
 #include "weft/cook.h"
 
 namespace weft {
@@ -22,35 +23,12 @@ V3 operator+(V3 a, V3 b) { return {a.x + b.x, a.y + b.y, a.z + b.z}; }
 V3 operator*(double s, V3 a) { return {s * a.x, s * a.y, s * a.z}; }
 double dot(V3 a, V3 b) { return a.x * b.x + a.y * b.y + a.z * b.z; }
 
-// Closest point of triangle (a, b, c) to p as barycentric weights (Ericson, Real-Time Collision
-// Detection, 5.1.5).
+// Closest point of triangle (a, b, c) to p as barycentric weights (Ericson 5.1.5,
+// weft/closest_point.h).
 void closest_weights(V3 p, V3 a, V3 b, V3 c, double w[3]) {
-    const V3 ab = b - a, ac = c - a, ap = p - a;
-    const double d1 = dot(ab, ap), d2 = dot(ac, ap);
-    if (d1 <= 0 && d2 <= 0) return void((w[0] = 1, w[1] = 0, w[2] = 0));
-    const V3 bp = p - b;
-    const double d3 = dot(ab, bp), d4 = dot(ac, bp);
-    if (d3 >= 0 && d4 <= d3) return void((w[0] = 0, w[1] = 1, w[2] = 0));
-    const double vc = d1 * d4 - d3 * d2;
-    if (vc <= 0 && d1 >= 0 && d3 <= 0) {
-        const double v = d1 / (d1 - d3);
-        return void((w[0] = 1 - v, w[1] = v, w[2] = 0));
-    }
-    const V3 cp = p - c;
-    const double d5 = dot(ab, cp), d6 = dot(ac, cp);
-    if (d6 >= 0 && d5 <= d6) return void((w[0] = 0, w[1] = 0, w[2] = 1));
-    const double vb = d5 * d2 - d1 * d6;
-    if (vb <= 0 && d2 >= 0 && d6 <= 0) {
-        const double v = d2 / (d2 - d6);
-        return void((w[0] = 1 - v, w[1] = 0, w[2] = v));
-    }
-    const double va = d3 * d6 - d5 * d4;
-    if (va <= 0 && (d4 - d3) >= 0 && (d5 - d6) >= 0) {
-        const double v = (d4 - d3) / ((d4 - d3) + (d5 - d6));
-        return void((w[0] = 0, w[1] = 1 - v, w[2] = v));
-    }
-    const double denom = 1 / (va + vb + vc);
-    w[1] = vb * denom, w[2] = vc * denom, w[0] = 1 - w[1] - w[2];
+    const double pp[3] = {p.x, p.y, p.z}, pa[3] = {a.x, a.y, a.z}, pb[3] = {b.x, b.y, b.z}, pc[3] = {c.x, c.y, c.z};
+    const BarycentricWeights<double> on = closest_on_triangle(pp, pa, pb, pc);
+    w[0] = on.w0, w[1] = on.w1, w[2] = on.w2;
 }
 
 // The body's triangles binned by the bounding boxes of their bounding spheres in a uniform grid,

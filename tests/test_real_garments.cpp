@@ -88,17 +88,16 @@ TEST_CASE("arm tips: mean_all's hands and forearms, nothing of its torso or legs
 
 namespace {
 
-struct Sewn {
-    bake::Baked baked;
-    bake::Status status;
-};
-
-Sewn sew_corpus(const std::string& name) {
+// The corpus garment `name` baked (sewn, draped, cooked) on mean_all; the test stops there, with
+// the baker's message, when the bake fails.
+bake::Baked sew_corpus(const std::string& name) {
     bake::BakeOptions options;
     options.body = &mean_all();
-    Sewn s;
-    s.status = bake::bake_pattern(corpus_pattern(name), options, &s.baked);
-    return s;
+    bake::Baked baked;
+    const bake::Status status = bake::bake_pattern(corpus_pattern(name), options, &baked);
+    INFO(name << ": " << status.error);
+    REQUIRE(status.ok());
+    return baked;
 }
 
 }  // namespace
@@ -108,10 +107,8 @@ TEST_CASE("real garments: a skirt that slid off while its seams closed stays at 
     // it round, and the skirt fell 1.02 m. Now its waistline ("lower_interface") keeps its height
     // while the seams close and is bound to the body.
     if (!have_shared()) return;
-    const Sewn s = sew_corpus("gc_1001_0043");
-    INFO(s.status.error);
-    REQUIRE(s.status.ok());
-    const bake::SewReport& r = s.baked.sew_report;
+    const bake::Baked baked = sew_corpus("gc_1001_0043");
+    const bake::SewReport& r = baked.sew_report;
     CHECK(r.attached > 0);
     CHECK(r.top_at_closed_m - r.top_at_rest_m < 0.05);
     CHECK(r.top_at_rest_m > 0.9);  // at mean_all's waist (1.0-1.1 m), not its hips
@@ -124,11 +121,9 @@ TEST_CASE("real garments: seams that stayed open behind an arm close (gc_1001_00
     // Before: "a seam is still 14 cm open after 900 sewing frames": a kinematic source slid over
     // the hull toward its target on the far side of an arm and stayed caught behind it.
     if (!have_shared()) return;
-    const Sewn s = sew_corpus("gc_1001_0047");
-    INFO(s.status.error);
-    REQUIRE(s.status.ok());
-    CHECK(s.baked.sew_report.max_seam_gap_m == 0.0);
-    CHECK(s.baked.sew_report.seam_points > 0);
+    const bake::Baked baked = sew_corpus("gc_1001_0047");
+    CHECK(baked.sew_report.max_seam_gap_m == 0.0);
+    CHECK(baked.sew_report.seam_points > 0);
 }
 
 TEST_CASE("real garments: a sewn skirt's seam particles keep lattice nodes, so its springs stay on runs (gc_1001_0004)") {
@@ -138,15 +133,13 @@ TEST_CASE("real garments: a sewn skirt's seam particles keep lattice nodes, so i
     // into that panel and along the seam join the panel's runs (0.781; the other panel's stay
     // indexed). Tethers are cut into batches with the fewest lanes: their padding 0.216 -> 0.164.
     if (!have_shared()) return;
-    const Sewn s = sew_corpus("gc_1001_0004");
-    INFO(s.status.error);
-    REQUIRE(s.status.ok());
-    const bake::SewnGarment& g = s.baked.sewn;
+    const bake::Baked baked = sew_corpus("gc_1001_0004");
+    const bake::SewnGarment& g = baked.sewn;
     uint32_t on_lattice = 0;
     for (uint32_t p : g.sewn_particle) on_lattice += g.lattice[2 * p] >= 0 && g.lattice[2 * p + 1] >= 0;
     CHECK(g.sewn_particle.size() > 100);
     CHECK(on_lattice >= g.sewn_particle.size() * 9 / 10);
-    const ClothAsset& a = s.baked.cooked.asset();
+    const ClothAsset& a = baked.cooked.asset();
     uint32_t constraints = 0;
     for (uint32_t k = 0; k < kConstraintKindCount; ++k) constraints += a.constraint_count[k];
     const double contiguous = double(a.constraints_on_runs) / double(constraints);
@@ -161,10 +154,8 @@ TEST_CASE("real garments: cloth caught in the armpit's crease is kept outside th
     // and the taut edge took it back after every untangling (1 particle inside). Now it goes to the
     // closest hull point outside the skin and is kept outside after every step of the drape.
     if (!have_shared()) return;
-    const Sewn s = sew_corpus("gc_1001_0057");
-    INFO(s.status.error);
-    REQUIRE(s.status.ok());
-    const bake::SewReport& r = s.baked.sew_report;
+    const bake::Baked baked = sew_corpus("gc_1001_0057");
+    const bake::SewReport& r = baked.sew_report;
     CHECK(r.untangled_particles > 0);
     CHECK(r.particles_inside_body == 0);
     CHECK(r.max_seam_gap_m == 0.0);
@@ -178,13 +169,11 @@ TEST_CASE("real garments: a sleeve pulled into the rising arm goes back out of t
     // arm's underside, which it never crossed: it was left 37 mm inside. Now such a particle goes
     // back out of the surface closest to where it started the substep.
     if (!have_shared()) return;
-    const Sewn s = sew_corpus("gc_1001_0048");
-    INFO(s.status.error);
-    REQUIRE(s.status.ok());
+    const bake::Baked baked = sew_corpus("gc_1001_0048");
     const std::string dir = "weft_real_garments_moving";
     std::filesystem::create_directories(dir);
     std::ofstream(dir + "/garment.weft", std::ios::binary)
-        .write(reinterpret_cast<const char*>(s.baked.bytes.data()), std::streamsize(s.baked.bytes.size()));
+        .write(reinterpret_cast<const char*>(baked.bytes.data()), std::streamsize(baked.bytes.size()));
     const scenes::Scene scene = scenes::garment_on_blending_body(
         "garment.weft", kShared + "/bodies/mean_all.obj", kShared + "/bodies/mean_all_tpose.obj", 4.0f);
     scenes::SceneWorld w;

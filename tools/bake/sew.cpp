@@ -5,11 +5,13 @@
 #include <chrono>
 #include <cmath>
 #include <cstdlib>
+#include <functional>
 #include <map>
 #include <memory>
 #include <numeric>
 
 #include "weft/body.h"
+#include "weft/closest_point.h"
 #include "weft/world.h"
 
 namespace weft::bake {
@@ -339,25 +341,23 @@ SewBody exterior_of(const SewBody& body, float thickness_m, std::vector<uint32_t
     return out;
 }
 
-// The closest point of triangle abc to p (Ericson, Real-Time Collision Detection, 5.1.5).
+// The closest point of triangle abc to p (Ericson 5.1.5, weft/closest_point.h), built from its
+// weights on the feature of its region (a vertex itself, a + ab t on an edge), as the bakes'
+// bytes were made.
 Vec3 closest_on_triangle(Vec3 p, Vec3 a, Vec3 b, Vec3 c) {
-    const Vec3 ab = sub(b, a), ac = sub(c, a), ap = sub(p, a);
-    const float d1 = dot(ab, ap), d2 = dot(ac, ap);
-    if (d1 <= 0.0f && d2 <= 0.0f) return a;
-    const Vec3 bp = sub(p, b);
-    const float d3 = dot(ab, bp), d4 = dot(ac, bp);
-    if (d3 >= 0.0f && d4 <= d3) return b;
-    const float vc = d1 * d4 - d3 * d2;
-    if (vc <= 0.0f && d1 >= 0.0f && d3 <= 0.0f) return add(a, scale(ab, d1 / (d1 - d3)));
-    const Vec3 cp = sub(p, c);
-    const float d5 = dot(ab, cp), d6 = dot(ac, cp);
-    if (d6 >= 0.0f && d5 <= d6) return c;
-    const float vb = d5 * d2 - d1 * d6;
-    if (vb <= 0.0f && d2 >= 0.0f && d6 <= 0.0f) return add(a, scale(ac, d2 / (d2 - d6)));
-    const float va = d3 * d6 - d5 * d4;
-    if (va <= 0.0f && d4 - d3 >= 0.0f && d5 - d6 >= 0.0f) return add(b, scale(sub(c, b), (d4 - d3) / ((d4 - d3) + (d5 - d6))));
-    const float denom = 1.0f / (va + vb + vc);
-    return add(a, add(scale(ab, vb * denom), scale(ac, vc * denom)));
+    const float pp[3] = {p.x, p.y, p.z}, pa[3] = {a.x, a.y, a.z}, pb[3] = {b.x, b.y, b.z}, pc[3] = {c.x, c.y, c.z};
+    TriangleRegion region = TriangleRegion::face;
+    const BarycentricWeights<float> w = weft::closest_on_triangle(pp, pa, pb, pc, &region);
+    switch (region) {
+        case TriangleRegion::vertex_a: return a;
+        case TriangleRegion::vertex_b: return b;
+        case TriangleRegion::vertex_c: return c;
+        case TriangleRegion::edge_ab: return add(a, scale(sub(b, a), w.w1));
+        case TriangleRegion::edge_ac: return add(a, scale(sub(c, a), w.w2));
+        case TriangleRegion::edge_bc: return add(b, scale(sub(c, b), w.w2));
+        case TriangleRegion::face: break;
+    }
+    return add(a, add(scale(sub(b, a), w.w1), scale(sub(c, a), w.w2)));
 }
 
 // Where a particle found inside the skin by ray parity goes: the closest point of the collided
@@ -378,21 +378,31 @@ public:
     bool find(Vec3 p, std::vector<uint32_t>* near, Vec3* out) const {
         const bool all = near->empty();
         const size_t count = all ? hull_.triangles.size() / 3 : near->size();
-        std::vector<std::pair<float, uint32_t>> order(count);
+        // The candidates in increasing (distance squared, triangle), the order a full sort gives,
+        // taken from a heap only as far as the answer and its near list need.
+        std::vector<std::pair<float, uint32_t>> heap(count);
         for (size_t i = 0; i < count; ++i) {
             const uint32_t t = all ? uint32_t(i) : (*near)[i];
-            order[i] = {dot_self(sub(point(t, p), p)), t};
+            heap[i] = {dot_self(sub(point(t, p), p)), t};
         }
-        std::sort(order.begin(), order.end());
-        for (const auto& [d2, t] : order) {
+        const auto later = std::greater<>();
+        std::make_heap(heap.begin(), heap.end(), later);
+        const auto next = [&] {
+            std::pop_heap(heap.begin(), heap.end(), later);
+            const std::pair<float, uint32_t> closest = heap.back();
+            heap.pop_back();
+            return closest;
+        };
+        std::vector<uint32_t> taken;  // the candidates so far, nearest first (all within the answer's distance)
+        while (!heap.empty()) {
+            const auto [d2, t] = next();
+            if (all) taken.push_back(t);
             const Vec3 q = point(t, p);
             if (inside_.contains(q)) continue;
             if (all) {  // the triangles near enough to be the answer in later frames
                 const float reach = std::sqrt(d2) + kNear_m;
-                for (const auto& [e2, u] : order) {
-                    if (e2 > reach * reach) break;
-                    near->push_back(u);
-                }
+                while (!heap.empty() && !(heap.front().first > reach * reach)) taken.push_back(next().second);
+                *near = std::move(taken);
             }
             *out = q;
             return true;

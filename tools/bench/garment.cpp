@@ -30,6 +30,7 @@
 #include "common/metrics.h"
 #include "common/scene.h"
 #include "common/scene_json.h"
+#include "weft/closest_point.h"
 #include "weft/debug.h"
 
 namespace weft::bench {
@@ -58,37 +59,12 @@ struct PlainPass {
         float p[3];
         float best2;
     };
-    // Closest point on a triangle by its Voronoi regions (Ericson 5.1.5), distance squared only.
+    // Distance squared to the closest point on a triangle (Ericson 5.1.5, weft/closest_point.h).
     static float distance2(const float* p, const float* a, const float* b, const float* c) {
-        auto sub = [](const float* x, const float* y, float* o) { o[0] = x[0] - y[0], o[1] = x[1] - y[1], o[2] = x[2] - y[2]; };
-        auto dot = [](const float* x, const float* y) { return x[0] * y[0] + x[1] * y[1] + x[2] * y[2]; };
-        float ab[3], ac[3], ap[3], bp[3], cp[3], q[3];
-        sub(b, a, ab), sub(c, a, ac), sub(p, a, ap);
-        const float d1 = dot(ab, ap), d2 = dot(ac, ap);
-        auto at = [&](float v, float w) {
-            for (int k = 0; k < 3; ++k) q[k] = a[k] + ab[k] * v + ac[k] * w;
-            float d[3];
-            sub(p, q, d);
-            return dot(d, d);
-        };
-        if (d1 <= 0 && d2 <= 0) return at(0, 0);
-        sub(p, b, bp);
-        const float d3 = dot(ab, bp), d4 = dot(ac, bp);
-        if (d3 >= 0 && d4 <= d3) return at(1, 0);
-        const float vc = d1 * d4 - d3 * d2;
-        if (vc <= 0 && d1 >= 0 && d3 <= 0) return at(d1 / (d1 - d3), 0);
-        sub(p, c, cp);
-        const float d5 = dot(ab, cp), d6 = dot(ac, cp);
-        if (d6 >= 0 && d5 <= d6) return at(0, 1);
-        const float vb = d5 * d2 - d1 * d6;
-        if (vb <= 0 && d2 >= 0 && d6 <= 0) return at(0, d2 / (d2 - d6));
-        const float va = d3 * d6 - d5 * d4;
-        if (va <= 0 && (d4 - d3) >= 0 && (d5 - d6) >= 0) {
-            const float w = (d4 - d3) / ((d4 - d3) + (d5 - d6));
-            return at(1 - w, w);
-        }
-        const float denom = 1 / (va + vb + vc);
-        return at(vb * denom, vc * denom);
+        const BarycentricWeights<float> w = closest_on_triangle(p, a, b, c);
+        float d[3];
+        for (int k = 0; k < 3; ++k) d[k] = p[k] - (a[k] + (b[k] - a[k]) * w.w1 + (c[k] - a[k]) * w.w2);
+        return d[0] * d[0] + d[1] * d[1] + d[2] * d[2];
     }
     static bool callback(RTCPointQueryFunctionArguments* args) {
         Query& q = *static_cast<Query*>(args->userPtr);

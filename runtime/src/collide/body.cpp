@@ -162,44 +162,6 @@ bool trace_entry(const BodyState& body, const float* previous, const float* to, 
 
 }  // namespace
 
-Barycentric closest_on_triangle(const float* p, const float* a, const float* b, const float* c) {
-    // Ericson 5.1.5: find the Voronoi region of p among the vertices, edges and face.
-    float ab[3], ac[3], ap[3];
-    sub3(b, a, ab);
-    sub3(c, a, ac);
-    sub3(p, a, ap);
-    const float d1 = dot3(ab, ap), d2 = dot3(ac, ap);
-    if (d1 <= 0.0f && d2 <= 0.0f) return {1.0f, 0.0f, 0.0f};
-    float bp[3];
-    sub3(p, b, bp);
-    const float d3 = dot3(ab, bp), d4 = dot3(ac, bp);
-    if (d3 >= 0.0f && d4 <= d3) return {0.0f, 1.0f, 0.0f};
-    const float vc = d1 * d4 - d3 * d2;
-    if (vc <= 0.0f && d1 >= 0.0f && d3 <= 0.0f) {
-        const float v = d1 / (d1 - d3);
-        return {1.0f - v, v, 0.0f};
-    }
-    float cp[3];
-    sub3(p, c, cp);
-    const float d5 = dot3(ab, cp), d6 = dot3(ac, cp);
-    if (d6 >= 0.0f && d5 <= d6) return {0.0f, 0.0f, 1.0f};
-    const float vb = d5 * d2 - d1 * d6;
-    if (vb <= 0.0f && d2 >= 0.0f && d6 <= 0.0f) {
-        const float w = d2 / (d2 - d6);
-        return {1.0f - w, 0.0f, w};
-    }
-    const float va = d3 * d6 - d5 * d4;
-    if (va <= 0.0f && (d4 - d3) >= 0.0f && (d5 - d6) >= 0.0f) {
-        const float w = (d4 - d3) / ((d4 - d3) + (d5 - d6));
-        return {0.0f, 1.0f - w, w};
-    }
-    const float sum = va + vb + vc;
-    if (!(sum > 0.0f)) return {1.0f, 0.0f, 0.0f};  // degenerate triangle: its first vertex
-    const float denominator = 1.0f / sum;
-    const float v = vb * denominator, w = vc * denominator;
-    return {1.0f - v - w, v, w};
-}
-
 // Four floats added as one (GCC and Clang vector extension: SSE on x86, NEON on ARM).
 using Float4 = float __attribute__((vector_size(16)));
 

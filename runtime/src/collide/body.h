@@ -24,6 +24,7 @@
 #include "kernels.h"
 #include "memory/regions.h"
 #include "weft/body.h"
+#include "weft/closest_point.h"
 #include "weft/debug.h"
 
 namespace weft {
@@ -91,11 +92,9 @@ struct BodyState {
     uint64_t refit_ns = 0, pass_ns = 0;
 };
 
-// Closest point on triangle (a, b, c) to p as barycentric weights (w0 + w1 + w2 = 1).
-struct Barycentric {
-    float w0, w1, w2;
-};
-Barycentric closest_on_triangle(const float* p, const float* a, const float* b, const float* c);
+// A point on a hull triangle as barycentric weights (w0 + w1 + w2 = 1); closest_on_triangle
+// (weft/closest_point.h) finds the closest one.
+using Barycentric = BarycentricWeights<float>;
 
 // Offset hull of `positions`: area-weighted vertex normals, hull = position + thickness * normal, and
 // each vertex's motion |hull - previous| (0 without `previous`, the hull before this pose).
