@@ -470,19 +470,20 @@ void collide_clusters(const Particles& particles, const uint32_t* order, const B
             // the substep, if they are behind it.
             if (lost != 0) {
                 for (uint32_t k = 0; k < n; ++k) {
+                    if (!(lost >> k & 1u)) continue;
                     const uint32_t i = slot[k];
                     lost_q.point[k][0] = p.previous_x[i], lost_q.point[k][1] = p.previous_y[i], lost_q.point[k][2] = p.previous_z[i];
                 }
                 lost_q.active = lost;
                 counts.queried += uint64_t(__builtin_popcount(search(body.hierarchy, reach, lost_q, lost_candidates, false)));
-            }
-            for (uint32_t k = 0; k < n; ++k) {
-                const Best& best = lost_q.best[k];
-                if (!(lost >> k & 1u) || !(best.distance2 < std::numeric_limits<float>::infinity())) continue;
-                const HullPlane h = hull_plane_at(body, best, q.point[k]);
-                if (!(h.depth > 0.0f)) continue;
-                plane_triangle[k] = best.triangle, plane_at[k] = h.w;
-                respond(k, best.triangle, h.w, h.normal, h.depth);
+                for (uint32_t k = 0; k < n; ++k) {
+                    const Best& best = lost_q.best[k];
+                    if (!(lost >> k & 1u) || !(best.distance2 < std::numeric_limits<float>::infinity())) continue;
+                    const HullPlane h = hull_plane_at(body, best, q.point[k]);
+                    if (!(h.depth > 0.0f)) continue;
+                    plane_triangle[k] = best.triangle, plane_at[k] = h.w;
+                    respond(k, best.triangle, h.w, h.normal, h.depth);
+                }
             }
         }
         // In a crease of the hull (between the thighs, in the armpit) the push out of one surface
