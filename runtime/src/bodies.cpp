@@ -355,6 +355,7 @@ Result view_body(const World* world, BodyId id, BodyView* out) {
     out->hull = body.hull;
     out->normals = body.normals;
     out->triangles = body.triangles;
+    out->in_crease = body.hierarchy.in_crease;
     out->thickness_m = body.desc.thickness_m;
     out->margin_m = body.desc.margin_m;
     return {};

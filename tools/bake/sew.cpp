@@ -360,18 +360,53 @@ Vec3 closest_on_triangle(Vec3 p, Vec3 a, Vec3 b, Vec3 c) {
     return add(a, add(scale(sub(b, a), w.w1), scale(sub(c, a), w.w2)));
 }
 
-// Where a particle found inside the skin by ray parity goes: the closest point of the collided
-// hull (the buried triangles left out) that is itself outside the skin. The closest hull point
-// alone is often another body part's, facing the particle: one 27 mm inside the arm by the armpit
-// is 22 mm in front of the torso's hull, and that point lies inside the arm too.
+// Where the runtime's hull leaves a particle in a crease: the hull there is two parts' offset hulls
+// overlapping (the arm's underside and the torso's side in the armpit), and the closest hull triangle
+// to a particle between them can be one buried under the other part, in front of the particle. The
+// step then sees it outside, and a taut edge draws it on into the skin. A particle is clear of the
+// body when it is outside the skin and at least kClearance_m (the hull's thickness less a slack for
+// the hull's own rounding, vertex normals and concave spots) from every part of it.
+class BodyClearance {
+public:
+    static constexpr float kSlack_m = 0.0005f;
+
+    BodyClearance(const SewBody& skin, const BodyInsideTest& inside, const SewOptions& o) : inside_(inside) {
+        clearance_m_ = std::max(0.0f, o.body_thickness_m - kSlack_m);
+        SewOptions bare = o;  // a world of the skin itself (no hull, no floor), for distances to it
+        bare.body_thickness_m = 0.0f;
+        bare.floor = false;
+        status_ = open_world(nullptr, skin, bare, 0.0f, 1.0f, &skin_, clearance_m_);
+    }
+    const Status& status() const { return status_; }
+
+    // Inside the skin (ray parity), or outside it but nearer than the clearance.
+    bool violated(Vec3 p) const {
+        if (inside_.contains(p)) return true;
+        BodyContact c;
+        return clearance_m_ > 0.0f && query_body(skin_.world, skin_.body, p, &c, clearance_m_).ok() && c.found &&
+               length(sub(p, c.hull_point)) < clearance_m_;
+    }
+
+private:
+    const BodyInsideTest& inside_;
+    float clearance_m_ = 0.0f;
+    BodyWorld skin_;
+    Status status_;
+};
+
+// Where a particle found inside the skin by ray parity, or in a crease nearer the skin than the
+// hull (BodyClearance), goes: the closest point of the collided hull (the buried triangles left out)
+// that is itself clear of the body. The closest hull point alone is often another body part's,
+// facing the particle: one 27 mm inside the arm by the armpit is 22 mm in front of the torso's
+// hull, and that point lies inside the arm too.
 class OutsideHull {
 public:
     // How far past the closest candidate a particle's own candidates are kept, metres: a particle
     // held outside is searched again every frame, among the triangles near it only.
     static constexpr float kNear_m = 0.05f;
 
-    OutsideHull(const SewBody& collided, float thickness_m, const BodyInsideTest& inside)
-        : hull_(offset_hull(collided, thickness_m)), inside_(inside) {}
+    OutsideHull(const SewBody& collided, float thickness_m, const BodyClearance& clear)
+        : hull_(offset_hull(collided, thickness_m)), clear_(clear) {}
 
     // The outside hull point closest to p among `near` (all triangles when empty; then `near`
     // becomes the triangles within kNear_m of the closest candidate). False when there is none.
@@ -398,7 +433,7 @@ public:
             const auto [d2, t] = next();
             if (all) taken.push_back(t);
             const Vec3 q = point(t, p);
-            if (inside_.contains(q)) continue;
+            if (clear_.violated(q)) continue;
             if (all) {  // the triangles near enough to be the answer in later frames
                 const float reach = std::sqrt(d2) + kNear_m;
                 while (!heap.empty() && !(heap.front().first > reach * reach)) taken.push_back(next().second);
@@ -417,7 +452,7 @@ private:
         return closest_on_triangle(p, hull_.positions[v[0]], hull_.positions[v[1]], hull_.positions[v[2]]);
     }
     SewBody hull_;
-    const BodyInsideTest& inside_;
+    const BodyClearance& clear_;
 };
 
 }  // namespace
@@ -840,13 +875,18 @@ Status sew_garment(const ClothMeshDesc& unsewn, const std::vector<uint32_t>& att
         watch(before, false);
         // Particles the sewing left deeper inside the body than the step's contacts reach stay
         // there (a band pulled through the waist's side as its seams closed): at rest they go to
-        // the closest hull point outside the skin (OutsideHull) and the drape goes on. In a
+        // the closest hull point clear of the body (OutsideHull) and the drape goes on. In a
         // crease (the armpit, between the legs) the step's closest triangle is another part's,
         // facing the particle, and a taut edge took it back in after each untangling: so from
-        // then on it is kept outside after every step, as a collision that knew the body part
-        // would.
-        const BodyInsideTest inside(drape_body == &body ? closed_body : whole_body);
-        const OutsideHull outside(*drape_body, o.body_thickness_m, inside);
+        // then on it is kept clear after every step, as a collision that knew the body part
+        // would. Clear means outside the hull of every part, not only the skin: a particle left
+        // in the crease between the skin and the hull is one the game's step, which collides
+        // with the buried triangles too, sees outside and lets the edge draw into the skin.
+        const SewBody& skin = drape_body == &body ? closed_body : whole_body;
+        const BodyInsideTest inside(skin);
+        const BodyClearance clear(skin, inside, o);
+        if (!clear.status().ok()) return clear.status();
+        const OutsideHull outside(*drape_body, o.body_thickness_m, clear);
         std::vector<uint32_t> held;                 // particles found inside at rest
         std::vector<std::vector<uint32_t>> near;    // their hull triangles (OutsideHull::find)
         const auto hold_out = [&](uint32_t q, std::vector<uint32_t>* triangles, Vec3* at) {
@@ -863,7 +903,7 @@ Status sew_garment(const ClothMeshDesc& unsewn, const std::vector<uint32_t>& att
                 ++rep.drape_frames;
                 read_positions(w.world, w.cloth, now.data(), m);
                 for (size_t k = 0; k < held.size(); ++k)
-                    if (inside.contains(now[held[k]])) hold_out(held[k], &near[k], &now[held[k]]);
+                    if (clear.violated(now[held[k]])) hold_out(held[k], &near[k], &now[held[k]]);
                 double sum = 0.0;
                 for (uint32_t q = 0; q < m; ++q) sum += length(sub(now[q], before[q]));
                 rep.mean_speed_m_s = sum / m / o.dt_s;
@@ -874,7 +914,7 @@ Status sew_garment(const ClothMeshDesc& unsewn, const std::vector<uint32_t>& att
             if (round == o.untangle_rounds || frames >= o.max_drape_frames) break;
             uint32_t moved = 0;
             for (uint32_t q = 0; q < m; ++q) {
-                if (g.masses[q] == 0.0f || !inside.contains(before[q])) continue;
+                if (g.masses[q] == 0.0f || !clear.violated(before[q])) continue;
                 const auto it = std::find(held.begin(), held.end(), q);
                 std::vector<uint32_t> triangles;  // searched among all: it went past its near ones
                 if (!hold_out(q, &triangles, &before[q])) continue;

@@ -103,6 +103,10 @@ struct BodyView {
     const float* hull = nullptr;     // [4 * vertex_count]: x, y, z, the vertex's motion this step (m)
     const float* normals = nullptr;  // [3 * vertex_count]: unit area-weighted vertex normals
     const uint32_t* triangles = nullptr;
+    // [triangle_count]: 1 where another part's hull faced the triangle within the reach in the pose
+    // add_body was given (the armpit, the inner thighs); a particle in front of such a triangle is
+    // checked against the other faces within reach.
+    const uint8_t* in_crease = nullptr;
     float thickness_m = 0, margin_m = 0;
 };
 Result view_body(const World* world, BodyId body, BodyView* out);

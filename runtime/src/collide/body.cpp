@@ -120,6 +120,52 @@ HullPlane hull_plane_at(const BodyState& body, const body_query::Best& best, con
     return h;
 }
 
+// The outward normal of hull triangle t, ab x ac (not normalised).
+void hull_face_normal(const BodyState& body, uint32_t t, float* n) {
+    const uint32_t* v = body.triangles + 3 * t;
+    const float *a = body.hull + 4 * v[0], *b = body.hull + 4 * v[1], *c = body.hull + 4 * v[2];
+    float ab[3], ac[3];
+    sub3(b, a, ab), sub3(c, a, ac);
+    n[0] = ab[1] * ac[2] - ab[2] * ac[1];
+    n[1] = ab[2] * ac[0] - ab[0] * ac[2];
+    n[2] = ab[0] * ac[1] - ab[1] * ac[0];
+}
+
+// The closest hull triangle within `reach` of p that p lies behind, seen from inside its face (the
+// closest point inside the triangle, not on an edge or a corner: behind a face p is inside that
+// part's hull, while beside an edge of a convex part it is not). Scalar, over the hierarchy's
+// leaves (listed in `c`), for the few points that need it; the same code on both paths.
+bool behind_open_face(const BodyState& body, const float* p, float reach, body_query::Candidates& c,
+                      body_query::Best* out) {
+    using namespace body_query;
+    const BodyHierarchy& h = body.hierarchy;
+    Best best{reach * reach, kNoTriangle, 0.0f, 0.0f};
+    const auto test = [&] {
+        for (uint32_t i = 0; i < c.count; ++i)
+            for (uint32_t k = 0; k < kLeafTriangles; ++k) {  // a last leaf's padding repeats a triangle
+                const uint32_t t = h.leaf_triangle[kLeafTriangles * c.leaf[i] + k];
+                const uint32_t* v = body.triangles + 3 * t;
+                const float *a = body.hull + 4 * v[0], *b = body.hull + 4 * v[1], *e = body.hull + 4 * v[2];
+                TriangleRegion region = TriangleRegion::face;
+                const Barycentric w = closest_on_triangle(p, a, b, e, &region);
+                if (region != TriangleRegion::face) continue;
+                float to_face[3], n[3];
+                for (int x = 0; x < 3; ++x) to_face[x] = w.w0 * a[x] + w.w1 * b[x] + w.w2 * e[x] - p[x];
+                hull_face_normal(body, t, n);
+                const float d2 = dot3(to_face, to_face);
+                if (d2 < best.distance2 && dot3(to_face, n) > 0.0f) best = {d2, t, w.w1, w.w2};
+            }
+        c.count = 0;
+    };
+    const float lo[3] = {p[0] - reach, p[1] - reach, p[2] - reach}, hi[3] = {p[0] + reach, p[1] + reach, p[2] + reach};
+    c.count = 0;
+    collect_leaves<simd::Float1>(h, reach, lo, hi, c, test);
+    test();
+    if (best.triangle == kNoTriangle) return false;
+    *out = best;
+    return true;
+}
+
 // A particle that crossed the hull since its previous position: the entry point, or false. The ray
 // starts `back` metres behind the previous position: a particle projected onto the hull last
 // substep may sit a rounding error inside it, and a ray from there would first meet the hull from
@@ -333,7 +379,8 @@ void collide_clusters(const Particles& particles, const uint32_t* order, const B
     const bool contacts_only = planes == nullptr;
     ColliderKernelArgs args{};
     args.friction = body.desc.friction;
-    Candidates candidates;  // on the stack (about 16 kB): nothing allocates
+    Candidates candidates;  // on the stack (about 16 kB each): nothing allocates
+    Candidates scratch;     // the lost particles' searches and the crease triangles' second look
     Cluster q;
     q.share = share;  // the rays' frame: each triangle's motion this substep (intersect_leaf)
     for (uint32_t c0 = 0; c0 < p.slot_count; c0 += kClusterSlots) {
@@ -392,7 +439,7 @@ void collide_clusters(const Particles& particles, const uint32_t* order, const B
             Barycentric w{};
             float normal[3], penetration = 0.0f;
             const RayHit& hit = q.hit[k];
-            if (hit.triangle != kNoTriangle && hit.entering) {
+            if (hit.triangle != kNoTriangle) {
                 w = {1.0f - hit.u - hit.v, hit.u, hit.v};
                 float unused[3], at[3], to_hit[3];
                 interpolate(body, hit.triangle, w, unused, normal);
@@ -414,12 +461,20 @@ void collide_clusters(const Particles& particles, const uint32_t* order, const B
                     lost |= (q.rays >> k & 1u) << k;  // moved far and met no hull on the way: below
                     continue;
                 }
-                const HullPlane h = hull_plane_at(body, best, x);
+                HullPlane h = hull_plane_at(body, best, x);
+                triangle = best.triangle;
+                // In front of a triangle in a crease (the arm's underside in the armpit) the particle
+                // may still be inside the other part: behind the face of another triangle within reach.
+                Best other;
+                if (!(h.depth > 0.0f) && body.hierarchy.in_crease[best.triangle] != 0 &&
+                    behind_open_face(body, x, reach, scratch, &other)) {
+                    const HullPlane o = hull_plane_at(body, other, x);
+                    if (o.depth > 0.0f) h = o, triangle = other.triangle;
+                }
                 w = h.w, penetration = h.depth;
                 for (int a = 0; a < 3; ++a) normal[a] = h.normal[a];
-                plane_triangle[k] = best.triangle, plane_at[k] = w;
+                plane_triangle[k] = triangle, plane_at[k] = w;
                 if (!(penetration > 0.0f)) continue;
-                triangle = best.triangle;
             }
             respond(k, triangle, w, normal, penetration);
         }
@@ -437,14 +492,13 @@ void collide_clusters(const Particles& particles, const uint32_t* order, const B
                 sub3(q.point[k], q.origin[k], moved);
                 far = std::max(far, std::sqrt(dot3(moved, moved)));
             }
-            // Its own cluster and leaf list: the crease rounds below search the cluster's.
+            // Its own cluster and leaf list (scratch): the crease rounds below search the cluster's.
             Cluster lost_q;
-            Candidates lost_candidates;
             for (uint32_t k = 0; k < n; ++k)
                 for (int a = 0; a < 3; ++a) lost_q.point[k][a] = q.point[k][a];
             lost_q.active = lost, lost_q.rays = 0;
             counts.queried +=
-                uint64_t(__builtin_popcount(search(body.hierarchy, reach + far, lost_q, lost_candidates, false)));
+                uint64_t(__builtin_popcount(search(body.hierarchy, reach + far, lost_q, scratch, false)));
             for (uint32_t k = 0; k < n; ++k) {
                 const Best& best = lost_q.best[k];
                 if (!(lost >> k & 1u) || !(best.distance2 < std::numeric_limits<float>::infinity())) continue;
@@ -475,7 +529,7 @@ void collide_clusters(const Particles& particles, const uint32_t* order, const B
                     lost_q.point[k][0] = p.previous_x[i], lost_q.point[k][1] = p.previous_y[i], lost_q.point[k][2] = p.previous_z[i];
                 }
                 lost_q.active = lost;
-                counts.queried += uint64_t(__builtin_popcount(search(body.hierarchy, reach, lost_q, lost_candidates, false)));
+                counts.queried += uint64_t(__builtin_popcount(search(body.hierarchy, reach, lost_q, scratch, false)));
                 for (uint32_t k = 0; k < n; ++k) {
                     const Best& best = lost_q.best[k];
                     if (!(lost >> k & 1u) || !(best.distance2 < std::numeric_limits<float>::infinity())) continue;
@@ -688,8 +742,59 @@ size_t body_hierarchy_bytes(uint32_t triangles, uint32_t bodies) {
     const size_t padded_groups = padded_leaves / kGroupLeaves + kRootGroups * size_t(bodies);
     const size_t padded_roots = padded_groups / kRootGroups + 8 * size_t(bodies);
     const size_t floats = kLeafCorners * leaves + 7 * padded_leaves + 6 * (padded_groups + padded_roots);
-    return sizeof(float) * floats + sizeof(uint32_t) * 4 * kLeafTriangles * leaves + 23 * kCacheLine * size_t(bodies);
+    return sizeof(float) * floats + sizeof(uint32_t) * 4 * kLeafTriangles * leaves + size_t(triangles) +
+           24 * kCacheLine * size_t(bodies);
 }
+
+namespace {
+
+// BodyHierarchy::in_crease: a hull triangle is in a crease when another part's surface faces it
+// within the reach of its middle (a triangle whose normal points against its own, |cos| > 0.3:
+// the arm's underside and the torso's side in the armpit, the inner thighs). There two parts' hulls
+// overlap, and a particle in front of one may be behind the other.
+void mark_crease_triangles(BodyState& body) {
+    using namespace body_query;
+    const float reach = base_reach(body);
+    const BodyHierarchy& h = body.hierarchy;
+    Candidates c;  // on the stack (about 16 kB)
+    auto normal_of = [&](uint32_t t, float* out) {  // unit, or zero for a degenerate triangle
+        hull_face_normal(body, t, out);
+        const float length = std::sqrt(dot3(out, out));
+        for (int x = 0; x < 3; ++x) out[x] = length > 0.0f ? out[x] / length : 0.0f;
+    };
+    for (uint32_t t = 0; t < body.triangle_count; ++t) {
+        const uint32_t* v = body.triangles + 3 * t;
+        const float *a = body.hull + 4 * v[0], *b = body.hull + 4 * v[1], *e = body.hull + 4 * v[2];
+        float own[3], middle[3];
+        normal_of(t, own);
+        for (int x = 0; x < 3; ++x) middle[x] = (a[x] + b[x] + e[x]) / 3.0f;
+        bool facing = false;
+        const auto test = [&] {
+            for (uint32_t i = 0; i < c.count && !facing; ++i)
+                for (uint32_t k = 0; k < kLeafTriangles && !facing; ++k) {
+                    const uint32_t u = h.leaf_triangle[kLeafTriangles * c.leaf[i] + k];
+                    const uint32_t* w = body.triangles + 3 * u;
+                    float other[3];
+                    normal_of(u, other);
+                    if (!(dot3(own, other) < -0.3f)) continue;
+                    const Barycentric on = closest_on_triangle(middle, body.hull + 4 * w[0], body.hull + 4 * w[1], body.hull + 4 * w[2]);
+                    float d[3];
+                    for (int x = 0; x < 3; ++x)
+                        d[x] = on.w0 * body.hull[4 * w[0] + x] + on.w1 * body.hull[4 * w[1] + x] + on.w2 * body.hull[4 * w[2] + x] - middle[x];
+                    facing = dot3(d, d) < reach * reach;
+                }
+            c.count = 0;
+        };
+        const float lo[3] = {middle[0] - reach, middle[1] - reach, middle[2] - reach};
+        const float hi[3] = {middle[0] + reach, middle[1] + reach, middle[2] + reach};
+        c.count = 0;
+        collect_leaves<simd::Float1>(h, reach, lo, hi, c, test);
+        test();
+        body.hierarchy.in_crease[t] = facing ? 1 : 0;
+    }
+}
+
+}  // namespace
 
 bool build_body_hierarchy(BodyState& body, Arena& arena, SimdPath path) {
     BodyHierarchy& h = body.hierarchy;
@@ -701,8 +806,9 @@ bool build_body_hierarchy(BodyState& body, Arena& arena, SimdPath path) {
     h.leaf_vertex = arena.allocate_array<uint32_t>(3 * size_t(kLeafTriangles) * s.leaves);
     h.leaf_corners = arena.allocate_array<float>(size_t(kLeafCorners) * s.leaves);
     h.leaf_sweep = arena.allocate_array<float>(s.padded_leaves);
+    h.in_crease = arena.allocate_array<uint8_t>(body.triangle_count);
     if (h.leaf_triangle == nullptr || h.leaf_vertex == nullptr || h.leaf_corners == nullptr ||
-        h.leaf_sweep == nullptr || !carve_boxes(arena, s.padded_leaves, &h.leaves) ||
+        h.leaf_sweep == nullptr || h.in_crease == nullptr || !carve_boxes(arena, s.padded_leaves, &h.leaves) ||
         !carve_boxes(arena, s.padded_groups, &h.groups) || !carve_boxes(arena, s.padded_roots, &h.roots))
         return false;
     for (uint32_t l = 0; l < s.padded_leaves; ++l) h.leaf_sweep[l] = 0.0f;  // the padding leaves' stay 0
@@ -727,6 +833,7 @@ bool build_body_hierarchy(BodyState& body, Arena& arena, SimdPath path) {
                 h.leaf_vertex[3 * kLeafTriangles * l + kLeafTriangles * corner + k] =
                     4 * body.triangles[3 * h.leaf_triangle[kLeafTriangles * l + k] + corner];
     refit_body_hierarchy(body, path);
+    mark_crease_triangles(body);
     return true;
 }
 

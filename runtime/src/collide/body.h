@@ -59,6 +59,11 @@ struct BodyHierarchy {
     // kLeafTriangles floats (ax[8], ay[8], az[8], abx[8], ... nz[8], radius[8], mx[8], my[8], mz[8]).
     float* leaf_corners = nullptr;
     float* leaf_sweep = nullptr;  // [leaf_count rounded up as `leaves`]: the largest motion of the leaf's vertices this step
+    // [triangle_count]: 1 where another part's hull faced the triangle within the reach in the pose
+    // add_body was given (the arm's underside and the torso's side in the armpit, the inner thighs:
+    // mark_crease_triangles). Such a triangle can be a particle's closest while the particle is
+    // inside the other part, so its "in front" is checked again (collide_clusters).
+    uint8_t* in_crease = nullptr;
     Boxes leaves;                 // [leaf_count rounded up to groups * kGroupLeaves]
     Boxes groups;                 // [root_count * kRootGroups]
     Boxes roots;                  // [root_count rounded up to 8]

@@ -199,15 +199,16 @@ struct Best {
     float v, w;
 };
 
-// The first hull triangle a particle's tunnelling ray meets (any side), kNoTriangle when none.
+// The first hull triangle a particle's tunnelling ray enters (moving against its outward normal),
+// kNoTriangle when none; a ray that starts inside one part's hull (a point resting in a crease,
+// where two parts' hulls overlap) leaves it before it enters the other, and that entry counts.
 // The ray is traced in each triangle's frame (intersect_leaf): from its origin moved with the
 // triangle this substep (motion) to the particle's new position.
 inline constexpr uint32_t kNoTriangle = 0xffffffffu;
 struct RayHit {
     float t;  // along the ray's direction (the whole displacement) from its origin
     uint32_t triangle;
-    float u, v;     // weights of the triangle's corners b and c at the hit
-    bool entering;  // moving against the triangle's outward normal: a crossing into the hull
+    float u, v;       // weights of the triangle's corners b and c at the hit
     float motion[3];  // the hit triangle's motion this substep (ray_in_body_frame)
 };
 
@@ -350,8 +351,8 @@ inline void trace_candidates(const BodyHierarchy& h, const Candidates& c, const 
             while (lanes != 0) {
                 const uint32_t k = uint32_t(__builtin_ctz(lanes));
                 lanes &= lanes - 1;
-                if (!(t[k] < hit.t)) continue;
-                hit = {t[k], h.leaf_triangle[kLeafTriangles * leaf + k], u[k], v[k], det[k] > 0.0f,
+                if (!(det[k] > 0.0f) || !(t[k] < hit.t)) continue;  // entries only (RayHit)
+                hit = {t[k], h.leaf_triangle[kLeafTriangles * leaf + k], u[k], v[k],
                        {motion[k], motion[kLeafTriangles + k], motion[2 * kLeafTriangles + k]}};
             }
         }
@@ -485,7 +486,7 @@ inline uint32_t search_cluster(const BodyHierarchy& h, float reach, Cluster& q, 
     float lo[3] = {inf, inf, inf}, hi[3] = {-inf, -inf, -inf};
     for (uint32_t k = 0; k < kClusterSlots; ++k) {
         q.best[k] = {inf, 0, 0.0f, 0.0f};
-        q.hit[k] = {inf, kNoTriangle, 0.0f, 0.0f, false, {0.0f, 0.0f, 0.0f}};
+        q.hit[k] = {inf, kNoTriangle, 0.0f, 0.0f, {0.0f, 0.0f, 0.0f}};
         if (!(q.active >> k & 1u)) continue;
         for (int a = 0; a < 3; ++a) {
             lo[a] = q.point[k][a] - reach < lo[a] ? q.point[k][a] - reach : lo[a];
