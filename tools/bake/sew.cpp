@@ -364,14 +364,16 @@ Vec3 closest_on_triangle(Vec3 p, Vec3 a, Vec3 b, Vec3 c) {
 // overlapping (the arm's underside and the torso's side in the armpit), and the closest hull triangle
 // to a particle between them can be one buried under the other part, in front of the particle. The
 // step then sees it outside, and a taut edge draws it on into the skin. A particle is clear of the
-// body when it is outside the skin and at least kClearance_m (the hull's thickness less a slack for
-// the hull's own rounding, vertex normals and concave spots) from every part of it.
+// body when it is outside the skin and at least kClearanceShare of the hull's thickness from every
+// part of it: half, because in a concave spot (the small of the back) the hull itself, offset along
+// vertex normals, lies nearer the skin than its thickness, and a stricter clearance sent particles
+// held there to a hull point centimetres away, which the game's first step snapped back through it.
 class BodyClearance {
 public:
-    static constexpr float kSlack_m = 0.0005f;
+    static constexpr float kClearanceShare = 0.5f;
 
     BodyClearance(const SewBody& skin, const BodyInsideTest& inside, const SewOptions& o) : inside_(inside) {
-        clearance_m_ = std::max(0.0f, o.body_thickness_m - kSlack_m);
+        clearance_m_ = kClearanceShare * o.body_thickness_m;
         SewOptions bare = o;  // a world of the skin itself (no hull, no floor), for distances to it
         bare.body_thickness_m = 0.0f;
         bare.floor = false;
