@@ -362,8 +362,8 @@ Vec3 closest_on_triangle(Vec3 p, Vec3 a, Vec3 b, Vec3 c) {
 
 // Where the runtime's hull leaves a particle in a crease: the hull there is two parts' offset hulls
 // overlapping (the arm's underside and the torso's side in the armpit), and the closest hull triangle
-// to a particle between them can be one buried under the other part, in front of the particle. The
-// step then sees it outside, and a taut edge draws it on into the skin. A particle is clear of the
+// to a particle between them can be one buried under the other part, in front of the particle, and a
+// start state left there puts it where the game's first step can draw it into the skin. A particle is clear of the
 // body when it is outside the skin and at least kClearanceShare of the hull's thickness from every
 // part of it: half, because in a concave spot (the small of the back) the hull itself, offset along
 // vertex normals, lies nearer the skin than its thickness, and a stricter clearance sent particles
