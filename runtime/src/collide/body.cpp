@@ -120,6 +120,13 @@ HullPlane hull_plane_at(const BodyState& body, const body_query::Best& best, con
     return h;
 }
 
+// Particle i from x onto h's plane, along its normal (no friction: the crease rounds' projection).
+void push_out(const Particles& p, uint32_t i, const float* x, const HullPlane& h) {
+    p.x[i] = x[0] + h.normal[0] * h.depth;
+    p.y[i] = x[1] + h.normal[1] * h.depth;
+    p.z[i] = x[2] + h.normal[2] * h.depth;
+}
+
 // The outward normal of hull triangle t, ab x ac (not normalised).
 void hull_face_normal(const BodyState& body, uint32_t t, float* n) {
     const uint32_t* v = body.triangles + 3 * t;
@@ -417,6 +424,8 @@ void collide_clusters(const Particles& particles, const uint32_t* order, const B
         const uint32_t met = search(body.hierarchy, reach, q, candidates, contacts_only);
         counts.queried += uint64_t(__builtin_popcount(met));
         uint32_t pushed = 0, pushed_from[kClusterSlots], lost = 0;
+        uint32_t entered = 0;            // pushed onto the plane where their ray entered the hull
+        float entry[kClusterSlots][3];   // that entry point
         uint32_t plane_triangle[kClusterSlots];  // the contact plane each point keeps (planes model)
         Barycentric plane_at[kClusterSlots];
         // Point k inside the hull at barycentric `w` of `triangle`, by `penetration` along `normal`:
@@ -452,7 +461,10 @@ void collide_clusters(const Particles& particles, const uint32_t* order, const B
                 }
                 sub3(at, x, to_hit);
                 penetration = dot3(to_hit, normal);
-                if (penetration > 0.0f) triangle = hit.triangle;
+                if (penetration > 0.0f) {
+                    triangle = hit.triangle, entered |= 1u << k;
+                    for (int a = 0; a < 3; ++a) entry[k][a] = at[a];
+                }
                 if (penetration > 0.0f) plane_triangle[k] = hit.triangle, plane_at[k] = w;
             }
             if (triangle == kNoTriangle) {
@@ -540,6 +552,35 @@ void collide_clusters(const Particles& particles, const uint32_t* order, const B
                 }
             }
         }
+        // The plane where a ray entered is the hull's tangent there; a particle that moved far in
+        // one substep lands on it up to that move away from the entry, and where the hull bulges
+        // out between the two (the buttocks below the back's waist) it lands still inside, deeper
+        // than the point search's reach, where no later substep finds it. Such particles are searched
+        // again from where they landed, as far as their entry point (which is on the hull), and
+        // pushed out of the closest surface if they are behind it; the crease rounds go on from there.
+        if (entered != 0) {
+            Cluster again;
+            float far = 0.0f;
+            for (uint32_t k = 0; k < n; ++k) {
+                if (!(entered >> k & 1u)) continue;
+                const uint32_t i = slot[k];
+                again.point[k][0] = p.x[i], again.point[k][1] = p.y[i], again.point[k][2] = p.z[i];
+                float slid[3];
+                sub3(again.point[k], entry[k], slid);
+                far = std::max(far, std::sqrt(dot3(slid, slid)));
+            }
+            again.active = entered, again.rays = 0;
+            counts.queried += uint64_t(__builtin_popcount(search(body.hierarchy, reach + far, again, scratch, false)));
+            for (uint32_t k = 0; k < n; ++k) {
+                const Best& best = again.best[k];
+                if (!(entered >> k & 1u) || !(best.distance2 < std::numeric_limits<float>::infinity())) continue;
+                const HullPlane h = hull_plane_at(body, best, again.point[k]);
+                if (!(h.depth > 0.0f)) continue;
+                push_out(p, slot[k], again.point[k], h);
+                pushed_from[k] = best.triangle;
+                plane_triangle[k] = best.triangle, plane_at[k] = h.w;
+            }
+        }
         // In a crease of the hull (between the thighs, in the armpit) the push out of one surface
         // can land inside the other: the pushed particles are searched again from where they
         // landed and projected out of the closest surface again, without friction (alternating
@@ -576,10 +617,7 @@ void collide_clusters(const Particles& particles, const uint32_t* order, const B
                 if (!(best.distance2 < std::numeric_limits<float>::infinity())) continue;
                 const HullPlane h = hull_plane_at(body, best, q.point[k]);
                 if (!(h.depth > 0.0f)) continue;
-                const uint32_t i = slot[k];
-                p.x[i] = q.point[k][0] + h.normal[0] * h.depth;
-                p.y[i] = q.point[k][1] + h.normal[1] * h.depth;
-                p.z[i] = q.point[k][2] + h.normal[2] * h.depth;
+                push_out(p, slot[k], q.point[k], h);
                 moved |= h.depth > kCreaseTolerance_m ? 1u << k : 0u;
                 pushed_from[k] = best.triangle;
                 crease_triangle[k] = best.triangle, crease_at[k] = h.w;
