@@ -199,9 +199,12 @@ struct Best {
     float v, w;
 };
 
-// The first hull triangle a particle's tunnelling ray enters (moving against its outward normal),
-// kNoTriangle when none; a ray that starts inside one part's hull (a point resting in a crease,
-// where two parts' hulls overlap) leaves it before it enters the other, and that entry counts.
+// Of the hull triangles a particle's tunnelling ray enters (moving against the outward normal), the
+// one whose plane its new position lies deepest behind, kNoTriangle when none. A ray that starts
+// inside one part's hull (a point resting in a crease, where two parts' hulls overlap) leaves it
+// before it enters the other, and that entry counts. The deepest, not the first: under the crotch
+// a particle pulled up first grazes into a thigh's hull, whose plane it is hardly behind, and then
+// enters the crotch's, which it must go back out of.
 // The ray is traced in each triangle's frame (intersect_leaf): from its origin moved with the
 // triangle this substep (motion) to the particle's new position.
 inline constexpr uint32_t kNoTriangle = 0xffffffffu;
@@ -239,11 +242,13 @@ struct Cluster {
 // Moeller-Trumbore against a leaf's eight triangles, each in its own frame (ray_in_body_frame: the
 // origin moved by the triangle's motion, `share` of its motion this step, the end kept): the lanes
 // the segment org' + t dir', t in [0, t_far], crosses, with t, u (weight of b), v (weight of c),
-// det > 0 when entering (det = ab . (dir' x ac) = -dir' . (ab x ac), the outward normal) and the
-// lane's motion.
+// det > 0 when entering (det = ab . (dir' x ac) = -dir' . (ab x ac), the outward normal), how far
+// the segment's end lies behind the triangle's plane ((t_far - t) det / |ab x ac|) and the lane's
+// motion.
 template <class F>
 inline uint32_t intersect_leaf(const float* corners, const float* org, const float* dir, float t_far, float share,
-                               float* t_out, float* u_out, float* v_out, float* det_out, float* motion_out) {
+                               float* t_out, float* u_out, float* v_out, float* det_out, float* depth_out,
+                               float* motion_out) {
     using namespace simd;
     const F zero = splat(0.0f, F{}), one = splat(1.0f, F{});
     const F portion = splat(share, F{}), inverse_t_far = splat(1.0f / t_far, F{});
@@ -271,6 +276,8 @@ inline uint32_t intersect_leaf(const float* corners, const float* org, const flo
         store(u_out + k, u);
         store(v_out + k, v);
         store(det_out + k, det);
+        const Vec3W<F> n{ab.y * ac.z - ab.z * ac.y, ab.z * ac.x - ab.x * ac.z, ab.x * ac.y - ab.y * ac.x};
+        store(depth_out + k, (splat(t_far, F{}) - t) * det / sqrt(dot(n, n)));
         store(motion_out + k, m.x);
         store(motion_out + kLeafTriangles + k, m.y);
         store(motion_out + 2 * kLeafTriangles + k, m.z);
@@ -319,8 +326,8 @@ inline void append_candidates(uint32_t bits, uint32_t first, const simd::Float8*
 
 // Traces a cluster point's ray against every candidate leaf whose box meets the segment's box
 // widened by the leaf's sweep (in a triangle's frame the origin moves by up to that,
-// intersect_leaf), keeping the first hit (strictly smaller t: ties keep the first leaf and lane,
-// deterministic).
+// intersect_leaf), keeping the entry its end lies deepest behind (RayHit; equal depths the smaller
+// t, then the first leaf and lane: deterministic).
 template <class F>
 inline void trace_candidates(const BodyHierarchy& h, const Candidates& c, const float* org, const float* dir,
                              float t_far, float share, RayHit& hit) {
@@ -334,7 +341,8 @@ inline void trace_candidates(const BodyHierarchy& h, const Candidates& c, const 
     const F lx = splat(lo[0], F{}), ly = splat(lo[1], F{}), lz = splat(lo[2], F{});
     const F hx = splat(hi[0], F{}), hy = splat(hi[1], F{}), hz = splat(hi[2], F{});
     alignas(32) float t[kLeafTriangles], u[kLeafTriangles], v[kLeafTriangles], det[kLeafTriangles];
-    alignas(32) float motion[3 * kLeafTriangles];
+    alignas(32) float depth[kLeafTriangles], motion[3 * kLeafTriangles];
+    float deepest = -std::numeric_limits<float>::infinity();
     for (uint32_t i = 0; i < c.count; i += F::width) {
         const F sweep = load(c.sweep + i, F{});
         const auto apart = (load(c.min_x + i, F{}) - sweep > hx) | (load(c.max_x + i, F{}) + sweep < lx) |
@@ -347,11 +355,13 @@ inline void trace_candidates(const BodyHierarchy& h, const Candidates& c, const 
             if (i + lane >= c.count) break;
             const uint32_t leaf = c.leaf[i + lane];
             uint32_t lanes = intersect_leaf<F>(h.leaf_corners + size_t(kLeafCorners) * leaf, org, dir, t_far, share, t, u,
-                                               v, det, motion);
+                                               v, det, depth, motion);
             while (lanes != 0) {
                 const uint32_t k = uint32_t(__builtin_ctz(lanes));
                 lanes &= lanes - 1;
-                if (!(det[k] > 0.0f) || !(t[k] < hit.t)) continue;  // entries only (RayHit)
+                if (!(det[k] > 0.0f)) continue;  // entries only (RayHit)
+                if (!(depth[k] > deepest || (depth[k] == deepest && t[k] < hit.t))) continue;
+                deepest = depth[k];
                 hit = {t[k], h.leaf_triangle[kLeafTriangles * leaf + k], u[k], v[k],
                        {motion[k], motion[kLeafTriangles + k], motion[2 * kLeafTriangles + k]}};
             }
