@@ -120,6 +120,17 @@ private:
 
 }  // namespace
 
+ColliderDesc ground_under_body(const Vec3* positions, uint32_t vertex_count, float thickness_m, float friction) {
+    ColliderDesc ground;
+    ground.shape = ColliderShape::plane;
+    ground.p0 = {0.0f, vertex_count > 0 ? positions[0].y : 0.0f, 0.0f};
+    for (uint32_t v = 1; v < vertex_count; ++v) ground.p0.y = std::min(ground.p0.y, positions[v].y);
+    ground.p1 = {0.0f, 1.0f, 0.0f};
+    ground.inflation_m = thickness_m;
+    ground.friction = friction;
+    return ground;
+}
+
 Result cook_skin_binding(const BodyView& body, const SkinBindingDesc& desc, SkinBinding* out) {
     if (out == nullptr) return make_error(ErrorCode::invalid_argument, "out is null");
     if (body.triangle_count == 0 || body.hull == nullptr || body.normals == nullptr || body.triangles == nullptr)

@@ -149,6 +149,35 @@ TEST_CASE("a scene's limb capsules are colliders that follow the walking mannequ
     CHECK(scenes::build_scene(bad, &none).find("no bone named 'tail'") != std::string::npos);
 }
 
+// body.ground: the floor weft-bake dresses garments on, a plane under the body's soles.
+TEST_CASE("a scene body's ground is a plane under its soles, as thick as its hull, with its friction") {
+    const std::string head = R"({"format": "weft-scene", "version": 1, "cloths": [{"grid": {"n": 4}}], )";
+    scenes::Scene scene;
+    REQUIRE(scenes::parse_scene(head + R"("body": {"mannequin": {}, "ground": true, "thickness_m": 0.003, "friction": 0.4}})",
+                                ".", &scene).empty());
+    REQUIRE(scene.body->ground);
+    scenes::SceneWorld w;
+    REQUIRE(scenes::build_scene(scene, &w).empty());
+    const std::vector<Vec3>& rest = w.body->rest;
+    const ColliderDesc ground = ground_under_body(rest.data(), uint32_t(rest.size()), 0.003f, 0.4f);
+    float lowest = rest[0].y;
+    for (const Vec3& p : rest) lowest = std::min(lowest, p.y);
+    CHECK(ground.shape == ColliderShape::plane);
+    CHECK(ground.p0.y == lowest);
+    CHECK(ground.p1.y == 1.0f);
+    CHECK(ground.inflation_m == 0.003f);
+    CHECK(ground.friction == 0.4f);
+    REQUIRE(step(w.world, w.dt_s).ok());
+    CHECK(remove_collider(w.world, w.body->ground).ok());  // the scene added it
+
+    scenes::Scene plain;
+    REQUIRE(scenes::parse_scene(head + R"("body": {"mannequin": {}}})", ".", &plain).empty());
+    CHECK(!plain.body->ground);
+    scenes::Scene bad;
+    CHECK(scenes::parse_scene(head + R"("body": {"mannequin": {}, "ground": 1}})", ".", &bad).find("scene.body.ground") !=
+          std::string::npos);
+}
+
 TEST_CASE("malformed scenes are refused with the key's path") {
     const std::string head = R"({"format": "weft-scene", "version": 1, )";
     const std::string cloth = R"("cloths": [{"grid": {"n": 4}}])";

@@ -212,6 +212,7 @@ Scene garment_on_blending_body(const std::string& asset_path, const std::string&
     body.blend_to_path = blend_to_path;
     body.animation = BodyAnimation::blend;
     body.period_s = 2.0f * blend_s;  // rest -> blend_to in blend_s
+    body.ground = true;               // the floor it was dressed on
     scene.body = body;
     ClothSpec cloth;
     cloth.name = "garment";
@@ -293,7 +294,7 @@ std::string build_scene(const Scene& scene, SceneWorld* out, const std::vector<s
         for (const auto& c : out->cloths)
             wd.max_skin_constraints += c.asset->skin.count > 0 ? c.asset->skin.count : c.asset->particle_count;
     wd.max_colliders = uint32_t(scene.colliders.size());
-    if (out->body) wd.max_colliders += uint32_t(out->body->limb_capsules.size());
+    if (out->body) wd.max_colliders += uint32_t(out->body->limb_capsules.size()) + (scene.body->ground ? 1 : 0);
     wd.wind = scene.wind_m_s.has_value();
     wd.gravity_m_s2 = scene.gravity_m_s2;
     wd.air_density_kg_m3 = scene.air_density_kg_m3;
@@ -322,6 +323,11 @@ std::string build_scene(const Scene& scene, SceneWorld* out, const std::vector<s
         for (size_t i = 0; i < out->body->limb_capsules.size(); ++i)
             if (Result r = add_collider(out->world, limb_collider(b, out->body->limb_capsules[i]), &out->body->limb_colliders[i]); !r.ok())
                 return std::string("body: limb capsule: ") + r.message;
+        if (b.ground) {
+            const ColliderDesc ground =
+                ground_under_body(out->body->rest.data(), uint32_t(out->body->rest.size()), b.thickness_m, b.friction);
+            if (Result r = add_collider(out->world, ground, &out->body->ground); !r.ok()) return std::string("body: ground: ") + r.message;
+        }
     }
     for (size_t i = 0; i < scene.cloths.size(); ++i) {
         const ClothSpec& spec = scene.cloths[i];

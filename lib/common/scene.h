@@ -81,6 +81,10 @@ struct BodySpec {
     // skirt's free hem off the swinging thighs: its backstops stand at the hips (docs/garments.md).
     std::vector<std::string> limb_capsules;
     uint32_t limb_capsule_sections = 2;
+    // A plane collider under the soles (the rest pose's lowest vertex), as thick as the hull and
+    // with the body's friction: the floor weft-bake dresses a garment on, so a floor-length hem
+    // rests on it in the game as it did when baked.
+    bool ground = false;
 };
 
 // The scene files' names of the body collision models ("exact", "cached_planes").
@@ -142,6 +146,7 @@ struct SceneBody {
     BodyId id{};
     std::vector<body::LimbCapsule> limb_capsules, posed_capsules;  // rest pose; at the last animate_body
     std::vector<ColliderId> limb_colliders;
+    ColliderId ground{};  // spec.ground
 };
 
 struct SceneWorld {

@@ -202,7 +202,7 @@ ColliderDesc parse_collider(const json& j, const std::string& where) {
 
 BodySpec parse_body(const json& j, const std::string& where) {
     object(j, where, {"mannequin", "mesh", "animation", "blend_to", "period_s", "ramp_s", "thickness_m", "margin_m",
-                      "friction", "collision", "limb_capsules", "limb_capsule_sections"});
+                      "friction", "collision", "limb_capsules", "limb_capsule_sections", "ground"});
     BodySpec b;
     if (j.contains("mannequin") == j.contains("mesh")) fail(where, "needs exactly one of 'mannequin' and 'mesh'");
     if (j.contains("mannequin")) {
@@ -238,6 +238,10 @@ BodySpec parse_body(const json& j, const std::string& where) {
     read(j, "thickness_m", where, 1e-5, 0.5, &b.thickness_m);
     read(j, "margin_m", where, 0.0, 0.5, &b.margin_m);
     read(j, "friction", where, 0.0, 10.0, &b.friction);
+    if (j.contains("ground")) {
+        if (!j["ground"].is_boolean()) fail(where + ".ground", "must be true or false");
+        b.ground = j["ground"].get<bool>();
+    }
     if (j.contains("collision") && !body_collision_from_name(text(j["collision"], where + ".collision"), &b.collision))
         fail(where + ".collision", "must be exact, cached_planes or skin_constraints");
     return b;

@@ -205,14 +205,9 @@ Status open_world(const ClothAsset* asset, const SewBody& body, const SewOptions
     b.friction = o.body_friction;
     b.margin_m = margin_m;
     if (Result r = add_body(w->world, b, &w->body); !r.ok()) return {std::string("body: ") + r.message};
-    if (o.floor) {  // the ground under the soles, as thick as the body's hull
-        ColliderDesc ground;
-        ground.shape = ColliderShape::plane;
-        ground.p0 = {0.0f, HUGE_VALF, 0.0f};
-        for (const Vec3& p : body.positions) ground.p0.y = std::min(ground.p0.y, p.y);
-        ground.p1 = {0.0f, 1.0f, 0.0f};
-        ground.inflation_m = o.body_thickness_m;
-        ground.friction = o.body_friction;
+    if (o.floor) {
+        const ColliderDesc ground =
+            ground_under_body(body.positions.data(), uint32_t(body.positions.size()), o.body_thickness_m, o.body_friction);
         ColliderId id;
         if (Result r = add_collider(w->world, ground, &id); !r.ok()) return {std::string("floor: ") + r.message};
     }

@@ -233,6 +233,11 @@ struct SkinBindingDesc {
 // the same input gives the same arrays (of equally close triangles, the lowest index).
 Result cook_skin_binding(const BodyView& body, const SkinBindingDesc& desc, SkinBinding* out);
 
+// The floor a garment is dressed on (weft-bake --body): a plane facing up through the body's
+// lowest vertex (its soles), inflated by the hull's thickness, with the body's friction. A game or
+// scene that stands the body on it gives a floor-length hem the support it was draped on.
+ColliderDesc ground_under_body(const Vec3* positions, uint32_t vertex_count, float thickness_m, float friction);
+
 // ---------------------------------------------------------------------------------------------
 // Diagnostics of a cooked asset's SIMD layout (weft-bake --runs, weft-bench corpus).
 
