@@ -464,8 +464,8 @@ void collide_clusters(const Particles& particles, const uint32_t* order, const B
                 if (penetration > 0.0f) {
                     triangle = hit.triangle, entered |= 1u << k;
                     for (int a = 0; a < 3; ++a) entry[k][a] = at[a];
+                    plane_triangle[k] = hit.triangle, plane_at[k] = w;
                 }
-                if (penetration > 0.0f) plane_triangle[k] = hit.triangle, plane_at[k] = w;
             }
             if (triangle == kNoTriangle) {
                 const Best& best = q.best[k];

@@ -276,7 +276,7 @@ inline uint32_t intersect_leaf(const float* corners, const float* org, const flo
         store(u_out + k, u);
         store(v_out + k, v);
         store(det_out + k, det);
-        const Vec3W<F> n{ab.y * ac.z - ab.z * ac.y, ab.z * ac.x - ab.x * ac.z, ab.x * ac.y - ab.y * ac.x};
+        const Vec3W<F> n{load(c + 72, F{}), load(c + 80, F{}), load(c + 88, F{})};  // ab x ac, stored
         store(depth_out + k, (splat(t_far, F{}) - t) * det / sqrt(dot(n, n)));
         store(motion_out + k, m.x);
         store(motion_out + kLeafTriangles + k, m.y);
