@@ -143,10 +143,13 @@ void apply_tethers(World& world, ClothInstance& cloth) {
                                        cloth.settings.tether_slack);
 }
 
-void collide(World& world, ClothInstance& cloth, uint32_t substeps) {
+void collide(World& world, ClothInstance& cloth, uint32_t substep, uint32_t substeps) {
     if (world.colliders_live == 0) return;
     PassTimer timer(world, cloth, Pass::collide);
     const float share = 1.0f / float(substeps);
+    // A moved collider stands where it was this far into the step, as the body's hull and the
+    // carry do: the share of its motion still to come is taken off (none in the last substep).
+    const float to_come = 1.0f - float(substep + 1) / float(substeps);
     // A collider whose box misses the cloth's is skipped (a skirt's thigh capsules cost its
     // character's tee nothing).
     ParticleBounds& box = cloth.bounds;  // kept: a moved collider wakes the sleeping cloths it meets
@@ -156,9 +159,17 @@ void collide(World& world, ClothInstance& cloth, uint32_t substeps) {
         const ColliderState& c = world.colliders[i];
         if (!c.slot.live) continue;
         ColliderKernelArgs args = collider_shape_args(c.desc);
+        const bool axis = c.desc.shape == ColliderShape::capsule || c.desc.shape == ColliderShape::cylinder;
+        if (to_come > 0.0f) {
+            args.p0 = {args.p0.x - c.motion_m.x * to_come, args.p0.y - c.motion_m.y * to_come,
+                       args.p0.z - c.motion_m.z * to_come};
+            if (c.desc.shape == ColliderShape::sphere) args.p1 = args.p0;
+            if (axis)
+                args.p1 = {args.p1.x - c.motion_p1_m.x * to_come, args.p1.y - c.motion_p1_m.y * to_come,
+                           args.p1.z - c.motion_p1_m.z * to_come};
+        }
         // The collider's motion relative to the cloth's carry (character motion): the carry moved
         // the particles already, so friction drags them only by the rest.
-        const bool axis = c.desc.shape == ColliderShape::capsule || c.desc.shape == ColliderShape::cylinder;
         const Vec3 centre = axis ? Vec3{0.5f * (args.p0.x + args.p1.x), 0.5f * (args.p0.y + args.p1.y),
                                         0.5f * (args.p0.z + args.p1.z)}
                                  : args.p0;
@@ -399,7 +410,8 @@ void step_cloth(World& world, ClothInstance& cloth, float dt) {
         apply_tethers(world, cloth);                           // 3c. the long-range attachments
         project_skin_constraints(world, cloth, substep,
                                  cloth.split.substeps);        // 3d. max distance and backstop
-        collide(world, cloth, cloth.split.substeps);           // 4. collision response: colliders,
+        collide(world, cloth, substep,
+                cloth.split.substeps);                         // 4. collision response: colliders,
         collide_bodies(world, cloth, substep, cloth.split.substeps);  // then bodies
         cloth.previous_substep_s = h;
     }
@@ -535,7 +547,7 @@ Result end_step(World* world) {
         stats.unhealthy_cloths += uint64_t(stepped && health.problems != 0);
         stats.recovered_cloths += uint64_t(stepped && health.recovered);
     }
-    for (uint32_t i = 0; i < world->collider_slots; ++i) world->colliders[i].motion_m = {};
+    for (uint32_t i = 0; i < world->collider_slots; ++i) world->colliders[i].motion_m = world->colliders[i].motion_p1_m = {};
     stats.total_recoveries += stats.recovered_cloths;
     stats.steps += 1;
     stats.run_projections = count_projections(*world, BatchLayout::run);

@@ -728,6 +728,7 @@ Result add_collider(World* world, const ColliderDesc& desc, ColliderId* out_coll
     c.slot.live = true;
     c.desc = desc;
     c.motion_m = {};
+    c.motion_p1_m = {};
     wake_cloths_near(*world, desc);
     world->collider_slots = std::max(world->collider_slots, index + 1);
     world->colliders_live += 1;
@@ -740,6 +741,7 @@ Result remove_collider(World* world, ColliderId id) {
     wake_cloths_near(*world, world->colliders[id.index].desc);
     world->colliders[id.index].desc = {};
     world->colliders[id.index].motion_m = {};
+    world->colliders[id.index].motion_p1_m = {};
     world->colliders_live -= 1;
     release_slot(world->colliders, id.index, &world->collider_slots);
     return {};
@@ -756,6 +758,11 @@ Result set_collider(World* world, ColliderId collider, const ColliderDesc& desc)
     c.motion_m.x += desc.p0.x - c.desc.p0.x;
     c.motion_m.y += desc.p0.y - c.desc.p0.y;
     c.motion_m.z += desc.p0.z - c.desc.p0.z;
+    if (desc.shape == ColliderShape::capsule || desc.shape == ColliderShape::cylinder) {
+        c.motion_p1_m.x += desc.p1.x - c.desc.p1.x;
+        c.motion_p1_m.y += desc.p1.y - c.desc.p1.y;
+        c.motion_p1_m.z += desc.p1.z - c.desc.p1.z;
+    }
     c.desc = desc;
     return {};
 }
@@ -764,6 +771,7 @@ Result teleport_collider(World* world, ColliderId collider, const ColliderDesc& 
     if (Result r = set_collider(world, collider, desc); !r.ok()) return r;
     wake_cloths_near(*world, desc);  // even in place: its motion is dropped
     world->colliders[collider.index].motion_m = {};
+    world->colliders[collider.index].motion_p1_m = {};
     return {};
 }
 

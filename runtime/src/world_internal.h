@@ -109,7 +109,8 @@ void jump_to_root(ClothInstance& cloth, const Transform& root, bool drop_velocit
 struct ColliderState {
     InstanceSlot slot;
     ColliderDesc desc;
-    Vec3 motion_m{};  // how far p0 moved since the last step (drives friction)
+    Vec3 motion_m{};     // how far p0 moved since the last step (drives friction)
+    Vec3 motion_p1_m{};  // how far p1 moved (a capsule's or cylinder's other end)
 };
 
 struct World {
