@@ -382,7 +382,51 @@ ConstraintKind classify(const ClothMeshDesc& mesh, uint32_t a, uint32_t b, Const
 }
 
 // Step 3: maximal runs among springs sorted by (kind, offset, a). A run's lanes (gaps and padding
-// included) must not reach from its a side into its b side: round_up(lanes) <= offset.
+// included) must not reach from its a side into its b side: round_up(lanes) <= offset. A maximal
+// run bridges every gap up to max_run_gap and pads its tail to the SIMD width; cut_run then cuts it
+// where that costs less.
+constexpr uint64_t kRunLaneCost = 71, kIndexedLaneCost = 540;  // the baker's run_cost_ns (tools/bake/bake.h)
+
+// Cuts the maximal run s[i, j) at gaps of two slots or more where the pieces cost less than the
+// whole (dynamic programming over those gaps, as build_tethers cuts its batches): a run lane at
+// kRunLaneCost, every spring of a piece shorter than min_run_lanes at kIndexedLaneCost. A one-slot
+// gap (where a full plane row ends) is never a cut: it seldom pays and would reorder the plain
+// grids' runs. A sewn garment's runs bridge the holes its seams leave, and the maximal run padded
+// every one of them.
+void cut_run(const std::vector<Spring>& s, size_t i, size_t j, const CookOptions& options, std::vector<Unit>& units) {
+    std::vector<size_t> edge{i};  // where a stretch without such a gap starts, then j
+    for (size_t k = i + 1; k < j; ++k)
+        if (s[k].a - s[k - 1].a > 2) edge.push_back(k);
+    edge.push_back(j);
+    const size_t n = edge.size() - 1;
+    // cost[y]: the cheapest cut of s[i, edge[y]); start[y]: where its last piece starts (an edge index).
+    std::vector<uint64_t> cost(n + 1, 0);
+    std::vector<size_t> start(n + 1, 0);
+    auto piece_cost = [&](size_t x, size_t y) {
+        const size_t count = edge[y] - edge[x];
+        if (count < options.min_run_lanes) return kIndexedLaneCost * count;
+        return kRunLaneCost * round_up(s[edge[y] - 1].a - s[edge[x]].a + 1, options.simd_width);
+    };
+    for (size_t y = 1; y <= n; ++y) {
+        cost[y] = ~uint64_t(0);
+        for (size_t x = y; x-- > 0;) {
+            const uint64_t c = cost[x] + piece_cost(x, y);
+            if (c <= cost[y]) cost[y] = c, start[y] = x;  // ties: the longest piece
+        }
+    }
+    std::vector<Unit> pieces;
+    for (size_t y = n; y > 0; y = start[y]) {
+        const size_t first = edge[start[y]], last = edge[y];
+        if (last - first >= options.min_run_lanes) {
+            pieces.push_back({uint32_t(first), uint32_t(last - first), s[first].a, s[first].b,
+                              round_up(s[last - 1].a - s[first].a + 1, options.simd_width), s[first].kind, 0});
+        } else {
+            for (size_t k = last; k-- > first;) pieces.push_back({uint32_t(k), 1, s[k].a, s[k].b, 0, s[k].kind, 0});
+        }
+    }
+    units.insert(units.end(), pieces.rbegin(), pieces.rend());
+}
+
 std::vector<Unit> find_runs(const std::vector<Spring>& s, const CookOptions& options) {
     std::vector<Unit> units;
     for (size_t i = 0; i < s.size();) {
@@ -394,8 +438,7 @@ std::vector<Unit> find_runs(const std::vector<Spring>& s, const CookOptions& opt
             ++j;
         const uint32_t count = uint32_t(j - i);
         if (count >= options.min_run_lanes && count >= 1) {
-            units.push_back({uint32_t(i), count, s[i].a, s[i].b,
-                             round_up(s[j - 1].a - s[i].a + 1, options.simd_width), s[i].kind, 0});
+            cut_run(s, i, j, options, units);
         } else {
             for (size_t k = i; k < j; ++k) units.push_back({uint32_t(k), 1, s[k].a, s[k].b, 0, s[k].kind, 0});
         }

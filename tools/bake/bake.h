@@ -40,7 +40,7 @@ struct BakeOptions {
 };
 
 // Run shapes the baker tries (BakeOptions::choose_runs): {min_run_lanes, max_run_gap}.
-inline constexpr uint32_t kRunChoices[][2] = {{16, 4}, {8, 2}, {8, 4}, {8, 6}};
+inline constexpr uint32_t kRunChoices[][2] = {{16, 4}, {8, 2}, {8, 4}, {8, 6}, {8, 12}};
 
 // The constraint pass's estimated cost per sweep, ns: every run lane (padding included) at
 // kRunLaneNs, every indexed lane at kIndexedLaneNs. Measured with `weft-bench baked` on the AVX2
