@@ -385,7 +385,9 @@ ConstraintKind classify(const ClothMeshDesc& mesh, uint32_t a, uint32_t b, Const
 // included) must not reach from its a side into its b side: round_up(lanes) <= offset. A maximal
 // run bridges every gap up to max_run_gap and pads its tail to the SIMD width; cut_run then cuts it
 // where that costs less.
-constexpr uint64_t kRunLaneCost = 71, kIndexedLaneCost = 540;  // the baker's run_cost_ns (tools/bake/bake.h)
+// kRunLaneNs and kIndexedLaneNs (weft/cook.h) in hundredths of a ns: integers, so every compiler cuts alike.
+constexpr uint64_t kRunLaneCost = uint64_t(kRunLaneNs * 100.0 + 0.5), kIndexedLaneCost = uint64_t(kIndexedLaneNs * 100.0 + 0.5);
+static_assert(kRunLaneCost == 71 && kIndexedLaneCost == 540);
 
 // Cuts the maximal run s[i, j) at gaps of two slots or more where the pieces cost less than the
 // whole (dynamic programming over those gaps, as build_tethers cuts its batches): a run lane at

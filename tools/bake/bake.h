@@ -42,10 +42,7 @@ struct BakeOptions {
 // Run shapes the baker tries (BakeOptions::choose_runs): {min_run_lanes, max_run_gap}.
 inline constexpr uint32_t kRunChoices[][2] = {{16, 4}, {8, 2}, {8, 4}, {8, 6}, {8, 12}};
 
-// The constraint pass's estimated cost per sweep, ns: every run lane (padding included) at
-// kRunLaneNs, every indexed lane at kIndexedLaneNs. Measured with `weft-bench baked` on the AVX2
-// path (one core of the 2-core Zen 4 build machine): an indexed lane costs about 7.6 run lanes.
-inline constexpr double kRunLaneNs = 0.71, kIndexedLaneNs = 5.4;
+// The constraint pass's estimated cost per sweep, ns (weft/cook.h: kRunLaneNs, kIndexedLaneNs).
 double run_cost_ns(const ClothAsset& asset);
 
 // The padding budget: a trial that pads more than this share of its constraint pass's lanes, or of
