@@ -381,10 +381,6 @@ ConstraintKind classify(const ClothMeshDesc& mesh, uint32_t a, uint32_t b, Const
     return (std::abs(ai - bi) == 1 && std::abs(aj - bj) == 1) ? ConstraintKind::shear : kind;
 }
 
-// Step 3: maximal runs among springs sorted by (kind, offset, a). A run's lanes (gaps and padding
-// included) must not reach from its a side into its b side: round_up(lanes) <= offset. A maximal
-// run bridges every gap up to max_run_gap and pads its tail to the SIMD width; cut_run then cuts it
-// where that costs less.
 // kRunLaneNs and kIndexedLaneNs (weft/cook.h) in hundredths of a ns: integers, so every compiler cuts alike.
 constexpr uint64_t kRunLaneCost = uint64_t(kRunLaneNs * 100.0 + 0.5), kIndexedLaneCost = uint64_t(kIndexedLaneNs * 100.0 + 0.5);
 static_assert(kRunLaneCost == 71 && kIndexedLaneCost == 540);
@@ -429,6 +425,10 @@ void cut_run(const std::vector<Spring>& s, size_t i, size_t j, const CookOptions
     units.insert(units.end(), pieces.rbegin(), pieces.rend());
 }
 
+// Step 3: maximal runs among springs sorted by (kind, offset, a). A run's lanes (gaps and padding
+// included) must not reach from its a side into its b side: round_up(lanes) <= offset. A maximal
+// run bridges every gap up to max_run_gap and pads its tail to the SIMD width; cut_run then cuts it
+// where that costs less.
 std::vector<Unit> find_runs(const std::vector<Spring>& s, const CookOptions& options) {
     std::vector<Unit> units;
     for (size_t i = 0; i < s.size();) {

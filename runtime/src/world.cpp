@@ -758,7 +758,8 @@ Result set_collider(World* world, ColliderId collider, const ColliderDesc& desc)
     c.motion_m.x += desc.p0.x - c.desc.p0.x;
     c.motion_m.y += desc.p0.y - c.desc.p0.y;
     c.motion_m.z += desc.p0.z - c.desc.p0.z;
-    if (desc.shape == ColliderShape::capsule || desc.shape == ColliderShape::cylinder) {
+    // p1 is a capsule's or cylinder's other end; on other shapes (or a changed shape) it is no point that moved.
+    if (desc.shape == c.desc.shape && (desc.shape == ColliderShape::capsule || desc.shape == ColliderShape::cylinder)) {
         c.motion_p1_m.x += desc.p1.x - c.desc.p1.x;
         c.motion_p1_m.y += desc.p1.y - c.desc.p1.y;
         c.motion_p1_m.z += desc.p1.z - c.desc.p1.z;
