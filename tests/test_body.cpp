@@ -87,12 +87,23 @@ HullTriangle hull_triangle(const BodyView& v, uint32_t f) {
     return h;
 }
 
-// The closest hull point within `reach` (default: the step's, thickness + margin).
+// How much further than thickness + margin the step searches each triangle (its leaf's fold).
+std::vector<double> triangle_fold(const BodyView& v) {
+    std::vector<double> fold(v.triangle_count, 0.0);
+    for (uint32_t l = 0; l < v.leaf_count; ++l)
+        for (uint32_t k = 0; k < 8; ++k) fold[v.leaf_triangle[8 * l + k]] = v.leaf_fold_m[l];
+    return fold;
+}
+
+// The closest hull point within `reach` (default: the step's, thickness + margin, and further by
+// the fold where the hull folds).
 BruteContact brute_force(const BodyView& v, Vec3 point, double reach = -1.0) {
     const D3 p{point.x, point.y, point.z};
-    if (reach < 0.0) reach = double(v.thickness_m) + v.margin_m;
+    const bool steps_reach = reach < 0.0;
+    if (steps_reach) reach = double(v.thickness_m) + v.margin_m;
+    const std::vector<double> fold = steps_reach ? triangle_fold(v) : std::vector<double>(v.triangle_count, 0.0);
     BruteContact out;
-    double best = reach * reach;
+    double best = std::numeric_limits<double>::infinity();
     for (uint32_t f = 0; f < v.triangle_count; ++f) {
         const HullTriangle h = hull_triangle(v, f);
         const D3* corner = h.corner;
@@ -104,7 +115,7 @@ BruteContact brute_force(const BodyView& v, Vec3 point, double reach = -1.0) {
             double& kind = out.closest_of_kind[v.in_crease[f] != 0];
             kind = std::min(kind, std::sqrt(d2));
         }
-        if (!(d2 < best)) continue;
+        if (!(d2 < best) || !(d2 < (reach + fold[f]) * (reach + fold[f]))) continue;
         best = d2;
         const D3 n = h.normal_at(w);
         out.found = true;
@@ -657,7 +668,7 @@ TEST_CASE("body: the step moves exactly the particles a brute-force search finds
             body::blend(a, t, 0.5f * float(p), &pose);
             REQUIRE(set_body_vertices(w.owned.world, w.body, pose.data(), uint32_t(pose.size())).ok());
             // One step for the body to arrive (the particles far above it): then it stands still and
-            // the pass reaches as far as the brute-force search, thickness + margin.
+            // the pass reaches as far as the brute-force search, thickness + margin (+ the fold).
             for (uint32_t k = 0; k < count; ++k)
                 REQUIRE(set_particle(w.owned.world, w.cloth, k, {0.0f, 3.0f, 0.0f}, 100.0f).ok());
             w.step_once();

@@ -193,13 +193,20 @@ double body_depth_m(const World* world, BodyId body, Vec3 point) {
 }
 }  // namespace
 
-double max_body_penetration_m(const World* world, BodyId body, const ClothView& cloth) {
+double max_body_penetration_m(const World* world, BodyId body, const ClothView& cloth, Vec3* deepest_at) {
     double deepest = 0.0;
     for (uint32_t s = 0; s < cloth.asset->slot_count; ++s) {
         if (!(cloth.inverse_mass[s] > 0.0f)) continue;  // pinned (attached) and padding slots
-        deepest = std::max(deepest, body_depth_m(world, body, {cloth.x[s], cloth.y[s], cloth.z[s]}));
+        const Vec3 x{cloth.x[s], cloth.y[s], cloth.z[s]};
+        const double depth = body_depth_m(world, body, x);
+        if (depth > deepest) deepest = depth, *deepest_at = x;
     }
     return deepest;
+}
+
+double max_body_penetration_m(const World* world, BodyId body, const ClothView& cloth) {
+    Vec3 unused{};
+    return max_body_penetration_m(world, body, cloth, &unused);
 }
 
 double max_body_penetration_m(const World* world, BodyId body, const ClothAsset& asset,

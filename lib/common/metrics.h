@@ -43,6 +43,8 @@ double max_penetration_m(const ClothAsset& asset, const std::vector<Vec3>& posit
 // pass enforces), metres, by query_body: within the step's reach, and 0.25 m deep for a particle
 // beyond it; 0 when none is.
 double max_body_penetration_m(const World* world, BodyId body, const ClothView& cloth);
+// The same, and where that particle is (world metres; untouched when none is inside).
+double max_body_penetration_m(const World* world, BodyId body, const ClothView& cloth, Vec3* deepest_at);
 // The same over positions in caller order (a peer solver's output); particles pinned in the asset
 // (attached) are skipped.
 double max_body_penetration_m(const World* world, BodyId body, const ClothAsset& asset,

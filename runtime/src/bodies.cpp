@@ -262,6 +262,8 @@ void rebase_body(World& world, BodyState& body, ptrdiff_t delta) {
     rebase(h.leaf_vertex, delta);
     rebase(h.leaf_corners, delta);
     rebase(h.leaf_sweep, delta);
+    rebase(h.leaf_fold, delta);
+    rebase(h.in_crease, delta);
     for (Boxes* boxes : {&h.leaves, &h.groups, &h.roots})
         for (float** a : {&boxes->min_x, &boxes->min_y, &boxes->min_z, &boxes->max_x, &boxes->max_y, &boxes->max_z})
             rebase(*a, delta);
@@ -356,6 +358,9 @@ Result view_body(const World* world, BodyId id, BodyView* out) {
     out->normals = body.normals;
     out->triangles = body.triangles;
     out->in_crease = body.hierarchy.in_crease;
+    out->leaf_count = body.hierarchy.leaf_count;
+    out->leaf_triangle = body.hierarchy.leaf_triangle;
+    out->leaf_fold_m = body.hierarchy.leaf_fold;
     out->thickness_m = body.desc.thickness_m;
     out->margin_m = body.desc.margin_m;
     return {};

@@ -69,6 +69,8 @@ void run_moving(const std::vector<std::byte>& asset_bytes, const CorpusOptions& 
     }
     const uint32_t moving = uint32_t(std::lround(o.moving_s / scene.dt_s)), resting = uint32_t(std::lround(kMovingRest_s / scene.dt_s));
     double deepest = 0.0, speed = 0.0;
+    uint32_t deepest_frame = 0, first_too_deep_frame = 0;
+    Vec3 deepest_at{};
     bool finite = true;
     for (uint32_t f = 1; f <= moving + resting && finite; ++f) {
         if (!scenes::animate_body(sw, float(std::min(f, moving)) * scene.dt_s).empty() || !step(sw.world, scene.dt_s).ok()) {
@@ -78,11 +80,17 @@ void run_moving(const std::vector<std::byte>& asset_bytes, const CorpusOptions& 
         ClothView view;
         view_cloth(sw.world, sw.cloths[0].id, &view);
         finite = metrics::bounds(view).finite;
-        deepest = std::max(deepest, metrics::max_body_penetration_m(sw.world, sw.body->id, view));
+        Vec3 at{};
+        if (const double d = metrics::max_body_penetration_m(sw.world, sw.body->id, view, &at); d > deepest)
+            deepest = d, deepest_frame = f, deepest_at = at;
+        if (first_too_deep_frame == 0 && deepest > kMovingMaxPenetration_m) first_too_deep_frame = f;
         speed = metrics::mean_speed(view);
     }
     j["moving_finite"] = finite;
     j["moving_max_penetration_m"] = deepest;
+    j["moving_deepest_frame"] = deepest_frame;                // 0: none below the hull
+    j["moving_first_too_deep_frame"] = first_too_deep_frame;  // 0: none below the bound
+    j["moving_deepest_at_m"] = {deepest_at.x, deepest_at.y, deepest_at.z};
     j["moving_final_speed_m_s"] = speed;
     j["moving_ok"] = finite && deepest <= kMovingMaxPenetration_m && speed < kMovingRestSpeed_m_s;
 }

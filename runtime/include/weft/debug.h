@@ -107,6 +107,12 @@ struct BodyView {
     // add_body was given (the armpit, the inner thighs); a particle in front of such a triangle is
     // checked against the other faces within reach.
     const uint8_t* in_crease = nullptr;
+    // The step's leaves: kLeafTriangles (8) triangles each ([8 * leaf_count], a last leaf's padding
+    // repeats a triangle), and how much further than thickness + margin the step searches a leaf's
+    // triangles because the hull folds there ([leaf_count], metres: 2 x thickness at a crease).
+    uint32_t leaf_count = 0;
+    const uint32_t* leaf_triangle = nullptr;
+    const float* leaf_fold_m = nullptr;
     float thickness_m = 0, margin_m = 0;
 };
 Result view_body(const World* world, BodyId body, BodyView* out);

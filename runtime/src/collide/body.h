@@ -58,7 +58,14 @@ struct BodyHierarchy {
     // previous_hull: the tunnelling rays' frame) of its triangles, each component an array of
     // kLeafTriangles floats (ax[8], ay[8], az[8], abx[8], ... nz[8], radius[8], mx[8], my[8], mz[8]).
     float* leaf_corners = nullptr;
-    float* leaf_sweep = nullptr;  // [leaf_count rounded up as `leaves`]: the largest motion of the leaf's vertices this step
+    // [leaf_count rounded up as `leaves`]: how much further than the base reach the leaf's triangles
+    // are searched: the largest motion of its vertices this step plus its leaf_fold.
+    float* leaf_sweep = nullptr;
+    // [the same]: 2 x thickness for a leaf holding a crease triangle, else 0. Where the hull folds
+    // (the armpit, the crotch) a hull vertex lies up to 2 x thickness from where its face's offset
+    // would put it (|n_face - n_vertex| <= 2), so a particle within the thickness of the skin may be
+    // that far from the closest hull point, beyond the base reach.
+    float* leaf_fold = nullptr;
     // [triangle_count]: 1 where another part's hull faced the triangle within the reach in the pose
     // add_body was given (the arm's underside and the torso's side in the armpit, the inner thighs:
     // mark_crease_triangles). Such a triangle can be a particle's closest while the particle is

@@ -657,8 +657,9 @@ inline void refit_leaves(BodyHierarchy& h, const float* hull, const float* previ
                                                (corner_c[axis] - before_c[axis])) * third);
         }
         // Widened by the leaf's motion (a surface sweeping over resting cloth: the particle lies up
-        // to that much deeper) and by a slack that absorbs the box test's rounding.
-        const float leaf_sweep = highest(sweep);
+        // to that much deeper), by its fold (BodyHierarchy::leaf_fold) and by a slack that absorbs
+        // the box test's rounding.
+        const float leaf_sweep = highest(sweep) + h.leaf_fold[l];
         const float widen = leaf_sweep + kBoxSlack_m;
         h.leaf_sweep[l] = leaf_sweep;
         h.leaves.min_x[l] = lowest(lo[0]) - widen;
