@@ -1,9 +1,11 @@
 // Instances that come and go (remove_cloth, remove_body, remove_collider): ids carry a generation so
 // a removed instance's id is refused, the freed memory is taken by the next add, and when the gaps
 // left behind are too small the live instances are compacted without changing a bit of their state.
+#include <cstring>
 #include <vector>
 
 #include "body/body_mesh.h"
+#include "weft/debug.h"
 #include "common/skin_binding.h"
 #include "support/test_support.h"
 
@@ -185,5 +187,13 @@ TEST_CASE("instances come and go: compaction moves the live ones without changin
         CHECK(ca.found);
         CHECK(ca.penetration_m == cb.penetration_m);
         CHECK(ca.triangle == cb.triangle);
+        // Every array of its hierarchy moved with it (a stale pointer reads what now lies there).
+        BodyView va, vb;
+        REQUIRE(view_body(a.world, a_ball, &va).ok());
+        REQUIRE(view_body(b.world, b_ball, &vb).ok());
+        REQUIRE(va.leaf_count == vb.leaf_count);
+        CHECK(std::memcmp(va.in_crease, vb.in_crease, va.triangle_count) == 0);
+        CHECK(std::memcmp(va.leaf_triangle, vb.leaf_triangle, sizeof(uint32_t) * 8 * va.leaf_count) == 0);
+        CHECK(std::memcmp(va.leaf_fold_m, vb.leaf_fold_m, sizeof(float) * va.leaf_count) == 0);
     }
 }
