@@ -27,6 +27,8 @@ Vec3 scale(Vec3 a, float s) { return {a.x * s, a.y * s, a.z * s}; }
 
 // How far in front of a hull triangle its outside is probed (buried_hull_triangles), metres.
 constexpr float kBuriedProbe_m = 0.001f;
+// How far from the body the sewing looks for a particle's closest hull point (query_body's reach).
+constexpr float kProbeReach_m = 0.5f;
 
 // Seam points as sets of particles joined transitively (a particle in two seam points, where
 // seams meet, joins them): root of every particle.
@@ -68,7 +70,7 @@ float close_seams(World* world, ClothId cloth, const BodyWorld& probe, const std
             // unless that leaves it no nearer its target by half a step (a limb in its way: it
             // passes through, as GarmentCode's sources do, rather than stay caught behind an arm).
             BodyContact c;
-            if (query_body(probe.world, probe.body, x[p], &c).ok() && c.found && c.penetration_m > 0.0f &&
+            if (query_body(probe.world, probe.body, x[p], &c, kProbeReach_m).ok() && c.found && c.penetration_m > 0.0f &&
                 length(sub(target[k], c.hull_point)) < l - 0.5f * step_m)
                 x[p] = c.hull_point;
             set_particle(world, cloth, index[p], x[p], 0.0f);
@@ -648,8 +650,11 @@ Status sew_garment(const ClothMeshDesc& unsewn, const std::vector<uint32_t>& att
         }
     }
     std::vector<Vec3> x(unsewn.positions, unsewn.positions + n), target(groups.size());
-    BodyWorld probe;  // a query reach of 0.5 m finds the closest hull point of any garment particle
-    if (Status s = open_body_world(cooked.asset(), body, o, 0.0f, 1.0f, &probe, 0.5f); !s.ok()) return s;
+    // Queried up to kProbeReach_m away: the closest hull point of any garment particle. The reach is
+    // the query's, not the body's margin: a body whose step reached 0.5 m would mark every triangle
+    // as in a crease (another part faces it within reach) at add_body, a third of a bake's time.
+    BodyWorld probe;
+    if (Status s = open_body_world(cooked.asset(), body, o, 0.0f, 1.0f, &probe); !s.ok()) return s;
     for (size_t k = 0; k < groups.size(); ++k) {  // eq. (10): the mean of the sources as placed
         Vec3 sum{};
         for (uint32_t p : groups[k]) sum = {sum.x + x[p].x, sum.y + x[p].y, sum.z + x[p].z};
@@ -660,7 +665,7 @@ Status sew_garment(const ClothMeshDesc& unsewn, const std::vector<uint32_t>& att
         // move, so nothing else would stop them there, and the merged particle would start too
         // deep for the drape's contacts to find (the pencil dress: 4 particles in mean_all's arms).
         BodyContact c;
-        if (query_body(probe.world, probe.body, target[k], &c).ok() && c.found && c.penetration_m > 0.0f)
+        if (query_body(probe.world, probe.body, target[k], &c, kProbeReach_m).ok() && c.found && c.penetration_m > 0.0f)
             target[k] = c.hull_point;
     }
     // The attachments (the skirt's waistband) move with the cloth while the seams close; then,
@@ -726,7 +731,7 @@ Status sew_garment(const ClothMeshDesc& unsewn, const std::vector<uint32_t>& att
             const float inv = 1.0f / float(set.size());
             mean = {mean.x * inv, mean.y * inv, mean.z * inv};
             BodyContact c;
-            if (!query_body(probe.world, probe.body, mean, &c).ok() || !c.found)
+            if (!query_body(probe.world, probe.body, mean, &c, kProbeReach_m).ok() || !c.found)
                 return {"attached particle " + std::to_string(set[0]) + " is more than 0.5 m from the body"};
             const Vec3 d = sub(c.hull_point, mean);
             const float l = length(d), t = l > step_m ? step_m / l : 1.0f;
@@ -811,7 +816,7 @@ Status sew_garment(const ClothMeshDesc& unsewn, const std::vector<uint32_t>& att
         view_body(probe.world, probe.body, &view);
         for (uint32_t p : attached) {
             BodyContact c;
-            if (!query_body(probe.world, probe.body, x[p], &c).ok() || !c.found)
+            if (!query_body(probe.world, probe.body, x[p], &c, kProbeReach_m).ok() || !c.found)
                 return {"attached particle " + std::to_string(p) + " is more than 0.5 m from the body"};
             const uint32_t* t = view.triangles + 3 * c.triangle;
             const Vec3 a{view.hull[4 * t[0]], view.hull[4 * t[0] + 1], view.hull[4 * t[0] + 2]};
