@@ -444,29 +444,39 @@ public:
             }
         return met;
     }
-    // The lowest offset >= 0 where f meets at most `limit` placed nodes (there is always one: past
-    // the last placed node).
-    int64_t first_fit(const Footprint& f, uint32_t limit) const {
-        int64_t o = 0;
+    // The lowest offset >= `from` where f meets at most `limit` placed nodes (there is always one:
+    // past the last placed node). `from`: an offset below which none fits (a stricter limit's
+    // search may start at a looser one's answer).
+    int64_t first_fit(const Footprint& f, uint32_t limit, int64_t from = 0) const {
+        int64_t o = from;
         while (collisions(f, o, limit) > limit) ++o;
         return o;
     }
     // Places f at o; its nodes that meet placed ones stay off the lattice: *dropped[k] = 1 for cell k.
     void place(const Footprint& f, int64_t o, uint32_t panel, std::vector<uint8_t>* dropped) {
+        waste_ = waste_if_placed(f, o, panel);
         int64_t end = end_;
         for (int q = 0; q < 4; ++q)
             for (const Footprint::Span& s : f.spans[q]) end = std::max(end, o + int64_t(s.row) * stride_ + s.hi + 1);
         for (int q = 0; q < 4; ++q) owner_[q].resize(size_t(end), 0);
         dropped->assign(f.cells.size(), 0);
+        size_t placed[4];
+        int64_t first = end_;  // the first position whose prefix sum changes (those past end_ are new)
+        for (int q = 0; q < 4; ++q) placed[q] = occupied_[q].size();
         for (size_t k = 0; k < f.cells.size(); ++k) {
             const auto [i, j] = f.cells[k];
-            uint32_t& owner = owner_[(i & 1) * 2 + (j & 1)][size_t(o + int64_t(i >> 1) * stride_ + (j >> 1))];
+            const int q = (i & 1) * 2 + (j & 1);
+            const int64_t at = o + int64_t(i >> 1) * stride_ + (j >> 1);
+            uint32_t& owner = owner_[q][size_t(at)];
             if (owner != 0) (*dropped)[k] = 1, ++dropped_;
-            else owner = panel + 1;
+            else owner = panel + 1, occupied_[q].push_back(at), first = std::min(first, at);
         }
         for (int q = 0; q < 4; ++q) {
-            filled_[q].assign(size_t(end) + 1, 0);
-            for (size_t k = 0; k < size_t(end); ++k) filled_[q][k + 1] = filled_[q][k] + (owner_[q][k] != 0);
+            std::vector<int64_t>& occupied = occupied_[q];
+            std::sort(occupied.begin() + std::ptrdiff_t(placed[q]), occupied.end());
+            std::inplace_merge(occupied.begin(), occupied.begin() + std::ptrdiff_t(placed[q]), occupied.end());
+            filled_[q].resize(size_t(end) + 1, 0);
+            for (size_t k = size_t(first); k < size_t(end); ++k) filled_[q][k + 1] = filled_[q][k] + (owner_[q][k] != 0);
         }
         end_ = end;
     }
@@ -477,20 +487,42 @@ public:
     // SIMD width); two neighbours from different panels miss the springs between them (about 1
     // lane). A node left off the lattice sends its springs (about 6) to the indexed path, 7.6 run
     // lanes each: about 46 lanes' worth of time.
-    double waste() const {
+    double waste() const { return waste_; }
+    // waste() after placing f at o as `panel`, the layout unchanged: only the gaps between placed
+    // nodes that f's nodes fall into change (every term is a whole number: the sum is exact in any
+    // order, so this equals the sum over the whole layout).
+    double waste_if_placed(const Footprint& f, int64_t o, uint32_t panel) const {
         constexpr int64_t kBridged = 4;
         constexpr double kHoleSlot = 12.0, kRunEnd = 42.0, kPanelBoundary = 1.0, kDroppedNode = 46.0;
-        double waste = kDroppedNode * double(dropped_);
+        const auto owner_at = [&](int q, int64_t at) { return at < end_ ? owner_[q][size_t(at)] : 0u; };
+        const auto gap = [&](int64_t a, uint32_t owner_a, int64_t b, uint32_t owner_b) {
+            const int64_t hole = b - a - 1;
+            return hole > kBridged ? kRunEnd : kHoleSlot * double(hole) + (owner_a != owner_b ? kPanelBoundary : 0.0);
+        };
+        double waste = waste_;
+        std::vector<int64_t> added;
         for (int q = 0; q < 4; ++q) {
-            int64_t last = -1;
-            for (int64_t k = 0; k < end_; ++k) {
-                if (owner_[q][size_t(k)] == 0) continue;
-                if (last >= 0) {
-                    const int64_t hole = k - last - 1;
-                    waste += hole > kBridged ? kRunEnd : kHoleSlot * double(hole);
-                    if (hole <= kBridged && owner_[q][size_t(k)] != owner_[q][size_t(last)]) waste += kPanelBoundary;
-                }
-                last = k;
+            added.clear();
+            for (const auto& [i, j] : f.cells) {
+                if ((i & 1) * 2 + (j & 1) != q) continue;
+                const int64_t at = o + int64_t(i >> 1) * stride_ + (j >> 1);
+                if (owner_at(q, at) != 0) waste += kDroppedNode;  // stays off the lattice
+                else added.push_back(at);
+            }
+            std::sort(added.begin(), added.end());
+            const std::vector<int64_t>& placed = occupied_[q];
+            for (size_t k = 0; k < added.size();) {
+                // The run of added nodes in one gap between placed nodes a < ... < b.
+                const auto next = std::lower_bound(placed.begin(), placed.end(), added[k]);
+                const bool has_a = next != placed.begin(), has_b = next != placed.end();
+                const int64_t a = has_a ? *(next - 1) : 0, b = has_b ? *next : 0;
+                size_t m = k + 1;
+                while (m < added.size() && (!has_b || added[m] < b)) ++m;
+                if (has_a && has_b) waste -= gap(a, owner_at(q, a), b, owner_at(q, b));
+                if (has_a) waste += gap(a, owner_at(q, a), added[k], panel + 1);
+                for (size_t n = k + 1; n < m; ++n) waste += gap(added[n - 1], panel + 1, added[n], panel + 1);
+                if (has_b) waste += gap(added[m - 1], panel + 1, b, owner_at(q, b));
+                k = m;
             }
         }
         return waste;
@@ -504,6 +536,8 @@ private:
     uint32_t dropped_ = 0;  // nodes left off the lattice where panels met
     std::vector<uint32_t> owner_[4];  // panel + 1 per position, 0 where free
     std::vector<uint32_t> filled_[4];  // prefix sums of occupied positions
+    std::vector<int64_t> occupied_[4];  // occupied positions, sorted
+    double waste_ = 0.0;                // waste() of the layout as placed
 };
 
 struct PackedLattice {
@@ -556,24 +590,24 @@ std::vector<PackedLattice> pack_lattice(const std::vector<std::vector<std::pair<
             // sticking out of an outline would otherwise keep a whole column of holes between two
             // panels); the one that leaves the least waste.
             double pick_waste = HUGE_VAL;
-            Helix picked(stride);
             for (const bool turn : {false, true}) {
                 if (!(turn ? down : up)) continue;
                 const Footprint& f = turn ? turned[p] : upright[p];
+                // A stricter limit never fits lower than a looser one: searched loosest first.
+                constexpr uint32_t kLimits[5] = {0u, 2u, 4u, 8u, 16u};
+                int64_t fit[5];
+                for (int k = 4; k >= 0; --k) fit[k] = helix.first_fit(f, kLimits[k], k < 4 ? fit[k + 1] : 0);
                 int64_t tried[5];  // offsets placed already: the same offset leaves the same waste
                 uint32_t tries = 0;
-                for (const uint32_t limit : {0u, 2u, 4u, 8u, 16u}) {
-                    const int64_t offset = helix.first_fit(f, limit);
+                for (int k = 0; k < 5; ++k) {
+                    const int64_t offset = fit[k];
                     if (std::find(tried, tried + tries, offset) != tried + tries) continue;
                     tried[tries++] = offset;
-                    Helix with = helix;
-                    Choice c{turn, offset, {}};
-                    with.place(f, c.offset, uint32_t(p), &c.dropped);
-                    if (const double w = with.waste(); w < pick_waste)
-                        pick_waste = w, trial[p] = std::move(c), picked = std::move(with);
+                    if (const double w = helix.waste_if_placed(f, offset, uint32_t(p)); w < pick_waste)
+                        pick_waste = w, trial[p] = Choice{turn, offset, {}};
                 }
             }
-            helix = std::move(picked);
+            helix.place(trial[p].turned ? turned[p] : upright[p], trial[p].offset, uint32_t(p), &trial[p].dropped);
         }
         if (!ok) continue;
         const double waste = helix.waste();
