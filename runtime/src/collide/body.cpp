@@ -789,46 +789,62 @@ namespace {
 // BodyHierarchy::in_crease: a hull triangle is in a crease when another part's surface faces it
 // within the reach of its middle (a triangle whose normal points against its own, |cos| > 0.3:
 // the arm's underside and the torso's side in the armpit, the inner thighs). There two parts' hulls
-// overlap, and a particle in front of one may be behind the other.
+// overlap, and a particle in front of one may be behind the other. Leaf by leaf: one walk finds the
+// leaves near any of a leaf's eight triangles, and a near leaf's normals are found once for all.
 void mark_crease_triangles(BodyState& body) {
     using namespace body_query;
     const float reach = base_reach(body);
-    const BodyHierarchy& h = body.hierarchy;
+    BodyHierarchy& h = body.hierarchy;
     Candidates c;  // on the stack (about 16 kB)
     auto normal_of = [&](uint32_t t, float* out) {  // unit, or zero for a degenerate triangle
         hull_face_normal(body, t, out);
         const float length = std::sqrt(dot3(out, out));
         for (int x = 0; x < 3; ++x) out[x] = length > 0.0f ? out[x] / length : 0.0f;
     };
-    for (uint32_t t = 0; t < body.triangle_count; ++t) {
-        const uint32_t* v = body.triangles + 3 * t;
-        const float *a = body.hull + 4 * v[0], *b = body.hull + 4 * v[1], *e = body.hull + 4 * v[2];
-        float own[3], middle[3];
-        normal_of(t, own);
-        for (int x = 0; x < 3; ++x) middle[x] = (a[x] + b[x] + e[x]) / 3.0f;
-        bool facing = false;
+    for (uint32_t l = 0; l < h.leaf_count; ++l) {
+        const uint32_t* own = h.leaf_triangle + kLeafTriangles * l;
+        float own_normal[kLeafTriangles][3], middle[kLeafTriangles][3];
+        bool facing[kLeafTriangles] = {};
+        float lo[3], hi[3];
+        for (int x = 0; x < 3; ++x) lo[x] = std::numeric_limits<float>::infinity(), hi[x] = -lo[x];
+        for (uint32_t k = 0; k < kLeafTriangles; ++k) {
+            const uint32_t* v = body.triangles + 3 * own[k];
+            const float *a = body.hull + 4 * v[0], *b = body.hull + 4 * v[1], *e = body.hull + 4 * v[2];
+            normal_of(own[k], own_normal[k]);
+            for (int x = 0; x < 3; ++x) {
+                middle[k][x] = (a[x] + b[x] + e[x]) / 3.0f;
+                lo[x] = std::min(lo[x], middle[k][x] - reach), hi[x] = std::max(hi[x], middle[k][x] + reach);
+            }
+        }
         const auto test = [&] {
-            for (uint32_t i = 0; i < c.count && !facing; ++i)
-                for (uint32_t k = 0; k < kLeafTriangles && !facing; ++k) {
-                    const uint32_t u = h.leaf_triangle[kLeafTriangles * c.leaf[i] + k];
-                    const uint32_t* w = body.triangles + 3 * u;
-                    float other[3];
-                    normal_of(u, other);
-                    if (!(dot3(own, other) < -0.3f)) continue;
-                    const Barycentric on = closest_on_triangle(middle, body.hull + 4 * w[0], body.hull + 4 * w[1], body.hull + 4 * w[2]);
-                    float d[3];
-                    for (int x = 0; x < 3; ++x)
-                        d[x] = on.w0 * body.hull[4 * w[0] + x] + on.w1 * body.hull[4 * w[1] + x] + on.w2 * body.hull[4 * w[2] + x] - middle[x];
-                    facing = dot3(d, d) < reach * reach;
-                }
+            for (uint32_t i = 0; i < c.count; ++i) {
+                // The own triangles whose reach meets this leaf's box (it holds its triangles).
+                uint32_t near = 0;
+                for (uint32_t k = 0; k < kLeafTriangles; ++k)
+                    near |= uint32_t(!facing[k] && c.min_x[i] <= middle[k][0] + reach && c.max_x[i] >= middle[k][0] - reach &&
+                                     c.min_y[i] <= middle[k][1] + reach && c.max_y[i] >= middle[k][1] - reach &&
+                                     c.min_z[i] <= middle[k][2] + reach && c.max_z[i] >= middle[k][2] - reach) << k;
+                if (near == 0) continue;
+                const uint32_t* theirs = h.leaf_triangle + kLeafTriangles * c.leaf[i];
+                float other[kLeafTriangles][3];
+                for (uint32_t j = 0; j < kLeafTriangles; ++j) normal_of(theirs[j], other[j]);
+                for (uint32_t k = 0; k < kLeafTriangles; ++k)
+                    for (uint32_t j = 0; j < kLeafTriangles && (near >> k & 1u) != 0 && !facing[k]; ++j) {
+                        if (!(dot3(own_normal[k], other[j]) < -0.3f)) continue;
+                        const uint32_t* w = body.triangles + 3 * theirs[j];
+                        const Barycentric on = closest_on_triangle(middle[k], body.hull + 4 * w[0], body.hull + 4 * w[1], body.hull + 4 * w[2]);
+                        float d[3];
+                        for (int x = 0; x < 3; ++x)
+                            d[x] = on.w0 * body.hull[4 * w[0] + x] + on.w1 * body.hull[4 * w[1] + x] + on.w2 * body.hull[4 * w[2] + x] - middle[k][x];
+                        facing[k] = dot3(d, d) < reach * reach;
+                    }
+            }
             c.count = 0;
         };
-        const float lo[3] = {middle[0] - reach, middle[1] - reach, middle[2] - reach};
-        const float hi[3] = {middle[0] + reach, middle[1] + reach, middle[2] + reach};
         c.count = 0;
         collect_leaves<simd::Float1>(h, reach, lo, hi, c, test);
         test();
-        body.hierarchy.in_crease[t] = facing ? 1 : 0;
+        for (uint32_t k = 0; k < kLeafTriangles; ++k) h.in_crease[own[k]] = facing[k] ? 1 : 0;
     }
 }
 
