@@ -182,11 +182,23 @@ BodyWorld::~BodyWorld() { destroy_world(world); }
 namespace {
 
 // open_body_world, or without `asset` (null) the body (and floor) alone.
+// The sewing's cloth: `asset` at the options' sweeps, with its fabric's compliance (as a scene
+// gives the loaded asset: the stored pose is that solver's rest).
+ClothDesc sewing_cloth(const ClothAsset& asset, const SewOptions& o, float damping_per_s) {
+    ClothDesc c;
+    c.asset = &asset;
+    c.sweeps = o.sweeps;
+    c.damping_per_s = damping_per_s;
+    for (uint32_t k = 0; k < kConstraintKindCount; ++k) c.compliance_m_per_n[k] = asset.fabric.compliance_m_per_n[k];
+    return c;
+}
+
 Status open_world(const ClothAsset* asset, const SewBody& body, const SewOptions& o, float gravity,
-                  float damping_per_s, BodyWorld* w, float margin_m) {
+                  float damping_per_s, BodyWorld* w, float margin_m, bool room_for_another = false) {
     WorldDesc desc;
     desc.max_cloths = 0;
     if (asset != nullptr) reserve_cloth(desc, *asset);
+    if (asset != nullptr && room_for_another) reserve_cloth(desc, *asset);
     desc.max_cloths = std::max(desc.max_cloths, 1u);  // a world holds at least one cloth, even unused
     desc.max_bodies = 1;
     desc.max_colliders = o.floor ? 1 : 0;
@@ -214,13 +226,8 @@ Status open_world(const ClothAsset* asset, const SewBody& body, const SewOptions
         if (Result r = add_collider(w->world, ground, &id); !r.ok()) return {std::string("floor: ") + r.message};
     }
     if (asset == nullptr) return {};
-    ClothDesc c;
-    c.asset = asset;
-    c.sweeps = o.sweeps;
-    c.damping_per_s = damping_per_s;
-    // The fabric's compliance, as a scene gives the loaded asset: the stored pose is that solver's rest.
-    for (uint32_t k = 0; k < kConstraintKindCount; ++k) c.compliance_m_per_n[k] = asset->fabric.compliance_m_per_n[k];
-    if (Result r = add_cloth(w->world, c, &w->cloth); !r.ok()) return {std::string("garment: ") + r.message};
+    if (Result r = add_cloth(w->world, sewing_cloth(*asset, o, damping_per_s), &w->cloth); !r.ok())
+        return {std::string("garment: ") + r.message};
     return {};
 }
 
@@ -696,12 +703,15 @@ Status sew_garment(const ClothMeshDesc& unsewn, const std::vector<uint32_t>& att
     // beside the back's side seam stayed behind the body while the side seam's corner, its
     // neighbour 1.4 cm away on the same panel, moved 25 cm to its target at the side (7.2x its
     // rest length at the start state).
+    // One world for the whole sewing: a merge replaces its cloth (room for two was reserved for
+    // the unsewn one; a merged garment has fewer particles), so the body is added, and its crease
+    // triangles marked, once.
     struct Stage {
         SewnGarment garment;  // garment.new_of_old: the sewing world's particle of each unsewn one
         CookedCloth cooked;
-        BodyWorld w;
     };
     std::unique_ptr<Stage> stage;
+    std::unique_ptr<BodyWorld> sewing_world;
     std::vector<char> closed(groups.size(), 0), merged(groups.size(), 0);
     std::vector<Vec3> now;
     uint32_t merged_at = 0;  // the frame of the last merge
@@ -711,16 +721,25 @@ Status sew_garment(const ClothMeshDesc& unsewn, const std::vector<uint32_t>& att
         merge_seams(unsewn, root, groups, merged, x, unsewn.masses, &next->garment);
         if (Result r = cook_cloth(next->garment.desc, sewn_cook_options(cook), &next->cooked); !r.ok())
             return {std::string("garment being sewn: ") + r.message};
-        if (Status s = open_body_world(next->cooked.asset(), body, sewing, o.sewing_gravity_m_s2, o.sewing_damping_per_s, &next->w);
-            !s.ok())
-            return s;
+        const ClothDesc cloth = sewing_cloth(next->cooked.asset(), sewing, o.sewing_damping_per_s);
+        bool replaced = false;
+        if (sewing_world != nullptr && remove_cloth(sewing_world->world, sewing_world->cloth).ok())
+            replaced = add_cloth(sewing_world->world, cloth, &sewing_world->cloth).ok();
+        if (!replaced) {  // the first stage, or a merged garment the world has no room for
+            auto w = std::make_unique<BodyWorld>();
+            if (Status s = open_world(&next->cooked.asset(), body, sewing, o.sewing_gravity_m_s2, o.sewing_damping_per_s,
+                                      w.get(), 0.002f, true);
+                !s.ok())
+                return s;
+            sewing_world = std::move(w);
+        }
         stage = std::move(next);
         now.resize(stage->garment.desc.particle_count);
         merged_at = rep.sewing_frames;
         return {};
     };
     const auto read_sewing = [&]() -> Status {  // the sewing world's positions, as unsewn particles
-        if (Result r = read_positions(stage->w.world, stage->w.cloth, now.data(), uint32_t(now.size())); !r.ok()) return {r.message};
+        if (Result r = read_positions(sewing_world->world, sewing_world->cloth, now.data(), uint32_t(now.size())); !r.ok()) return {r.message};
         for (uint32_t p = 0; p < n; ++p) x[p] = now[stage->garment.new_of_old[p]];
         return {};
     };
@@ -738,7 +757,7 @@ Status sew_garment(const ClothMeshDesc& unsewn, const std::vector<uint32_t>& att
             for (uint32_t p : set) {
                 x[p] = {mean.x + d.x * t, mean.y + d.y * t, mean.z + d.z * t};
                 const uint32_t q = stage->garment.new_of_old[p];
-                set_particle(stage->w.world, stage->w.cloth, q, x[p], 1.0f / stage->garment.masses[q]);
+                set_particle(sewing_world->world, sewing_world->cloth, q, x[p], 1.0f / stage->garment.masses[q]);
             }
         }
         return {};
@@ -756,7 +775,7 @@ Status sew_garment(const ClothMeshDesc& unsewn, const std::vector<uint32_t>& att
             const uint32_t k = group_of_root[root[p]], q = stage->garment.new_of_old[p];
             if ((k != ~0u && !closed[k]) || stage->garment.masses[q] == 0.0f || x[p].y == held_y[p]) continue;
             x[p].y = held_y[p];
-            set_particle(stage->w.world, stage->w.cloth, q, x[p], 1.0f / stage->garment.masses[q]);
+            set_particle(sewing_world->world, sewing_world->cloth, q, x[p], 1.0f / stage->garment.masses[q]);
         }
     };
     {
@@ -776,7 +795,7 @@ Status sew_garment(const ClothMeshDesc& unsewn, const std::vector<uint32_t>& att
             if (closed != merged && (all_closed || rep.sewing_frames >= merged_at + o.merge_every_frames))
                 if (Status s = merge_closed(); !s.ok()) return s;
             // Every open seam point's sources move toward its target.
-            const float gap = close_seams(stage->w.world, stage->w.cloth, probe, groups, target, stage->garment.new_of_old, closed, x,
+            const float gap = close_seams(sewing_world->world, sewing_world->cloth, probe, groups, target, stage->garment.new_of_old, closed, x,
                                           o.sewing_speed_m_s * o.dt_s);
             if (!attaching) hold_attachments();
             attaching = attaching || (all_closed && closed == merged);
@@ -787,7 +806,7 @@ Status sew_garment(const ClothMeshDesc& unsewn, const std::vector<uint32_t>& att
             if (rep.sewing_frames == o.max_sewing_frames)
                 return {"a seam is still " + std::to_string(gap * 100.0) + " cm open after " +
                         std::to_string(o.max_sewing_frames) + " sewing frames"};
-            if (Result r = step(stage->w.world, o.dt_s); !r.ok()) return {r.message};
+            if (Result r = step(sewing_world->world, o.dt_s); !r.ok()) return {r.message};
             ++rep.sewing_frames;
         }
         if (Status s = read_sewing(); !s.ok()) return s;
@@ -800,6 +819,7 @@ Status sew_garment(const ClothMeshDesc& unsewn, const std::vector<uint32_t>& att
             for (uint32_t p : attached) on_body.push_back(stage->garment.new_of_old[p]);
             rep.top_at_closed_m = top_of_openings(stage->garment.triangles, now, on_body);
         }
+        sewing_world.reset();  // before the garment its cloth reads
         stage.reset();
     }
 
