@@ -464,6 +464,60 @@ TEST_CASE("body: closest-point contacts match a brute-force search (icosphere, m
     CHECK(missed == 0);
 }
 
+// BodyView::in_crease by its definition, over every pair of hull triangles: a triangle is in a crease
+// when another whose normal points against its own (cosine below -0.3) comes within the body's reach
+// (thickness + margin) of its middle. Two overlapping balls (a limb against a torso), at the default
+// margin and at one wide enough that the hierarchy walk's candidate list fills and is searched
+// several times. A pair within rounding of either threshold may go either way.
+TEST_CASE("body: crease marks are those of a pass over every pair of hull triangles") {
+    BodyMesh balls = body::make_icosphere({0.0f, 1.0f, 0.0f}, 0.3f, 4);
+    const BodyMesh other = body::make_icosphere({0.42f, 1.05f, 0.0f}, 0.2f, 3);
+    const uint32_t first = balls.vertex_count();
+    balls.positions.insert(balls.positions.end(), other.positions.begin(), other.positions.end());
+    for (uint32_t i : other.triangles) balls.triangles.push_back(first + i);
+    Points pts({{0.0f, 2.0f, 0.0f}});
+    for (const float margin_m : {0.002f, 0.3f}) {
+        CAPTURE(margin_m);
+        BodyDesc settings;
+        settings.margin_m = margin_m;
+        BodyWorld w(pts.cooked.asset(), balls, settings);
+        const BodyView v = w.view();
+        const double reach = double(settings.thickness_m) + margin_m;
+        const auto corner = [&](uint32_t t, int k) {
+            const float* h = v.hull + 4 * v.triangles[3 * t + k];
+            return D3{h[0], h[1], h[2]};
+        };
+        std::vector<D3> normal(v.triangle_count), middle(v.triangle_count);
+        for (uint32_t t = 0; t < v.triangle_count; ++t) {
+            const D3 a = corner(t, 0), b = corner(t, 1), c = corner(t, 2), e1 = b - a, e2 = c - a;
+            const D3 n{e1.y * e2.z - e1.z * e2.y, e1.z * e2.x - e1.x * e2.z, e1.x * e2.y - e1.y * e2.x};
+            normal[t] = (1.0 / std::sqrt(dot(n, n))) * n;
+            middle[t] = (1.0 / 3.0) * (a + b + c);
+        }
+        uint32_t marked = 0, differ = 0, borderline = 0;
+        for (uint32_t t = 0; t < v.triangle_count; ++t) {
+            bool facing = false, close_call = false;
+            for (uint32_t u = 0; u < v.triangle_count; ++u) {
+                const double cosine = dot(normal[t], normal[u]);
+                if (cosine > -0.3 + 1e-5) continue;
+                double w3[3];
+                closest_point(middle[t], corner(u, 0), corner(u, 1), corner(u, 2), w3);
+                const D3 d = w3[0] * corner(u, 0) + w3[1] * corner(u, 1) + w3[2] * corner(u, 2) - middle[t];
+                const double distance = std::sqrt(dot(d, d));
+                if (cosine > -0.3 - 1e-5 || std::fabs(distance - reach) < 1e-6) close_call = close_call || distance < reach + 1e-6;
+                else facing = facing || distance < reach;
+            }
+            marked += v.in_crease[t] != 0;
+            if (!facing && close_call) ++borderline;
+            else if (facing != (v.in_crease[t] != 0)) ++differ;
+        }
+        MESSAGE(margin_m, " m margin: ", marked, " of ", v.triangle_count, " triangles marked, ", borderline, " borderline");
+        CHECK(marked > 20);                   // the balls' overlap is a crease
+        CHECK(marked < v.triangle_count / 2);  // and only there
+        CHECK(differ == 0);
+    }
+}
+
 TEST_CASE("body: contacts on the animated mean_all body match a brute-force search over every triangle") {
     if (skip_without_shared_body()) return;
     const BodyMesh& a = *shared_pose(false);
