@@ -181,7 +181,6 @@ BodyWorld::~BodyWorld() { destroy_world(world); }
 
 namespace {
 
-// open_body_world, or without `asset` (null) the body (and floor) alone.
 // The sewing's cloth: `asset` at the options' sweeps, with its fabric's compliance (as a scene
 // gives the loaded asset: the stored pose is that solver's rest).
 ClothDesc sewing_cloth(const ClothAsset& asset, const SewOptions& o, float damping_per_s) {
@@ -193,6 +192,8 @@ ClothDesc sewing_cloth(const ClothAsset& asset, const SewOptions& o, float dampi
     return c;
 }
 
+// open_body_world, or without `asset` (null) the body (and floor) alone; `room_for_another`: a
+// second cloth as large fits (the sewing replaces its cloth at each merge).
 Status open_world(const ClothAsset* asset, const SewBody& body, const SewOptions& o, float gravity,
                   float damping_per_s, BodyWorld* w, float margin_m, bool room_for_another = false) {
     WorldDesc desc;
@@ -728,7 +729,7 @@ Status sew_garment(const ClothMeshDesc& unsewn, const std::vector<uint32_t>& att
         if (!replaced) {  // the first stage, or a merged garment the world has no room for
             auto w = std::make_unique<BodyWorld>();
             if (Status s = open_world(&next->cooked.asset(), body, sewing, o.sewing_gravity_m_s2, o.sewing_damping_per_s,
-                                      w.get(), 0.002f, true);
+                                      w.get(), BodyDesc{}.margin_m, true);
                 !s.ok())
                 return s;
             sewing_world = std::move(w);
