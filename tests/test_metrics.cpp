@@ -54,3 +54,50 @@ TEST_CASE("penetration over caller-order positions equals the view's") {
     CHECK(from_view > 0.0);
     CHECK(from_positions == from_view);
 }
+
+namespace {
+
+// A flat n x n grid of `spacing` in z = 0, each cell cut along its (i, j)-(i + 1, j + 1) diagonal.
+void add_grid(uint32_t n, float spacing, std::vector<Vec3>* x, std::vector<uint32_t>* triangles) {
+    const uint32_t base = uint32_t(x->size());
+    for (uint32_t j = 0; j <= n; ++j)
+        for (uint32_t i = 0; i <= n; ++i) x->push_back({float(i) * spacing, float(j) * spacing, 0.0f});
+    const auto at = [&](uint32_t i, uint32_t j) { return base + j * (n + 1) + i; };
+    for (uint32_t j = 0; j < n; ++j)
+        for (uint32_t i = 0; i < n; ++i)
+            triangles->insert(triangles->end(), {at(i, j), at(i + 1, j), at(i + 1, j + 1), at(i, j), at(i + 1, j + 1), at(i, j + 1)});
+}
+
+}  // namespace
+
+TEST_CASE("self crossings: two triangles pierced through each other count 2, a flat or doubled sheet none") {
+    const std::vector<Vec3> pierced{{0, 0, 0}, {1, 0, 0}, {0, 1, 0}, {0.25f, 0.25f, -0.5f}, {0.25f, 0.25f, 0.5f}, {2, 2, 0}};
+    const uint32_t two[] = {0, 1, 2, 3, 4, 5};
+    CHECK(metrics::self_crossings(two, 2, pierced) == 2);  // an edge of each through the other
+    std::vector<Vec3> x;
+    std::vector<uint32_t> t;
+    add_grid(10, 0.1f, &x, &t);
+    CHECK(metrics::self_crossings(t.data(), uint32_t(t.size() / 3), x) == 0);
+    // A second sheet 1 mm above the first (a fold that only touches): still none.
+    const size_t first = x.size();
+    add_grid(10, 0.1f, &x, &t);
+    for (size_t p = first; p < x.size(); ++p) x[p].z = 0.001f;
+    CHECK(metrics::self_crossings(t.data(), uint32_t(t.size() / 3), x) == 0);
+}
+
+TEST_CASE("self crossings: a quad through a sheet counts each edge through a triangle, wherever the mesh stands") {
+    // The quad stands in y = 0.55 from x = 0.02 to 0.98, z = -0.3 to 0.1. Through it pass the
+    // sheet's edges across y = 0.55: 9 columns (x = 0.1 .. 0.9) and 10 diagonals (x = 0.05 .. 0.95);
+    // through the sheet pass its two upright edges and its diagonal (at x = 0.74): 22.
+    std::vector<Vec3> x;
+    std::vector<uint32_t> t;
+    add_grid(10, 0.1f, &x, &t);
+    const uint32_t q = uint32_t(x.size());
+    x.insert(x.end(), {{0.02f, 0.55f, -0.3f}, {0.98f, 0.55f, -0.3f}, {0.98f, 0.55f, 0.1f}, {0.02f, 0.55f, 0.1f}});
+    t.insert(t.end(), {q, q + 1, q + 2, q, q + 2, q + 3});
+    CHECK(metrics::self_crossings(t.data(), uint32_t(t.size() / 3), x) == 22);
+    // Moved far off and turned a quarter about z: the grid's cells fall elsewhere, the count does not.
+    std::vector<Vec3> moved(x.size());
+    for (size_t p = 0; p < x.size(); ++p) moved[p] = {-x[p].y + 12.345f, x[p].x - 6.789f, x[p].z + 3.21f};
+    CHECK(metrics::self_crossings(t.data(), uint32_t(t.size() / 3), moved) == 22);
+}

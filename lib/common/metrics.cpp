@@ -33,6 +33,113 @@ Strain strain_of(const ClothAsset& a, PositionOfSlot at) {
 
 }  // namespace
 
+namespace {
+
+// Whether segment p-q passes through triangle abc (Moller and Trumbore 1997, in double): a
+// crossing point strictly inside the segment and inside or on the triangle. A segment in the
+// triangle's plane never crosses it.
+bool segment_crosses_triangle(const Vec3& p, const Vec3& q, const Vec3& a, const Vec3& b, const Vec3& c) {
+    const double dx = double(q.x) - p.x, dy = double(q.y) - p.y, dz = double(q.z) - p.z;
+    const double e1x = double(b.x) - a.x, e1y = double(b.y) - a.y, e1z = double(b.z) - a.z;
+    const double e2x = double(c.x) - a.x, e2y = double(c.y) - a.y, e2z = double(c.z) - a.z;
+    const double hx = dy * e2z - dz * e2y, hy = dz * e2x - dx * e2z, hz = dx * e2y - dy * e2x;
+    const double det = e1x * hx + e1y * hy + e1z * hz;
+    if (!(std::fabs(det) > 1e-30)) return false;
+    const double inv = 1.0 / det;
+    const double sx = double(p.x) - a.x, sy = double(p.y) - a.y, sz = double(p.z) - a.z;
+    const double u = (sx * hx + sy * hy + sz * hz) * inv;
+    if (u < 0.0 || u > 1.0) return false;
+    const double rx = sy * e1z - sz * e1y, ry = sz * e1x - sx * e1z, rz = sx * e1y - sy * e1x;
+    const double v = (dx * rx + dy * ry + dz * rz) * inv;
+    if (v < 0.0 || u + v > 1.0) return false;
+    const double t = (e2x * rx + e2y * ry + e2z * rz) * inv;
+    return t > 0.0 && t < 1.0;
+}
+
+}  // namespace
+
+uint64_t self_crossings(const uint32_t* triangles, uint32_t triangle_count, const std::vector<Vec3>& x) {
+    // The mesh's edges, once each.
+    std::vector<std::pair<uint32_t, uint32_t>> edges;
+    edges.reserve(3 * size_t(triangle_count));
+    for (uint32_t t = 0; t < triangle_count; ++t)
+        for (uint32_t e = 0; e < 3; ++e) {
+            const uint32_t a = triangles[3 * t + e], b = triangles[3 * t + (e + 1) % 3];
+            edges.push_back({std::min(a, b), std::max(a, b)});
+        }
+    std::sort(edges.begin(), edges.end());
+    edges.erase(std::unique(edges.begin(), edges.end()), edges.end());
+    if (edges.empty()) return 0;
+    for (const auto& [a, b] : edges)
+        if (a >= x.size() || b >= x.size() || !std::isfinite(x[a].x + x[a].y + x[a].z + x[b].x + x[b].y + x[b].z))
+            return 0;  // not a cloth's positions: nothing to count
+    // A uniform grid over the triangles' boxes, cells twice the mean edge long, so an edge's box
+    // meets a few cells.
+    // A box meets at most 9 cells an axis: cells no shorter than an eighth of the longest edge.
+    double length = 0.0, longest = 0.0;
+    for (const auto& [a, b] : edges) {
+        const double dx = double(x[b].x) - x[a].x, dy = double(x[b].y) - x[a].y, dz = double(x[b].z) - x[a].z;
+        const double l = std::sqrt(dx * dx + dy * dy + dz * dz);
+        length += l, longest = std::max(longest, l);
+    }
+    const double cell = std::max({2.0 * length / double(edges.size()), longest / 8.0, 1e-4});
+    const auto cell_of = [&](float v) { return int64_t(std::clamp(std::floor(double(v) / cell), -1e15, 1e15)); };
+    const auto key = [](int64_t i, int64_t j, int64_t k) {
+        return (uint64_t(i & 0x1FFFFF) << 42) | (uint64_t(j & 0x1FFFFF) << 21) | uint64_t(k & 0x1FFFFF);
+    };
+    struct Box {
+        int64_t lo[3], hi[3];
+    };
+    const auto box_of = [&](std::initializer_list<uint32_t> corners) {
+        Box box{};
+        bool first = true;
+        for (uint32_t p : corners) {
+            const int64_t c[3] = {cell_of(x[p].x), cell_of(x[p].y), cell_of(x[p].z)};
+            for (int d = 0; d < 3; ++d) {
+                box.lo[d] = first ? c[d] : std::min(box.lo[d], c[d]);
+                box.hi[d] = first ? c[d] : std::max(box.hi[d], c[d]);
+            }
+            first = false;
+        }
+        return box;
+    };
+    std::vector<std::pair<uint64_t, uint32_t>> cells;  // (cell key, triangle), sorted by key
+    for (uint32_t t = 0; t < triangle_count; ++t) {
+        const Box b = box_of({triangles[3 * t], triangles[3 * t + 1], triangles[3 * t + 2]});
+        for (int64_t i = b.lo[0]; i <= b.hi[0]; ++i)
+            for (int64_t j = b.lo[1]; j <= b.hi[1]; ++j)
+                for (int64_t k = b.lo[2]; k <= b.hi[2]; ++k) cells.push_back({key(i, j, k), t});
+    }
+    std::sort(cells.begin(), cells.end());
+    std::vector<uint32_t> seen(triangle_count, ~0u);  // the last edge that tested each triangle
+    uint64_t crossings = 0;
+    for (uint32_t e = 0; e < edges.size(); ++e) {
+        const auto [a, b] = edges[e];
+        const Box box = box_of({a, b});
+        for (int64_t i = box.lo[0]; i <= box.hi[0]; ++i)
+            for (int64_t j = box.lo[1]; j <= box.hi[1]; ++j)
+                for (int64_t k = box.lo[2]; k <= box.hi[2]; ++k) {
+                    auto it = std::lower_bound(cells.begin(), cells.end(), std::make_pair(key(i, j, k), 0u));
+                    for (; it != cells.end() && it->first == key(i, j, k); ++it) {
+                        const uint32_t t = it->second;
+                        if (seen[t] == e) continue;
+                        seen[t] = e;
+                        const uint32_t* v = triangles + 3 * t;
+                        if (v[0] == a || v[1] == a || v[2] == a || v[0] == b || v[1] == b || v[2] == b) continue;
+                        crossings += segment_crosses_triangle(x[a], x[b], x[v[0]], x[v[1]], x[v[2]]);
+                    }
+                }
+    }
+    return crossings;
+}
+
+uint64_t self_crossings(const ClothView& c) {
+    const ClothAsset& a = *c.asset;
+    std::vector<Vec3> by_slot(a.slot_count);
+    for (uint32_t s = 0; s < a.slot_count; ++s) by_slot[s] = {c.x[s], c.y[s], c.z[s]};
+    return self_crossings(a.triangles, a.triangle_count, by_slot);
+}
+
 Strain stretch_strain(const ClothView& c) {
     return strain_of(*c.asset, [&](uint32_t s) { return Vec3{c.x[s], c.y[s], c.z[s]}; });
 }

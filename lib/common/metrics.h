@@ -1,6 +1,7 @@
 // Measurements of a cloth's state that tests and benchmarks share. Defined in docs/accuracy.md.
 #pragma once
 
+#include <cstdint>
 #include <vector>
 
 #include "weft/body.h"
@@ -49,6 +50,15 @@ double max_body_penetration_m(const World* world, BodyId body, const ClothView& 
 // (attached) are skipped.
 double max_body_penetration_m(const World* world, BodyId body, const ClothAsset& asset,
                               const std::vector<Vec3>& positions);
+
+// Edge-triangle crossings of a cloth with itself (issue 25's measure of self-intersection): the
+// mesh edges, each counted with every triangle that shares no particle with it and that its
+// segment passes through. 0 for a cloth that does not pass through itself (a fold or a heap that
+// only touches counts nothing); two triangles pierced through each other count 2. `triangles` index
+// `positions` ([3 * triangle_count]).
+uint64_t self_crossings(const uint32_t* triangles, uint32_t triangle_count, const std::vector<Vec3>& positions);
+// The same over a cloth's current positions.
+uint64_t self_crossings(const ClothView& cloth);
 
 // --- errors against a reference run (docs/accuracy.md) ------------------------------------------
 

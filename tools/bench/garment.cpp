@@ -5,7 +5,8 @@
 // timed with Embree directly: refit of a dynamic scene over the same offset hull, then one
 // rtcPointQuery (closest point within thickness + margin) per particle per substep, no rays.
 // One world per body collision model (--collision), stepped in turn every frame; every row gives
-// the deepest particle by the exact hull query and the cloth's strain over the measured frames.
+// the deepest particle by the exact hull query, the cloth's strain over the measured frames and
+// the frames in which it passes through itself (metrics::self_crossings).
 //   weft-bench garment [--steps N] [--collision exact,cached_planes] [--json]
 #include "bench/garment.h"
 
@@ -224,6 +225,8 @@ int run_garment(uint32_t steps, bool as_json, const std::vector<GarmentModel>& a
             std::vector<double> step_us, integrate_us, constraints_us, body_us, capsules_us, normals_us, health_us, other_us, plain_us;
             std::vector<double> springs_us, coarse_us, tethers_us;  // the parts of constraints_us
             double deepest = 0.0, max_strain = 0.0, strain_sum = 0.0, queried = 0.0;
+            uint32_t crossing_frames = 0;  // frames where the cloth passes through itself (metrics::self_crossings)
+            uint64_t max_crossings = 0;
             uint64_t projections = 0;  // spring lanes projected a step (padding excluded)
         };
         std::vector<Run> runs(models.size());
@@ -294,6 +297,9 @@ int run_garment(uint32_t steps, bool as_json, const std::vector<GarmentModel>& a
                 const metrics::Strain strain = metrics::stretch_strain(cloth);
                 r.max_strain = std::max(r.max_strain, strain.max);
                 r.strain_sum += strain.mean;
+                const uint64_t crossings = metrics::self_crossings(cloth);
+                r.crossing_frames += crossings > 0;
+                r.max_crossings = std::max(r.max_crossings, crossings);
                 r.queried += double(after.body_queried);
                 r.projections = after.run_projections + after.indexed_projections;
             }
@@ -349,6 +355,8 @@ int run_garment(uint32_t steps, bool as_json, const std::vector<GarmentModel>& a
                                 {"max_strain", r.max_strain},
                                 {"body_queried_per_step", r.queried / double(steps)},
                                 {"mean_strain", r.strain_sum / double(steps)},
+                                {"self_crossing_frames", r.crossing_frames},
+                                {"max_self_crossings", r.max_crossings},
                                 {"sewing_s", baked.sew_report.sewing_s},
                                 {"world_bytes", sw.memory_bytes}};
             if (exact != nullptr) {  // same-run ratios against the exact model (< 1: cheaper)
