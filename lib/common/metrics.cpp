@@ -31,10 +31,6 @@ Strain strain_of(const ClothAsset& a, PositionOfSlot at) {
     return s;
 }
 
-}  // namespace
-
-namespace {
-
 // Whether segment p-q passes through triangle abc (Moller and Trumbore 1997, in double): a
 // crossing point strictly inside the segment and inside or on the triangle. A segment in the
 // triangle's plane never crosses it.
@@ -73,9 +69,9 @@ uint64_t self_crossings(const uint32_t* triangles, uint32_t triangle_count, cons
     for (const auto& [a, b] : edges)
         if (a >= x.size() || b >= x.size() || !std::isfinite(x[a].x + x[a].y + x[a].z + x[b].x + x[b].y + x[b].z))
             return 0;  // not a cloth's positions: nothing to count
-    // A uniform grid over the triangles' boxes, cells twice the mean edge long, so an edge's box
-    // meets a few cells.
-    // A box meets at most 9 cells an axis: cells no shorter than an eighth of the longest edge.
+    // A uniform grid over the triangles' boxes, cells twice the mean edge long (so an edge's box
+    // meets a few cells) and no shorter than an eighth of the longest edge (so no box meets more
+    // than 9 cells an axis).
     double length = 0.0, longest = 0.0;
     for (const auto& [a, b] : edges) {
         const double dx = double(x[b].x) - x[a].x, dy = double(x[b].y) - x[a].y, dz = double(x[b].z) - x[a].z;
