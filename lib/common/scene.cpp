@@ -276,7 +276,9 @@ std::string build_scene(const Scene& scene, SceneWorld* out, const std::vector<s
             error = load_baked_cloth(find_asset(spec.asset_path, scene.base_dir, asset_dirs), &cloth);
         }
         if (!error.empty()) return "cloth '" + spec.name + "': " + error;
-        reserve_cloth(wd, *cloth.asset, spec.desc.recovery);
+        ClothDesc reserved = spec.desc;
+        reserved.asset = cloth.asset;
+        reserve_cloth(wd, reserved);
     }
     if (scene.body) {
         out->body = std::make_unique<SceneBody>();

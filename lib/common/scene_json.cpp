@@ -140,7 +140,8 @@ void parse_solver(const json& j, const std::string& where, ClothDesc* d) {
 
 ClothSpec parse_cloth(const json& j, const std::string& where) {
     object(j, where, {"name", "grid", "asset", "translation_m", "solver", "compliance_m_per_n", "damping_per_s",
-                      "drag_coefficient", "lift_coefficient", "tethers_per_particle", "coarse_spacing_m"});
+                      "drag_coefficient", "lift_coefficient", "tethers_per_particle", "coarse_spacing_m",
+                      "self_collision", "self_thickness_m", "self_friction"});
     ClothSpec c;
     c.name = j.contains("name") ? text(j["name"], where + ".name") : where;
     if (j.contains("grid") == j.contains("asset")) fail(where, "needs exactly one of 'grid' and 'asset'");
@@ -165,6 +166,9 @@ ClothSpec parse_cloth(const json& j, const std::string& where) {
     read(j, "lift_coefficient", where, 0.0, 100.0, &c.desc.lift_coefficient);
     read(j, "tethers_per_particle", where, 0, 2, &c.cook.tethers_per_particle);
     read(j, "coarse_spacing_m", where, 0.0, 1e3, &c.cook.coarse_spacing_m);
+    read_bool(j, "self_collision", where, &c.desc.self_collision);
+    read(j, "self_thickness_m", where, kMinSelfThickness_m, kMaxSelfThickness_m, &c.desc.self_thickness_m);
+    read(j, "self_friction", where, 0.0, 10.0, &c.desc.self_friction);
     return c;
 }
 

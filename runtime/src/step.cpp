@@ -8,7 +8,8 @@
 //      every constraint batch, c) the tethers once (measured: tethers after every sweep cost 2x the
 //      pass for a smaller max strain, docs/solver.md), d) a cloth's skin constraints (max distance,
 //      backstop; weft/attachments.h)
-//   4. collision test and response against the inflated colliders, then the bodies' offset hulls
+//   4. collision test and response: the cloth against itself (with ClothDesc::self_collision), the
+//      inflated colliders, then the bodies' offset hulls
 //      (section 4.2; a body the game moved is refitted once at the start of the step; a
 //      skin_constraints body skips both for the cloths its skin constraints bind)
 //   5. after the last substep, the render output (the normals feature): vertex normals (and
@@ -182,6 +183,15 @@ void collide(World& world, ClothInstance& cloth, uint32_t substep, uint32_t subs
         }
         world.kernels->collide(cloth.particles, args);
     }
+}
+
+// 4. The cloth against its own triangles (ClothDesc::self_collision; collide/self_collision.h),
+// before the colliders and bodies, so that those have the last word.
+void collide_with_itself(World& world, ClothInstance& cloth) {
+    if (!cloth.settings.self_collision) return;
+    PassTimer timer(world, cloth, Pass::self_collision);
+    collide_self(cloth.particles, *cloth.asset, cloth.self_collision,
+                 {cloth.settings.self_thickness_m, cloth.settings.self_friction}, cloth.counts.self);
 }
 
 // After the step's last collision pass: which coarse nodes hold the cloth (in contact with a
@@ -410,8 +420,9 @@ void step_cloth(World& world, ClothInstance& cloth, float dt) {
         apply_tethers(world, cloth);                           // 3c. the long-range attachments
         project_skin_constraints(world, cloth, substep,
                                  cloth.split.substeps);        // 3d. max distance and backstop
+        collide_with_itself(world, cloth);                     // 4. collision response: itself,
         collide(world, cloth, substep,
-                cloth.split.substeps);                         // 4. collision response: colliders,
+                cloth.split.substeps);                         //    colliders,
         collide_bodies(world, cloth, substep, cloth.split.substeps);  // then bodies
         cloth.previous_substep_s = h;
     }
@@ -525,6 +536,7 @@ Result end_step(World* world) {
     if (!world->step_open) return make_error(ErrorCode::invalid_argument, "no step is open: call begin_step first");
     WorldStats& stats = world->stats;
     stats.colliders_skipped = stats.body_contacts = stats.body_rays = stats.body_queried = 0;
+    stats.self_contacts = stats.self_skipped_triangles = 0;
     stats.sleeping_cloths = stats.unhealthy_cloths = stats.recovered_cloths = 0;
     stats.body_refits = stats.body_embree_refits = 0;
     for (uint32_t i = 0; i < world->body_slots; ++i) {  // in body order, then cloth order
@@ -541,6 +553,8 @@ Result end_step(World* world) {
         stats.body_contacts += c.body.contacts;
         stats.body_rays += c.body.rays;
         stats.body_queried += c.body.queried;
+        stats.self_contacts += c.self.contacts;
+        stats.self_skipped_triangles += c.self.skipped_triangles;
         stats.sleeping_cloths += uint64_t(world->cloths[i].slot.live && world->cloths[i].sleeping);
         const HealthState& health = world->cloths[i].health;
         const bool stepped = world->cloths[i].slot.live && !c.skipped;

@@ -54,6 +54,7 @@ const char* pass_name(Pass pass) {
         case Pass::normals: return "normals";
         case Pass::render_mesh: return "render_mesh";
         case Pass::health: return "health";
+        case Pass::self_collision: return "self_collision";
         case Pass::count: break;
     }
     return "unknown";
@@ -76,15 +77,21 @@ struct ClothArrayCounts {
     size_t triangle_lanes = 0; // the tangents' uv gradients (a world with tangents)
     size_t render_vertices = 0; // the render mesh's vertices (a world with render meshes)
     size_t last_good = 0;       // the last good copy's slots (RecoveryPolicy::last_good_state)
+    size_t self_slots = 0;      // self-collision's per-slot arrays (ClothDesc::self_collision)
+    size_t self_buckets = 0;    // its hash's bucket starts (table size + 1)
+    size_t self_entries = 0;    // its hash's entries (slots + kSelfEntryBlock)
 };
 
 // The entries of a cloth's per-triangle arrays in the normals pass's walk: the runs' lanes, then
 // one per triangle done one at a time (as ClothAsset::wind_rest_area).
 uint32_t triangle_lanes(const ClothAsset& a) { return a.wind_lane_count + a.triangle_count - a.wind_run_triangles; }
 
-ClothArrayCounts cloth_array_counts(const WorldDesc& desc, const ClothAsset& asset, RecoveryPolicy recovery) {
+ClothArrayCounts cloth_array_counts(const WorldDesc& desc, const ClothAsset& asset, const ClothDesc& cloth) {
     ClothArrayCounts n;
-    n.last_good = recovery == RecoveryPolicy::last_good_state ? asset.slot_count : 0;
+    n.last_good = cloth.recovery == RecoveryPolicy::last_good_state ? asset.slot_count : 0;
+    n.self_slots = cloth.self_collision ? asset.slot_count : 0;
+    n.self_buckets = cloth.self_collision ? size_t(self_collision_table_size(asset.slot_count)) + 1 : 0;
+    n.self_entries = cloth.self_collision ? size_t(asset.slot_count) + kSelfEntryBlock : 0;
     n.slots = asset.slot_count;
     n.node_lanes = size_t(asset.coarse_slot_count) + kCoarseNodePadding;
     n.nodes = asset.coarse_slot_count;
@@ -110,6 +117,14 @@ ClothArrayCounts capacity_array_counts(const WorldDesc& desc) {
     n.triangle_lanes = desc.tangents ? desc.max_triangle_lanes : 0;
     n.render_vertices = desc.render_meshes ? desc.max_render_vertices : 0;
     n.last_good = desc.max_last_good_particles;
+    // A cloth's table is at most twice its slots, or 16 buckets (self_collision_table_size).
+    n.self_slots = desc.max_self_collision_particles;
+    n.self_buckets = desc.max_self_collision_particles > 0
+                         ? 2 * size_t(desc.max_self_collision_particles) + 17 * size_t(desc.max_cloths)
+                         : 0;
+    n.self_entries = desc.max_self_collision_particles > 0
+                         ? size_t(desc.max_self_collision_particles) + kSelfEntryBlock * size_t(desc.max_cloths)
+                         : 0;
     return n;
 }
 
@@ -145,6 +160,13 @@ void visit_cloth_arrays(const WorldDesc& desc, const ClothArrayCounts& n, ClothI
     if (n.last_good > 0) {
         LastGoodState& g = cloth.last_good;
         for (float** a : {&g.x, &g.y, &g.z, &g.previous_x, &g.previous_y, &g.previous_z}) visit(*a, n.last_good);
+    }
+    if (n.self_slots > 0) {
+        SelfCollisionState& h = cloth.self_collision;
+        visit(h.cell_start, n.self_buckets);
+        visit(h.slot_bucket, n.self_slots);
+        visit(h.entry_slot, n.self_entries);
+        for (float** a : {&h.entry_x, &h.entry_y, &h.entry_z}) visit(*a, n.self_entries);
     }
 }
 
@@ -192,7 +214,8 @@ Result check_world_desc(const WorldDesc& desc) {
         desc.max_coarse_nodes > (1u << 28) || desc.max_bodies > (1u << 10) ||
         desc.max_body_vertices > (1u << 26) || desc.max_body_triangles > (1u << 26) ||
         desc.max_skin_constraints > (1u << 28) || desc.max_triangle_lanes > (1u << 28) ||
-        desc.max_render_vertices > (1u << 28) || desc.max_last_good_particles > (1u << 28))
+        desc.max_render_vertices > (1u << 28) || desc.max_last_good_particles > (1u << 28) ||
+        desc.max_self_collision_particles > (1u << 28))
         return make_error(ErrorCode::out_of_range, "a capacity is absurdly large");
     if (!is_finite(desc.gravity_m_s2) || !std::isfinite(desc.air_density_kg_m3))
         return make_error(ErrorCode::non_finite, "gravity or air density is not finite");
@@ -269,6 +292,13 @@ Result check_cloth_settings(const ClothDesc& desc) {
     if (desc.sleep_speed_m_s < 0.0f || desc.sleep_speed_m_s > 1000.0f)
         return make_error(ErrorCode::out_of_range, "sleep_speed_m_s %g outside 0..1000 m/s",
                           double(desc.sleep_speed_m_s));
+    if (!std::isfinite(desc.self_thickness_m) || !std::isfinite(desc.self_friction))
+        return make_error(ErrorCode::non_finite, "self_thickness_m or self_friction is not finite");
+    if (desc.self_thickness_m < kMinSelfThickness_m || desc.self_thickness_m > kMaxSelfThickness_m)
+        return make_error(ErrorCode::out_of_range, "self_thickness_m %g outside %g..%g m", double(desc.self_thickness_m),
+                          double(kMinSelfThickness_m), double(kMaxSelfThickness_m));
+    if (desc.self_friction < 0.0f || desc.self_friction > 10.0f)
+        return make_error(ErrorCode::out_of_range, "self_friction %g outside 0..10", double(desc.self_friction));
     return {};
 }
 
@@ -499,14 +529,14 @@ Result find_collider(const World* world, ColliderId id) {
 
 // A cloth's arrays moved by `delta` bytes (compaction): its pointers follow.
 void rebase_cloth(const WorldDesc& desc, ClothInstance& cloth, ptrdiff_t delta) {
-    visit_cloth_arrays(desc, cloth_array_counts(desc, *cloth.asset, cloth.settings.recovery), cloth,
+    visit_cloth_arrays(desc, cloth_array_counts(desc, *cloth.asset, cloth.settings), cloth,
                        [&](auto*& array, size_t) { rebase(array, delta); });
 }
 
-size_t cloth_region_bytes(const WorldDesc& desc, const ClothAsset& asset, RecoveryPolicy recovery) {
+size_t cloth_region_bytes(const WorldDesc& desc, const ClothAsset& asset, const ClothDesc& cloth) {
     ArenaSizer sizer;
     ClothInstance shape;
-    visit_cloth_arrays(desc, cloth_array_counts(desc, asset, recovery), shape,
+    visit_cloth_arrays(desc, cloth_array_counts(desc, asset, cloth), shape,
                        [&](auto*& array, size_t count) { sizer.add(sizeof(*array) * count); });
     return sizer.bytes;
 }
@@ -565,6 +595,12 @@ void reserve_cloth(WorldDesc& desc, const ClothAsset& asset, RecoveryPolicy reco
     desc.max_skin_constraints += asset.skin.count;
     desc.max_triangle_lanes += triangle_lanes(asset);
     desc.max_render_vertices += asset.render.vertex_count;
+}
+
+void reserve_cloth(WorldDesc& desc, const ClothDesc& cloth) {
+    if (cloth.asset == nullptr) return;
+    reserve_cloth(desc, *cloth.asset, cloth.recovery);
+    if (cloth.self_collision) desc.max_self_collision_particles += cloth.asset->slot_count;
 }
 
 MemoryRequirements world_memory_requirements(const WorldDesc& desc) {
@@ -651,6 +687,11 @@ Result add_cloth(World* world, const ClothDesc& desc, ClothId* out_cloth) {
     if (last_good > world->desc.max_last_good_particles - world->last_good_used)
         return make_error(ErrorCode::capacity_exceeded, "cloth needs %u last good slots (max_last_good_particles), %u left",
                           last_good, world->desc.max_last_good_particles - world->last_good_used);
+    const uint32_t self_slots = desc.self_collision ? asset.slot_count : 0;
+    if (self_slots > world->desc.max_self_collision_particles - world->self_collision_used)
+        return make_error(ErrorCode::capacity_exceeded,
+                          "cloth needs %u self-collision slots (max_self_collision_particles), %u left", self_slots,
+                          world->desc.max_self_collision_particles - world->self_collision_used);
     if (world->desc.tangents && asset.uv == nullptr)
         return make_error(ErrorCode::invalid_argument, "the world has tangents but the asset has no texture coordinates");
     if (Result r = validate_asset_with_scratch(asset, world->validation_scratch, validation_scratch_count(world->desc));
@@ -660,13 +701,13 @@ Result add_cloth(World* world, const ClothDesc& desc, ClothId* out_cloth) {
     // Carve the cloth's arrays in a region of their own (the sizing above says they fit).
     Arena room;
     Region region;
-    if (Result r = reserve_instance_memory(*world, cloth_region_bytes(world->desc, asset, desc.recovery), &room, &region); !r.ok())
+    if (Result r = reserve_instance_memory(*world, cloth_region_bytes(world->desc, asset, desc), &room, &region); !r.ok())
         return r;
     ClothInstance& cloth = world->cloths[index];
     const uint32_t generation = cloth.slot.generation;
     cloth = ClothInstance();
     cloth.slot = {true, generation, region};
-    const ClothArrayCounts counts = cloth_array_counts(world->desc, asset, desc.recovery);
+    const ClothArrayCounts counts = cloth_array_counts(world->desc, asset, desc);
     visit_cloth_arrays(world->desc, counts, cloth, [&](auto*& array, size_t count) {
         array = room.allocate_array<std::remove_reference_t<decltype(*array)>>(count);
     });
@@ -683,10 +724,15 @@ Result add_cloth(World* world, const ClothDesc& desc, ClothId* out_cloth) {
     for (float* node_array : {c.x, c.y, c.z, c.dx, c.dy, c.dz})  // the padding is read, never used
         for (uint32_t i = 0; i < asset.coarse_slot_count + kCoarseNodePadding; ++i) node_array[i] = 0.0f;
     if (cloth.particles.tangent_x != nullptr) tangent_uv_gradients(asset, cloth.particles);
+    if (desc.self_collision) {
+        cloth.self_collision.table_size = self_collision_table_size(asset.slot_count);
+        cloth.self_collision.cell_m = self_collision_cell_m(asset, desc.self_thickness_m);
+    }
     place_at_start(*world->kernels, cloth);
     cloth.health.start_extent_m = start_extent_m(asset);
     world->particles_used += asset.slot_count;
     world->last_good_used += last_good;
+    world->self_collision_used += self_slots;
     world->triangle_lanes_used += tangent_lanes;
     world->render_vertices_used += render_vertices;
     world->constraints_used += asset.lane_count;
@@ -707,6 +753,7 @@ Result remove_cloth(World* world, ClothId id) {
     if (world->desc.tangents) world->triangle_lanes_used -= triangle_lanes(asset);
     if (world->desc.render_meshes) world->render_vertices_used -= asset.render.vertex_count;
     if (cloth.last_good.x != nullptr) world->last_good_used -= asset.slot_count;
+    if (cloth.self_collision.cell_start != nullptr) world->self_collision_used -= asset.slot_count;
     world->cloths_live -= 1;
     const InstanceSlot slot = cloth.slot;
     cloth = ClothInstance();  // its regions (arrays, skin constraints) are free with it
@@ -813,6 +860,9 @@ Result set_cloth_settings(World* world, ClothId cloth, const ClothDesc& desc) {
     if ((desc.recovery == RecoveryPolicy::last_good_state) != (c.settings.recovery == RecoveryPolicy::last_good_state))
         return make_error(ErrorCode::invalid_argument,
                           "RecoveryPolicy::last_good_state is chosen at add_cloth (its copy's memory), not changed after");
+    if (desc.self_collision != c.settings.self_collision)
+        return make_error(ErrorCode::invalid_argument,
+                          "self_collision is chosen at add_cloth (its hash's memory), not changed after");
     if (desc.contact_tethers && !c.settings.contact_tethers) clear_contact_anchors(c);  // none are current
     wake(c);
     c.settings = desc;

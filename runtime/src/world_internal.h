@@ -3,6 +3,7 @@
 
 #include "asset/validate.h"
 #include "collide/body.h"
+#include "collide/self_collision.h"
 #include "error.h"
 #include "kernels.h"
 #include "memory/arena.h"
@@ -19,6 +20,7 @@ struct ClothStepCounts {
     uint64_t pass_ns[static_cast<int>(Pass::count)] = {};
     uint64_t colliders_skipped = 0;
     BodyPassCounts body;
+    SelfCollisionCounts self;
     bool skipped = false;  // asleep: the step ran nothing
 };
 
@@ -84,6 +86,7 @@ struct alignas(64) ClothInstance {  // a cache line of its own: cloths step on d
     ParticleBounds bounds{};
     HealthState health;
     LastGoodState last_good;  // arrays only when added with RecoveryPolicy::last_good_state
+    SelfCollisionState self_collision;  // arrays only when added with ClothDesc::self_collision
     float priority = 0.0f;  // the frame budget's (set_cloth_priority): higher keeps its sweeps longer
     // Character motion: the root the game gave (set_cloth_root), the root of the last step, and
     // whether a root was given yet.
@@ -148,6 +151,7 @@ struct World {
     uint32_t triangle_lanes_used = 0;
     uint32_t render_vertices_used = 0;  // by the cloths' tangent uv gradients (WorldDesc::tangents)
     uint32_t last_good_used = 0;        // slots of the cloths' last good copies
+    uint32_t self_collision_used = 0;   // slots of the cloths with self-collision
 
     Vec3 gravity_m_s2{};
     Vec3 wind_m_s{};

@@ -11,6 +11,7 @@
 //                     [--json] [--csv FILE] [--plot FILE.png] [--quick] [--no-peer] ...
 //                     run time against error, Weft's budgets and Bullet's (docs/accuracy.md)
 //   weft-bench garment [--steps 300] [--json]                          dressed garments on animated bodies
+//   weft-bench self [--frames 300] [--json]                             self-collision off and on
 //   weft-bench corpus DIR [--body BODY] [--jobs N] [--json]        a folder of patterns, flat and sewn
 //   weft-bench baked PATTERN.json ... [--iterations 10] [--repeat 5]   baked vs in-memory, ns per projection
 //
@@ -33,6 +34,7 @@
 #include "bench/crowd.h"
 #include "bench/corpus.h"
 #include "bench/garment.h"
+#include "bench/self.h"
 #include "bench/levers.h"
 #include "bench/reference_double.h"
 #include "bench/sweep.h"
@@ -592,6 +594,11 @@ int main(int argc, char** argv) {
     std::string garment_simd = "automatic";
     garment->add_option("--simd", garment_simd, "the SIMD path every scene runs on")
         ->check(CLI::IsMember({"automatic", "scalar", "avx2"}))->capture_default_str();
+    bench::SelfBenchOptions self_o;
+    CLI::App* self = app.add_subcommand("self", "self-collision off and on: the drape, a heap on the ground, the walking skirt");
+    self->add_option("--frames", self_o.frames, "frames measured per scene (the skirt's after the walk's 1 s ramp)")
+        ->check(CLI::Range(1u, 100000u))->capture_default_str();
+    self->add_flag("--json", self_o.json, "one JSON object per scene and setting");
     bench::CrowdBenchOptions crowd_o;
     CLI::App* crowd = app.add_subcommand("crowd", "walking mannequins in skirt and tee, each its own body, on 1, 2, ... threads");
     crowd->add_option("--characters", crowd_o.characters, "mannequins (two garments each)")->check(CLI::Range(1u, 1024u))
@@ -679,6 +686,7 @@ int main(int argc, char** argv) {
         return bench::run_garment(garment_steps, garment_json, models, simd);
     }
     if (crowd->parsed()) return bench::run_crowd(crowd_o);
+    if (self->parsed()) return bench::run_self(self_o);
 
     if (baked->parsed()) return bench::run_baked();
     if (drape->parsed()) return run({SeedScene::drape}, drape_o, true);

@@ -71,6 +71,7 @@ struct WorldDesc {
     uint32_t max_triangle_lanes = 0;       // summed over the cloths, for `tangents`; reserve_cloth adds
     uint32_t max_render_vertices = 0;      // summed over the cloths, for `render_meshes`; reserve_cloth adds
     uint32_t max_last_good_particles = 0;  // summed slots of cloths with RecoveryPolicy::last_good_state
+    uint32_t max_self_collision_particles = 0;  // summed slots of cloths with ClothDesc::self_collision
 
     // Features: a pass that is not enabled is not in the step at all (and costs nothing).
     bool wind = false;
@@ -124,6 +125,10 @@ enum class BudgetPolicy : uint8_t {
 // one held by colliders.
 enum class CoarseLevel : uint8_t { automatic, off, on };
 
+// ClothDesc::self_thickness_m's accepted range, metres.
+inline constexpr float kMinSelfThickness_m = 0.0005f;
+inline constexpr float kMaxSelfThickness_m = 0.05f;
+
 // Per-instance solver settings. Defaults reproduce the seed experiments at the paper's budget
 // (3 sweeps at the caller's dt of 0.033 s, hard constraints, tethers on).
 struct ClothDesc {
@@ -162,6 +167,13 @@ struct ClothDesc {
     float sleep_speed_m_s = 0.0f;  // at rest below this, m/s, it skips its steps until woken; 0: never
 
     RecoveryPolicy recovery = RecoveryPolicy::none;  // what an unhealthy step does (cloth_health)
+
+    // Self-collision (docs/architecture.md, "Self-collision"): each substep, every particle is kept
+    // self_thickness_m from the faces of the cloth's own triangles, with friction. Chosen at
+    // add_cloth (its hash's memory: WorldDesc::max_self_collision_particles); off, it costs nothing.
+    bool self_collision = false;
+    float self_thickness_m = 0.004f;  // the distance kept between a particle and a face, m (0.5 mm..5 cm)
+    float self_friction = 0.2f;       // Coulomb coefficient between layers of the cloth
 };
 
 // The frame budget never cuts a cloth below this many sweeps a step (nor below its own ClothDesc::sweeps).
@@ -194,6 +206,8 @@ struct ClothId {
 // Adds to `desc` the capacity one instance of `asset` needs (a cloth, its particle slots, constraint
 // lanes and coarse nodes; with RecoveryPolicy::last_good_state, the slots of its copy).
 void reserve_cloth(WorldDesc& desc, const ClothAsset& asset, RecoveryPolicy recovery = RecoveryPolicy::none);
+// The same for the cloth `cloth` describes (its asset, its recovery policy and self-collision).
+void reserve_cloth(WorldDesc& desc, const ClothDesc& cloth);
 
 MemoryRequirements world_memory_requirements(const WorldDesc& desc);
 

@@ -1,0 +1,74 @@
+// Self-collision (ClothDesc::self_collision): a cloth's particles against its own triangles.
+//
+// Each substep, after the skin constraints and before the colliders and bodies (so those win):
+//   1. broad phase: the movable particles are sorted into a spatial hash of cubic cells (a counting
+//      sort, stable in slot order), their positions copied beside them in that order;
+//   2. every triangle looks up the cells its box meets, widened by the thickness and the capture
+//      depth, and tests the particles there that are not its own corners;
+//   3. a particle within `thickness` of the triangle's face (its projection inside the triangle)
+//      is pushed out to the thickness along the normal, on the side where it was at the substep's
+//      start (the previous positions): a particle that crossed the face during this substep, by
+//      less than the capture depth, is brought back. The push is a position constraint
+//      C = s - thickness >= 0 on the particle and the triangle's point at its barycentric weights
+//      (u, v, w), shared by inverse mass (PBD); friction then cancels the pair's relative
+//      tangential motion over the substep up to friction * |C| (Macklin et al. 2014, sec. 6.1),
+//      shared the same way.
+// Only a triangle's own corners are excluded: the default thickness (4 mm) is a fifth of a baked
+// garment's edge, so a neighbour comes that close to a triangle's face only where the cloth lies
+// folded on itself, which is self-contact.
+//
+// Fixed work: the sort is two passes over the slots; a triangle looks at no more than
+// kMaxSelfCellsPerAxis cells along each axis (a triangle stretched beyond that is skipped and
+// counted, the health check's business). Nothing allocates: the arrays are the cloth's, carved at
+// add_cloth. Triangles go in asset order and each contact is applied at once (Gauss-Seidel): the
+// same bits every run, on either SIMD path (this is one plain code path for both).
+#pragma once
+
+#include <cstdint>
+
+#include "kernels.h"
+#include "weft/cloth_asset.h"
+
+namespace weft {
+
+// Cells a triangle's widened box may span along one axis before it is skipped.
+inline constexpr uint32_t kMaxSelfCellsPerAxis = 4;
+// The broad phase tests this many hash entries at once; the entry arrays hold as many more.
+inline constexpr uint32_t kSelfEntryBlock = 8;
+// A contact deeper than this many thicknesses on the wrong side is left alone (an old crossing).
+inline constexpr float kSelfCaptureThicknesses = 2.0f;
+
+// A cloth's self-collision arrays (in the world's block) and its hash's shape.
+struct SelfCollisionState {
+    uint32_t* cell_start = nullptr;   // [table_size + 1]: each bucket's first entry (prefix sums)
+    uint32_t* entry_slot = nullptr;   // [slot_count + kSelfEntryBlock]: the movable slots, sorted by bucket
+    uint32_t* slot_bucket = nullptr;  // [slot_count]: each slot's bucket this substep (~0u: none)
+    float* entry_x = nullptr;         // [slot_count + kSelfEntryBlock]: their positions at the sort, metres
+    float* entry_y = nullptr;
+    float* entry_z = nullptr;
+    uint32_t table_size = 0;  // a power of two >= 16
+    float cell_m = 0.0f;      // the cells' edge, chosen at add_cloth from the asset's triangles
+};
+
+// The hash's bucket count for a cloth of `slot_count` slots: the next power of two, at least 16
+// (at most twice the slots, which WorldDesc::max_self_collision_particles sizes for).
+uint32_t self_collision_table_size(uint32_t slot_count);
+
+// The cells' edge for an asset: its triangles' mean longest edge in the start pose plus twice the
+// reach (thickness and capture), so a triangle's widened box usually spans two cells per axis.
+float self_collision_cell_m(const ClothAsset& asset, float thickness_m);
+
+struct SelfCollisionArgs {
+    float thickness_m = 0.004f;
+    float friction = 0.2f;
+};
+
+struct SelfCollisionCounts {
+    uint64_t contacts = 0;           // particle-triangle pairs pushed apart
+    uint64_t skipped_triangles = 0;  // triangles stretched over more cells than kMaxSelfCellsPerAxis
+};
+
+void collide_self(Particles& p, const ClothAsset& asset, SelfCollisionState& state, const SelfCollisionArgs& args,
+                  SelfCollisionCounts& counts);
+
+}  // namespace weft
