@@ -794,3 +794,29 @@ TEST_CASE("the C API allocates nothing: load, create, a frame loop with normals,
     CHECK(failures == 0);
     CHECK(allocations == 0);
 }
+
+TEST_CASE("self-collision allocates nothing: the sphere's cloth folding onto itself round the sphere") {
+    for (SimdPath path : available_paths()) {
+        CAPTURE(simd_path_name(path));
+        scenes::SceneOptions o;
+        o.n = 24;
+        o.simd = path;
+        scenes::Scene scene = scenes::seed_scene(SeedScene::sphere, o);
+        scene.cloths[0].desc.self_collision = true;
+        scenes::SceneWorld w;
+        REQUIRE(scenes::build_scene(scene, &w).empty());
+        uint32_t failures = 0;
+        uint64_t allocations = 0, contacts = 0;
+        {
+            CountingScope counting;
+            for (uint32_t i = 0; i < 200; ++i) {
+                failures += !step(w.world, w.dt_s).ok();
+                contacts += world_stats(w.world).self_contacts;
+            }
+            allocations = counting.allocations();
+        }
+        CHECK(failures == 0);
+        CHECK(contacts > 0);  // it did touch itself
+        CHECK(allocations == 0);
+    }
+}

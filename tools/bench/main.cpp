@@ -599,6 +599,10 @@ int main(int argc, char** argv) {
     self->add_option("--frames", self_o.frames, "frames measured per scene (the skirt's after the walk's 1 s ramp)")
         ->check(CLI::Range(1u, 100000u))->capture_default_str();
     self->add_flag("--json", self_o.json, "one JSON object per scene and setting");
+    self->add_option("--thickness", self_o.thickness_m, "m: the self-collision thickness (ClothDesc::self_thickness_m)")
+        ->check(CLI::Range(double(kMinSelfThickness_m), double(kMaxSelfThickness_m)))->capture_default_str();
+    self->add_option("--friction", self_o.friction, "the friction between the cloth's layers (ClothDesc::self_friction)")
+        ->check(CLI::Range(0.0, 10.0))->capture_default_str();
     bench::CrowdBenchOptions crowd_o;
     CLI::App* crowd = app.add_subcommand("crowd", "walking mannequins in skirt and tee, each its own body, on 1, 2, ... threads");
     crowd->add_option("--characters", crowd_o.characters, "mannequins (two garments each)")->check(CLI::Range(1u, 1024u))

@@ -33,9 +33,9 @@ double median(std::vector<double> x) {
     return x[x.size() / 2];
 }
 
-// A 50 x 50 sheet, 1 m square, hanging in the x-y plane and let go 1 cm over a ground with
-// friction, tilted across the sheet: its lower edge lands first and the rest folds down onto it in
-// a heap.
+// A 50 x 50 sheet, 1 m square, hanging in the x-y plane and let go 4 cm over a bar (a capsule of
+// 5 cm radius lying on a ground with friction, its axis 3 cm behind the sheet's plane): the lower
+// edge lands on the bar's side and is thrown back, and the rest of the sheet folds down onto itself.
 scenes::Scene heap_scene() {
     scenes::Scene s;
     s.name = "heap";
@@ -46,15 +46,23 @@ scenes::Scene heap_scene() {
     g.n = 50;
     g.width_m = g.length_m = 1.0f;
     g.vertical = true;
-    g.y_m = 1.01f;
+    g.y_m = 1.14f;
     g.offset_m = {-0.5f, 0.0f, 0.0f};
     c.grid = g;
     c.desc.sweeps = 8;
     s.cloths.push_back(c);
+    ColliderDesc bar;
+    bar.shape = ColliderShape::capsule;
+    bar.p0 = {-0.7f, 0.05f, -0.03f};
+    bar.p1 = {0.7f, 0.05f, -0.03f};
+    bar.radius_m = 0.05f;
+    bar.inflation_m = 0.004f;
+    bar.friction = 0.3f;
+    s.colliders.push_back(bar);
     ColliderDesc ground;
     ground.shape = ColliderShape::plane;
     ground.p0 = {0.0f, 0.0f, 0.0f};
-    ground.p1 = {0.0f, 0.9848f, 0.1736f};  // tilted 10 degrees across the sheet: it folds, not buckles in its plane
+    ground.p1 = {0.0f, 1.0f, 0.0f};
     ground.inflation_m = 0.004f;
     ground.friction = 0.5f;
     s.colliders.push_back(ground);
@@ -64,7 +72,7 @@ scenes::Scene heap_scene() {
 struct Row {
     scenes::SceneWorld sw;
     std::vector<double> step_us, self_us;  // the step, and its self-collision pass
-    uint32_t crossing_frames = 0;
+    uint32_t crossing_frames = 0, first_crossing = 0;
     uint64_t max_crossings = 0, contacts = 0;
 };
 
@@ -111,7 +119,11 @@ int run_self(const SelfBenchOptions& o) {
         Row rows[2];
         for (int on = 0; on < 2; ++on) {
             scenes::Scene s = c.scene;
-            for (scenes::ClothSpec& cloth : s.cloths) cloth.desc.self_collision = on == 1;
+            for (scenes::ClothSpec& cloth : s.cloths) {
+                cloth.desc.self_collision = on == 1;
+                cloth.desc.self_thickness_m = o.thickness_m;
+                cloth.desc.self_friction = o.friction;
+            }
             if (std::string e = scenes::build_scene(s, &rows[on].sw, {dir.string()}); !e.empty())
                 return std::fprintf(stderr, "weft-bench self: %s: %s\n", s.name.c_str(), e.c_str()), 1;
         }
@@ -130,6 +142,7 @@ int run_self(const SelfBenchOptions& o) {
                 view_cloth(r.sw.world, r.sw.cloths[0].id, &cloth);
                 const uint64_t crossings = metrics::self_crossings(cloth);
                 r.crossing_frames += crossings > 0;
+                if (crossings > 0 && r.first_crossing == 0) r.first_crossing = f;
                 r.max_crossings = std::max(r.max_crossings, crossings);
                 r.contacts += world_stats(r.sw.world).self_contacts;
             }
@@ -149,6 +162,7 @@ int run_self(const SelfBenchOptions& o) {
                                           {"crossing_frames", r.crossing_frames},
                                           {"frames", o.frames},
                                           {"max_crossings", r.max_crossings},
+                                          {"first_crossing_frame", r.first_crossing},
                                           {"contacts_per_step", contacts}};
                 std::printf("%s\n", j.dump().c_str());
             } else {

@@ -129,12 +129,15 @@ bool contact(Particles& p, uint32_t s, const uint32_t corner[3], const SelfColli
     const float d20 = dot(ax, e1), d21 = dot(ax, e2);
     const float denominator = d00 * d11 - d01 * d01;
     if (!(denominator > 1e-20f)) return false;  // degenerate (or NaN)
-    const float v = (d11 * d20 - d01 * d21) / denominator, w = (d00 * d21 - d01 * d20) / denominator;
+    const float v_scaled = d11 * d20 - d01 * d21, w_scaled = d00 * d21 - d01 * d20;  // times the denominator
+    if (!(v_scaled >= 0.0f && w_scaled >= 0.0f && v_scaled + w_scaled <= denominator)) return false;
+    const float v = v_scaled / denominator, w = w_scaled / denominator;
     const float u = 1.0f - v - w;
-    if (!(u >= 0.0f && v >= 0.0f && w >= 0.0f)) return false;
     const P3 n_raw = cross(e1, e2);
     const P3 n = (1.0f / std::sqrt(dot(n_raw, n_raw))) * n_raw;  // |n_raw|^2 = denominator > 0
-    // The side the particle belongs on: where it was at the substep's start.
+    // The side the particle belongs on: where it was at the substep's start (it may have crossed
+    // the face since). Near the face the plane's side is the sheet's side, also for a particle that
+    // stood over a neighbouring triangle then.
     const P3 pa = previous(p, corner[0]), pb = previous(p, corner[1]), pc = previous(p, corner[2]);
     const P3 px = previous(p, s);
     const float side = dot(px - pa, cross(pb - pa, pc - pa)) < 0.0f ? -1.0f : 1.0f;
