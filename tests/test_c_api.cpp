@@ -543,3 +543,42 @@ TEST_CASE("C API: a frame budget cuts a cloth's sweeps to fit, reports what it d
     CHECK(cut.cloths_cut == 0);
     CHECK(cut.sweeps == own.sweeps);
 }
+
+TEST_CASE("C API: self-collision is reserved by weft_reserve_cloth_desc, chosen at weft_add_cloth, and checked") {
+    const scenes::SceneOptions o = scene_options(16);
+    auto cpp = make_scene(SeedScene::sphere, o);
+    auto c = make_c_world(cpp->asset(), WEFT_SIMD_AUTOMATIC, scenes::seed_scene(SeedScene::sphere, o).colliders);
+    WeftClothDesc desc = weft_default_cloth_desc(c->asset);
+    CHECK(desc.self_collision == 0);  // off by default, with world.h's thickness and friction
+    CHECK(desc.self_thickness_m == ClothDesc{}.self_thickness_m);
+    desc.self_collision = 1;
+    WeftClothId cloth = 0;
+    CHECK_WEFT_ERROR(weft_add_cloth(c->world, &desc, &cloth), WEFT_CAPACITY_EXCEEDED);  // no room reserved
+    WeftWorldDesc wd = weft_default_world_desc();
+    REQUIRE_WEFT_OK(weft_reserve_cloth_desc(&wd, &desc));
+    CHECK(wd.max_self_collision_particles == cpp->asset().slot_count);
+    CHECK(wd.max_self_collision_triangles == cpp->asset().triangle_count);
+    CHECK_WEFT_ERROR(weft_reserve_cloth_desc(&wd, nullptr), WEFT_INVALID_ARGUMENT);
+    wd.max_colliders = 1;
+    WeftMemoryRequirements need{};
+    REQUIRE_WEFT_OK(weft_world_memory_requirements(&wd, &need));
+    Block block = alloc_block(need);
+    WeftWorld* world = nullptr;
+    REQUIRE_WEFT_OK(weft_create_world(&wd, block.get(), need.bytes, &world));
+    desc.self_thickness_m = std::nanf("");
+    CHECK_WEFT_ERROR(weft_add_cloth(world, &desc, &cloth), WEFT_NON_FINITE);
+    desc.self_thickness_m = 0.004f;
+    REQUIRE_WEFT_OK(weft_add_cloth(world, &desc, &cloth));
+    const ColliderDesc s = scenes::seed_scene(SeedScene::sphere, o).colliders[0];
+    WeftColliderDesc sphere = weft_default_collider_desc();
+    sphere.p0 = {s.p0.x, s.p0.y, s.p0.z};
+    sphere.radius_m = s.radius_m;
+    sphere.inflation_m = s.inflation_m;
+    WeftColliderId collider = 0;
+    REQUIRE_WEFT_OK(weft_add_collider(world, &sphere, &collider));
+    for (int f = 0; f < 100; ++f) REQUIRE_WEFT_OK(weft_step(world, cpp->dt_s));
+    std::vector<WeftVec3> x(c->info.particle_count);
+    REQUIRE_WEFT_OK(weft_read_positions(world, cloth, x.data(), uint32_t(x.size())));
+    for (const WeftVec3& p : x) CHECK((std::isfinite(p.x) && std::isfinite(p.y) && std::isfinite(p.z)));
+    weft_destroy_world(world);
+}

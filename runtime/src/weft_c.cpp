@@ -94,6 +94,8 @@ WorldDesc to_cpp(const WeftWorldDesc& d) {
     w.render_meshes = d.render_meshes != 0;
     w.max_render_vertices = d.max_render_vertices;
     w.max_last_good_particles = d.max_last_good_particles;
+    w.max_self_collision_particles = d.max_self_collision_particles;
+    w.max_self_collision_triangles = d.max_self_collision_triangles;
     w.budget_ns_per_lane = d.budget_ns_per_lane;
     w.budget_ns_per_particle = d.budget_ns_per_particle;
     w.gravity_m_s2 = to_cpp(d.gravity_m_s2);
@@ -249,6 +251,16 @@ WeftResult weft_reserve_cloth_recovering(WeftWorldDesc* desc, const WeftAsset* a
     return {};
 }
 
+WeftResult weft_reserve_cloth_desc(WeftWorldDesc* desc, const WeftClothDesc* cloth) {
+    if (desc == nullptr || cloth == nullptr) return to_c(make_error(ErrorCode::invalid_argument, "desc or cloth is null"));
+    if (WeftResult r = weft_reserve_cloth_recovering(desc, cloth->asset, cloth->recovery); r.code != WEFT_OK) return r;
+    if (cloth->self_collision != 0) {
+        desc->max_self_collision_particles += cloth->asset->asset.slot_count;
+        desc->max_self_collision_triangles += cloth->asset->asset.triangle_count;
+    }
+    return {};
+}
+
 WeftResult weft_world_memory_requirements(const WeftWorldDesc* desc, WeftMemoryRequirements* out) {
     if (desc == nullptr || out == nullptr) return to_c(make_error(ErrorCode::invalid_argument, "desc or out is null"));
     const MemoryRequirements need = world_memory_requirements(to_cpp(*desc));
@@ -294,6 +306,9 @@ WeftClothDesc weft_default_cloth_desc(const WeftAsset* asset) {
     c.lift_coefficient = d.lift_coefficient;
     c.sleep_speed_m_s = d.sleep_speed_m_s;
     c.recovery = WeftRecoveryPolicy(d.recovery);
+    c.self_collision = d.self_collision ? 1 : 0;
+    c.self_thickness_m = d.self_thickness_m;
+    c.self_friction = d.self_friction;
     if (live_asset(asset).ok() && asset->asset.has_fabric) {  // the fabric the pattern named (as weft-sim)
         const Fabric& f = asset->asset.fabric;
         for (uint32_t k = 0; k < 3; ++k) c.compliance_m_per_n[k] = f.compliance_m_per_n[k];
@@ -317,6 +332,9 @@ WeftResult weft_add_cloth(WeftWorld* world, const WeftClothDesc* desc, WeftCloth
     c.sleep_speed_m_s = desc->sleep_speed_m_s;
     c.recovery = uint32_t(desc->recovery) <= WEFT_RECOVER_DRESSED_POSE ? RecoveryPolicy(desc->recovery)
                                                                     : RecoveryPolicy(0xFF);  // refused by add_cloth
+    c.self_collision = desc->self_collision != 0;
+    c.self_thickness_m = desc->self_thickness_m;
+    c.self_friction = desc->self_friction;
     ClothId id;
     if (Result r = add_cloth(world->world, c, &id); !r.ok()) return to_c(r);
     *out_cloth = to_c_id(id.index, id.generation);

@@ -80,6 +80,8 @@ struct ClothArrayCounts {
     size_t self_slots = 0;      // self-collision's per-slot arrays (ClothDesc::self_collision)
     size_t self_buckets = 0;    // its hash's bucket starts (table size + 1)
     size_t self_entries = 0;    // its hash's entries (slots + kSelfEntryBlock)
+    size_t self_edge_first = 0; // its edges by particle: the offsets (slots + 1)
+    size_t self_edge_other = 0; // and the neighbours (6 per triangle)
 };
 
 // The entries of a cloth's per-triangle arrays in the normals pass's walk: the runs' lanes, then
@@ -92,6 +94,8 @@ ClothArrayCounts cloth_array_counts(const WorldDesc& desc, const ClothAsset& ass
     n.self_slots = cloth.self_collision ? asset.slot_count : 0;
     n.self_buckets = cloth.self_collision ? size_t(self_collision_table_size(asset.slot_count)) + 1 : 0;
     n.self_entries = cloth.self_collision ? size_t(asset.slot_count) + kSelfEntryBlock : 0;
+    n.self_edge_first = cloth.self_collision ? size_t(asset.slot_count) + 1 : 0;
+    n.self_edge_other = cloth.self_collision ? 6 * size_t(asset.triangle_count) : 0;
     n.slots = asset.slot_count;
     n.node_lanes = size_t(asset.coarse_slot_count) + kCoarseNodePadding;
     n.nodes = asset.coarse_slot_count;
@@ -125,6 +129,8 @@ ClothArrayCounts capacity_array_counts(const WorldDesc& desc) {
     n.self_entries = desc.max_self_collision_particles > 0
                          ? size_t(desc.max_self_collision_particles) + kSelfEntryBlock * size_t(desc.max_cloths)
                          : 0;
+    n.self_edge_first = desc.max_self_collision_particles > 0 ? size_t(desc.max_self_collision_particles) + desc.max_cloths : 0;
+    n.self_edge_other = 6 * size_t(desc.max_self_collision_triangles);
     return n;
 }
 
@@ -165,6 +171,8 @@ void visit_cloth_arrays(const WorldDesc& desc, const ClothArrayCounts& n, ClothI
         SelfCollisionState& h = cloth.self_collision;
         visit(h.cell_start, n.self_buckets);
         visit(h.slot_bucket, n.self_slots);
+        visit(h.edge_first, n.self_edge_first);
+        visit(h.edge_other, n.self_edge_other);
         visit(h.entry_slot, n.self_entries);
         for (float** a : {&h.entry_x, &h.entry_y, &h.entry_z}) visit(*a, n.self_entries);
     }
@@ -215,7 +223,7 @@ Result check_world_desc(const WorldDesc& desc) {
         desc.max_body_vertices > (1u << 26) || desc.max_body_triangles > (1u << 26) ||
         desc.max_skin_constraints > (1u << 28) || desc.max_triangle_lanes > (1u << 28) ||
         desc.max_render_vertices > (1u << 28) || desc.max_last_good_particles > (1u << 28) ||
-        desc.max_self_collision_particles > (1u << 28))
+        desc.max_self_collision_particles > (1u << 28) || desc.max_self_collision_triangles > (1u << 28))
         return make_error(ErrorCode::out_of_range, "a capacity is absurdly large");
     if (!is_finite(desc.gravity_m_s2) || !std::isfinite(desc.air_density_kg_m3))
         return make_error(ErrorCode::non_finite, "gravity or air density is not finite");
@@ -600,7 +608,10 @@ void reserve_cloth(WorldDesc& desc, const ClothAsset& asset, RecoveryPolicy reco
 void reserve_cloth(WorldDesc& desc, const ClothDesc& cloth) {
     if (cloth.asset == nullptr) return;
     reserve_cloth(desc, *cloth.asset, cloth.recovery);
-    if (cloth.self_collision) desc.max_self_collision_particles += cloth.asset->slot_count;
+    if (cloth.self_collision) {
+        desc.max_self_collision_particles += cloth.asset->slot_count;
+        desc.max_self_collision_triangles += cloth.asset->triangle_count;
+    }
 }
 
 MemoryRequirements world_memory_requirements(const WorldDesc& desc) {
@@ -692,6 +703,11 @@ Result add_cloth(World* world, const ClothDesc& desc, ClothId* out_cloth) {
         return make_error(ErrorCode::capacity_exceeded,
                           "cloth needs %u self-collision slots (max_self_collision_particles), %u left", self_slots,
                           world->desc.max_self_collision_particles - world->self_collision_used);
+    const uint32_t self_triangles = desc.self_collision ? asset.triangle_count : 0;
+    if (self_triangles > world->desc.max_self_collision_triangles - world->self_collision_triangles_used)
+        return make_error(ErrorCode::capacity_exceeded,
+                          "cloth needs %u self-collision triangles (max_self_collision_triangles), %u left", self_triangles,
+                          world->desc.max_self_collision_triangles - world->self_collision_triangles_used);
     if (world->desc.tangents && asset.uv == nullptr)
         return make_error(ErrorCode::invalid_argument, "the world has tangents but the asset has no texture coordinates");
     if (Result r = validate_asset_with_scratch(asset, world->validation_scratch, validation_scratch_count(world->desc));
@@ -727,12 +743,14 @@ Result add_cloth(World* world, const ClothDesc& desc, ClothId* out_cloth) {
     if (desc.self_collision) {
         cloth.self_collision.table_size = self_collision_table_size(asset.slot_count);
         cloth.self_collision.cell_m = self_collision_cell_m(asset, desc.self_thickness_m);
+        build_self_collision_edges(asset, cloth.self_collision);
     }
     place_at_start(*world->kernels, cloth);
     cloth.health.start_extent_m = start_extent_m(asset);
     world->particles_used += asset.slot_count;
     world->last_good_used += last_good;
     world->self_collision_used += self_slots;
+    world->self_collision_triangles_used += self_triangles;
     world->triangle_lanes_used += tangent_lanes;
     world->render_vertices_used += render_vertices;
     world->constraints_used += asset.lane_count;
@@ -753,7 +771,10 @@ Result remove_cloth(World* world, ClothId id) {
     if (world->desc.tangents) world->triangle_lanes_used -= triangle_lanes(asset);
     if (world->desc.render_meshes) world->render_vertices_used -= asset.render.vertex_count;
     if (cloth.last_good.x != nullptr) world->last_good_used -= asset.slot_count;
-    if (cloth.self_collision.cell_start != nullptr) world->self_collision_used -= asset.slot_count;
+    if (cloth.self_collision.cell_start != nullptr) {
+        world->self_collision_used -= asset.slot_count;
+        world->self_collision_triangles_used -= asset.triangle_count;
+    }
     world->cloths_live -= 1;
     const InstanceSlot slot = cloth.slot;
     cloth = ClothInstance();  // its regions (arrays, skin constraints) are free with it

@@ -152,6 +152,7 @@ struct World {
     uint32_t render_vertices_used = 0;  // by the cloths' tangent uv gradients (WorldDesc::tangents)
     uint32_t last_good_used = 0;        // slots of the cloths' last good copies
     uint32_t self_collision_used = 0;   // slots of the cloths with self-collision
+    uint32_t self_collision_triangles_used = 0;  // and their triangles
 
     Vec3 gravity_m_s2{};
     Vec3 wind_m_s{};

@@ -143,6 +143,8 @@ typedef struct WeftWorldDesc {
     uint32_t max_last_good_particles; /* weft_reserve_cloth_recovering adds the asset's for WEFT_RECOVER_LAST_GOOD */
     float budget_ns_per_lane;     /* the frame budget's cost model (weft/world.h): ns a constraint lane per sweep */
     float budget_ns_per_particle; /* ns a particle slot per substep */
+    uint32_t max_self_collision_particles; /* weft_reserve_cloth_desc adds the asset's for a self-colliding cloth */
+    uint32_t max_self_collision_triangles;
 } WeftWorldDesc;
 
 /* No capacity, gravity (0, -9.81, 0) m/s^2, air 1.2 kg/m^3, no wind, the widest SIMD path, the
@@ -181,10 +183,17 @@ typedef struct WeftClothDesc {
     float lift_coefficient;
     float sleep_speed_m_s;         /* every particle slower than this (m/s) for 30 steps: it sleeps; 0 = never */
     WeftRecoveryPolicy recovery;   /* what a step does with it when unhealthy; WEFT_RECOVER_NONE: report only */
+    int self_collision;            /* non-zero: it collides with itself (chosen at weft_add_cloth) */
+    float self_thickness_m;        /* the distance kept between a particle and the cloth's faces, m */
+    float self_friction;           /* Coulomb coefficient between its layers */
 } WeftClothDesc;
 
 /* world.h's ClothDesc defaults, with the compliance and damping of the asset's fabric if it has one. */
 WeftClothDesc weft_default_cloth_desc(const WeftAsset* asset);
+
+/* Adds to the capacities what the cloth `cloth` describes needs: weft_reserve_cloth, and the room
+   for its last good copy (WEFT_RECOVER_LAST_GOOD) and its self-collision. */
+WeftResult weft_reserve_cloth_desc(WeftWorldDesc* desc, const WeftClothDesc* cloth);
 
 WeftResult weft_add_cloth(WeftWorld* world, const WeftClothDesc* desc, WeftClothId* out_cloth);
 

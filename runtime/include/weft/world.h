@@ -72,6 +72,7 @@ struct WorldDesc {
     uint32_t max_render_vertices = 0;      // summed over the cloths, for `render_meshes`; reserve_cloth adds
     uint32_t max_last_good_particles = 0;  // summed slots of cloths with RecoveryPolicy::last_good_state
     uint32_t max_self_collision_particles = 0;  // summed slots of cloths with ClothDesc::self_collision
+    uint32_t max_self_collision_triangles = 0;  // and their summed triangles (reserve_cloth adds both)
 
     // Features: a pass that is not enabled is not in the step at all (and costs nothing).
     bool wind = false;
@@ -170,7 +171,7 @@ struct ClothDesc {
 
     // Self-collision (docs/architecture.md, "Self-collision"): each substep, every particle is kept
     // self_thickness_m from the faces of the cloth's own triangles, with friction. Chosen at
-    // add_cloth (its hash's memory: WorldDesc::max_self_collision_particles); off, it costs nothing.
+    // add_cloth (its memory: WorldDesc::max_self_collision_particles and _triangles); off, it costs nothing.
     bool self_collision = false;
     float self_thickness_m = 0.004f;  // the distance kept between a particle and a face, m (0.5 mm..5 cm)
     float self_friction = 0.2f;       // Coulomb coefficient between layers of the cloth

@@ -4,6 +4,7 @@
 #include "simd/float_w.h"  // WEFT_HAVE_AVX2 and its intrinsics
 
 #include <cmath>
+#include <utility>
 #include <limits>
 
 namespace weft {
@@ -83,6 +84,9 @@ void sort_into_buckets(const Particles& p, SelfCollisionState& st) {
 struct Box {
     P3 lo, hi;
 };
+bool inside(const Box& b, P3 q) {
+    return q.x >= b.lo.x && q.x <= b.hi.x && q.y >= b.lo.y && q.y <= b.hi.y && q.z >= b.lo.z && q.z <= b.hi.z;
+}
 
 // Entries [begin, end) inside `box`, kSelfEntryBlock at a time (one comparison mask per block, no
 // branch per entry), each handed to `visit`.
@@ -173,7 +177,80 @@ bool contact(Particles& p, uint32_t s, const uint32_t corner[3], const SelfColli
     return true;
 }
 
+// 4. Edge (s, r) against the triangle's edge (q0, q1), none of them shared. Returns whether they were
+// in contact.
+bool edge_contact(Particles& p, uint32_t s, uint32_t r, uint32_t q0, uint32_t q1, const SelfCollisionArgs& args) {
+    const P3 p0 = position(p, s), p1 = position(p, r), e0 = position(p, q0), e1 = position(p, q1);
+    // The closest points p0 + a (p1 - p0) and e0 + b (e1 - e0) (Ericson 5.1.9), where both lie
+    // inside their segments; an end's closest point is a particle's, which the face tests keep.
+    const P3 d1 = p1 - p0, d2 = e1 - e0, r0 = p0 - e0;
+    const float aa = dot(d1, d1), ee = dot(d2, d2), bb = dot(d1, d2), cc = dot(d1, r0), ff = dot(d2, r0);
+    const float denominator = aa * ee - bb * bb;
+    if (!(denominator > 1e-6f * aa * ee)) return false;  // parallel (or degenerate, or NaN)
+    // Both parameters inside their segments, checked before any division: a = a_scaled / D and
+    // b = b_scaled / (D ee).
+    const float a_scaled = bb * ff - cc * ee, b_scaled = bb * a_scaled + ff * denominator;
+    if (!(a_scaled > 0.0f && a_scaled < denominator && b_scaled > 0.0f && b_scaled < denominator * ee)) return false;
+    const float a = a_scaled / denominator, b = (bb * a + ff) / ee;
+    if (!(a > 0.0f && a < 1.0f && b > 0.0f && b < 1.0f)) return false;
+    const float thickness = args.thickness_m, capture = kSelfCaptureThicknesses * thickness;
+    const P3 gap = (p0 + a * d1) - (e0 + b * d2);
+    const float gap2 = dot(gap, gap);
+    if (!(gap2 < capture * capture)) return false;
+    // Which side edge (s, r) stood on at the substep's start, seen from the other edge.
+    const P3 pp0 = previous(p, s), pp1 = previous(p, r), pe0 = previous(p, q0), pe1 = previous(p, q1);
+    const P3 before = (pp0 + a * (pp1 - pp0)) - (pe0 + b * (pe1 - pe0));
+    const float before2 = dot(before, before);
+    P3 n;
+    float distance;
+    if (dot(gap, before) < 0.0f && before2 > 0.0f) {  // crossed since: back to the former side
+        n = (1.0f / std::sqrt(before2)) * before;
+        distance = dot(gap, n);
+    } else {
+        if (!(gap2 < thickness * thickness) || !(gap2 > 0.0f)) return false;
+        distance = std::sqrt(gap2);
+        n = (1.0f / distance) * gap;
+    }
+    const float ws = p.inverse_mass[s], wr = p.inverse_mass[r], w0 = p.inverse_mass[q0], w1 = p.inverse_mass[q1];
+    const float weight = ws * (1.0f - a) * (1.0f - a) + wr * a * a + w0 * (1.0f - b) * (1.0f - b) + w1 * b * b;
+    if (!(weight > 0.0f)) return false;
+    const P3 push = ((thickness - distance) / weight) * n;
+    move(p, s, (ws * (1.0f - a)) * push);
+    move(p, r, (wr * a) * push);
+    move(p, q0, (-w0 * (1.0f - b)) * push);
+    move(p, q1, (-w1 * b) * push);
+    return true;
+}
+
 }  // namespace
+
+void build_self_collision_edges(const ClothAsset& asset, SelfCollisionState& st) {
+    const uint32_t slots = asset.slot_count;
+    uint32_t* const first = st.edge_first;
+    uint32_t* const cursor = st.slot_bucket;  // scratch
+    for (uint32_t s = 0; s <= slots; ++s) first[s] = 0;
+    for (uint32_t k = 0; k < 3 * asset.triangle_count; ++k) first[asset.triangles[k] + 1] += 2;
+    for (uint32_t s = 0; s < slots; ++s) first[s + 1] += first[s];
+    for (uint32_t s = 0; s < slots; ++s) cursor[s] = first[s];
+    for (uint32_t t = 0; t < asset.triangle_count; ++t)
+        for (uint32_t k = 0; k < 3; ++k) {
+            const uint32_t a = asset.triangles[3 * t + k];
+            st.edge_other[cursor[a]++] = asset.triangles[3 * t + (k + 1) % 3];
+            st.edge_other[cursor[a]++] = asset.triangles[3 * t + (k + 2) % 3];
+        }
+    // Each slot's list sorted (insertion: a handful each) and its repeats dropped, packed down.
+    uint32_t packed = 0;
+    for (uint32_t s = 0; s < slots; ++s) {
+        const uint32_t begin = first[s], end = first[s + 1];
+        uint32_t* list = st.edge_other + begin;
+        for (uint32_t i = 1; i < end - begin; ++i)
+            for (uint32_t j = i; j > 0 && list[j - 1] > list[j]; --j) std::swap(list[j - 1], list[j]);
+        first[s] = packed;
+        for (uint32_t i = 0; i < end - begin; ++i)
+            if (i == 0 || list[i] != list[i - 1]) st.edge_other[packed++] = list[i];
+    }
+    first[slots] = packed;
+}
 
 uint32_t self_collision_table_size(uint32_t slot_count) {
     uint32_t size = 16;
@@ -228,6 +305,14 @@ void collide_self(Particles& p, const ClothAsset& asset, SelfCollisionState& st,
         const auto visit = [&](uint32_t s) {
             if (s == corner[0] || s == corner[1] || s == corner[2]) return;
             counts.contacts += uint64_t(contact(p, s, corner, args));
+            // Edge (s, r) once: from its lower end when both ends are in the box (in the hash).
+            for (uint32_t k = st.edge_first[s]; k < st.edge_first[s + 1]; ++k) {
+                const uint32_t r = st.edge_other[k];
+                if (r == corner[0] || r == corner[1] || r == corner[2]) continue;
+                if (r < s && p.inverse_mass[r] > 0.0f && inside(box, position(p, r))) continue;
+                for (uint32_t e = 0; e < 3; ++e)
+                    counts.contacts += uint64_t(edge_contact(p, s, r, corner[e], corner[(e + 1) % 3], args));
+            }
         };
         for (int32_t iy = c0[1]; iy <= c1[1]; ++iy)
             for (int32_t iz = c0[2]; iz <= c1[2]; ++iz) {

@@ -13,6 +13,11 @@
 //      (u, v, w), shared by inverse mass (PBD); friction then cancels the pair's relative
 //      tangential motion over the substep up to friction * |C| (Macklin et al. 2014, sec. 6.1),
 //      shared the same way.
+//   4. each edge of such a particle that shares no corner with the triangle, against the triangle's
+//      three edges: where the closest points of the two segments lie inside both and closer than
+//      the thickness, or have swapped sides since the substep's start (by less than the capture
+//      depth), the two edges are pushed apart to the thickness on their former side (Bridson et al.
+//      2002's edge-edge proximity, as a PBD constraint shared by the four particles' inverse masses).
 // Only a triangle's own corners are excluded: the default thickness (4 mm) is a fifth of a baked
 // garment's edge, so a neighbour comes that close to a triangle's face only where the cloth lies
 // folded on itself, which is self-contact.
@@ -46,6 +51,10 @@ struct SelfCollisionState {
     float* entry_x = nullptr;         // [slot_count + kSelfEntryBlock]: their positions at the sort, metres
     float* entry_y = nullptr;
     float* entry_z = nullptr;
+    // The mesh's edges by particle (built at add_cloth): slot s's neighbours are
+    // edge_other[edge_first[s] .. edge_first[s + 1]), each once.
+    uint32_t* edge_first = nullptr;  // [slot_count + 1]
+    uint32_t* edge_other = nullptr;  // [6 * triangle_count]: room for every triangle's corners' two edges
     uint32_t table_size = 0;  // a power of two >= 16
     float cell_m = 0.0f;      // the cells' edge, chosen at add_cloth from the asset's triangles
 };
@@ -58,13 +67,17 @@ uint32_t self_collision_table_size(uint32_t slot_count);
 // reach (thickness and capture), so a triangle's widened box usually spans two cells per axis.
 float self_collision_cell_m(const ClothAsset& asset, float thickness_m);
 
+// Fills state.edge_first and edge_other from the asset's triangles (add_cloth; slot_bucket is
+// its scratch).
+void build_self_collision_edges(const ClothAsset& asset, SelfCollisionState& state);
+
 struct SelfCollisionArgs {
     float thickness_m = 0.004f;
     float friction = 0.2f;
 };
 
 struct SelfCollisionCounts {
-    uint64_t contacts = 0;           // particle-triangle pairs pushed apart
+    uint64_t contacts = 0;           // particle-triangle and edge-edge pairs pushed apart
     uint64_t skipped_triangles = 0;  // triangles stretched over more cells than kMaxSelfCellsPerAxis
 };
 
