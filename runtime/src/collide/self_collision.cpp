@@ -88,10 +88,11 @@ bool inside(const Box& b, P3 q) {
     return q.x >= b.lo.x && q.x <= b.hi.x && q.y >= b.lo.y && q.y <= b.hi.y && q.z >= b.lo.z && q.z <= b.hi.z;
 }
 
-// Entries [begin, end) inside `box`, kSelfEntryBlock at a time (one comparison mask per block, no
-// branch per entry), each handed to `visit`.
+// Entries [begin, end) inside `box` and not a corner of its triangle, kSelfEntryBlock at a time
+// (one comparison mask per block, no branch per entry), each handed to `visit`.
 template <class Visit>
-void for_entries_in_box(const SelfCollisionState& st, uint32_t begin, uint32_t end, const Box& box, Visit&& visit) {
+void for_entries_in_box(const SelfCollisionState& st, uint32_t begin, uint32_t end, const Box& box,
+                        const uint32_t corner[3], Visit&& visit) {
     for (uint32_t e = begin; e < end; e += kSelfEntryBlock) {
 #if WEFT_HAVE_AVX2  // the same mask as the loop below, in one register (a mask: the same bits either way)
         const __m256 x = _mm256_loadu_ps(st.entry_x + e), y = _mm256_loadu_ps(st.entry_y + e),
@@ -102,13 +103,22 @@ void for_entries_in_box(const SelfCollisionState& st, uint32_t begin, uint32_t e
                                              _mm256_cmp_ps(y, _mm256_set1_ps(box.hi.y), _CMP_LE_OQ)));
         in = _mm256_and_ps(in, _mm256_and_ps(_mm256_cmp_ps(z, _mm256_set1_ps(box.lo.z), _CMP_GE_OQ),
                                              _mm256_cmp_ps(z, _mm256_set1_ps(box.hi.z), _CMP_LE_OQ)));
+        // The triangle's own corners are never its contacts: out of the mask too.
+        const __m256i slot = _mm256_loadu_si256(reinterpret_cast<const __m256i*>(st.entry_slot + e));
+        const __m256i own = _mm256_or_si256(
+            _mm256_cmpeq_epi32(slot, _mm256_set1_epi32(int32_t(corner[0]))),
+            _mm256_or_si256(_mm256_cmpeq_epi32(slot, _mm256_set1_epi32(int32_t(corner[1]))),
+                            _mm256_cmpeq_epi32(slot, _mm256_set1_epi32(int32_t(corner[2])))));
+        in = _mm256_andnot_ps(_mm256_castsi256_ps(own), in);
         uint32_t inside = uint32_t(_mm256_movemask_ps(in));
 #else
         uint32_t inside = 0;
         for (uint32_t k = 0; k < kSelfEntryBlock; ++k) {
             const float x = st.entry_x[e + k], y = st.entry_y[e + k], z = st.entry_z[e + k];
+            const uint32_t slot = st.entry_slot[e + k];
             inside |= uint32_t((x >= box.lo.x) & (x <= box.hi.x) & (y >= box.lo.y) & (y <= box.hi.y) &
-                               (z >= box.lo.z) & (z <= box.hi.z))
+                               (z >= box.lo.z) & (z <= box.hi.z) & (slot != corner[0]) & (slot != corner[1]) &
+                               (slot != corner[2]))
                       << k;
         }
 #endif
@@ -175,6 +185,27 @@ bool contact(Particles& p, uint32_t s, const uint32_t corner[3], const SelfColli
         move(p, corner[2], (-wc * w) * slip);
     }
     return true;
+}
+
+// One segment as the edge-edge screen reads it: its start, direction and squared length.
+struct Segment {
+    P3 start, direction;
+    float length2;
+};
+Segment segment(P3 from, P3 to) {
+    const P3 d = to - from;
+    return {from, d, dot(d, d)};
+}
+
+// Whether the closest points of the lines through two segments lie inside both (Ericson 5.1.9),
+// checked without a division: the screen before edge_contact, on positions read once a triangle.
+bool closest_points_inside(const Segment& u, const Segment& v) {
+    const P3 r0 = u.start - v.start;
+    const float bb = dot(u.direction, v.direction), cc = dot(u.direction, r0), ff = dot(v.direction, r0);
+    const float denominator = u.length2 * v.length2 - bb * bb;
+    const float a_scaled = bb * ff - cc * v.length2, b_scaled = bb * a_scaled + ff * denominator;
+    return denominator > 1e-6f * u.length2 * v.length2 && a_scaled > 0.0f && a_scaled < denominator &&
+           b_scaled > 0.0f && b_scaled < denominator * v.length2;
 }
 
 // 4. Edge (s, r) against the triangle's edge (q0, q1), none of them shared. Returns whether they were
@@ -302,16 +333,38 @@ void collide_self(Particles& p, const ClothAsset& asset, SelfCollisionState& st,
             counts.skipped_triangles += 1;
             continue;
         }
+        const Segment sides[3] = {segment(a, b), segment(b, c), segment(c, a)};  // corner k to k + 1
+        // The triangle's unit normal, found for its first candidate (most triangles have none).
+        P3 normal{0.0f, 0.0f, 0.0f};
+        bool normal_found = false;
+        const float flat = kSelfFlatThicknesses * args.thickness_m, capture = kSelfCaptureThicknesses * args.thickness_m;
         const auto visit = [&](uint32_t s) {
-            if (s == corner[0] || s == corner[1] || s == corner[2]) return;
             counts.contacts += uint64_t(contact(p, s, corner, args));
+            if (!normal_found) {
+                const P3 n = cross(b - a, c - a);
+                const float n2 = dot(n, n);
+                normal = n2 > 0.0f ? (1.0f / std::sqrt(n2)) * n : P3{0.0f, 0.0f, 0.0f};
+                normal_found = true;
+            }
+            // Edges that cannot reach the triangle's edges, by their ends' heights over its plane:
+            // both on one side beyond the capture depth (the triangle's edges lie in the plane), or
+            // both within `flat` of it (the sheet round the triangle, where nothing is folded).
+            const P3 xs = position(p, s);
+            const float hs = dot(xs - a, normal);
             // Edge (s, r) once: from its lower end when both ends are in the box (in the hash).
             for (uint32_t k = st.edge_first[s]; k < st.edge_first[s + 1]; ++k) {
                 const uint32_t r = st.edge_other[k];
                 if (r == corner[0] || r == corner[1] || r == corner[2]) continue;
-                if (r < s && p.inverse_mass[r] > 0.0f && inside(box, position(p, r))) continue;
+                const P3 xr = position(p, r);
+                if (r < s && p.inverse_mass[r] > 0.0f && inside(box, xr)) continue;
+                const float hr = dot(xr - a, normal);
+                if ((hs > capture && hr > capture) || (hs < -capture && hr < -capture) ||
+                    (std::fabs(hs) < flat && std::fabs(hr) < flat))
+                    continue;
+                const Segment edge = segment(xs, xr);
                 for (uint32_t e = 0; e < 3; ++e)
-                    counts.contacts += uint64_t(edge_contact(p, s, r, corner[e], corner[(e + 1) % 3], args));
+                    if (closest_points_inside(edge, sides[e]))
+                        counts.contacts += uint64_t(edge_contact(p, s, r, corner[e], corner[(e + 1) % 3], args));
             }
         };
         for (int32_t iy = c0[1]; iy <= c1[1]; ++iy)
@@ -319,10 +372,10 @@ void collide_self(Particles& p, const ClothAsset& asset, SelfCollisionState& st,
                 // The row of cells c0[0]..c1[0] along x: consecutive buckets, maybe wrapping round.
                 const uint32_t first = bucket_of(c0[0], iy, iz, mask), last = bucket_of(c1[0], iy, iz, mask);
                 if (first <= last) {
-                    for_entries_in_box(st, st.cell_start[first], st.cell_start[last + 1], box, visit);
+                    for_entries_in_box(st, st.cell_start[first], st.cell_start[last + 1], box, corner, visit);
                 } else {
-                    for_entries_in_box(st, st.cell_start[first], st.cell_start[mask + 1], box, visit);
-                    for_entries_in_box(st, st.cell_start[0], st.cell_start[last + 1], box, visit);
+                    for_entries_in_box(st, st.cell_start[first], st.cell_start[mask + 1], box, corner, visit);
+                    for_entries_in_box(st, st.cell_start[0], st.cell_start[last + 1], box, corner, visit);
                 }
             }
     }

@@ -18,6 +18,8 @@
 //      the thickness, or have swapped sides since the substep's start (by less than the capture
 //      depth), the two edges are pushed apart to the thickness on their former side (Bridson et al.
 //      2002's edge-edge proximity, as a PBD constraint shared by the four particles' inverse masses).
+//      An edge whose ends are both beyond the capture depth on one side of the triangle's plane, or
+//      both within kSelfFlatThicknesses of it (one flat layer), cannot reach its edges: not tested.
 // Only a triangle's own corners are excluded: the default thickness (4 mm) is a fifth of a baked
 // garment's edge, so a neighbour comes that close to a triangle's face only where the cloth lies
 // folded on itself, which is self-contact.
@@ -40,6 +42,9 @@ namespace weft {
 inline constexpr uint32_t kMaxSelfCellsPerAxis = 4;
 // The broad phase tests this many hash entries at once; the entry arrays hold as many more.
 inline constexpr uint32_t kSelfEntryBlock = 8;
+// An edge with both ends within this many thicknesses of a triangle's plane lies in it: no edge-edge
+// test against that triangle (two layers are kept a thickness apart, so it is one layer).
+inline constexpr float kSelfFlatThicknesses = 0.5f;
 // A contact deeper than this many thicknesses on the wrong side is left alone (an old crossing).
 inline constexpr float kSelfCaptureThicknesses = 2.0f;
 
