@@ -144,4 +144,39 @@ std::string make_seed_world(SeedScene which, const SceneOptions& o, SeedWorld* o
     return {};
 }
 
+Scene heap_scene() {
+    Scene s;
+    s.name = "heap";
+    s.dt_s = 1.0f / 60.0f;
+    ClothSpec c;
+    c.name = "sheet";
+    GridSource g;
+    g.n = 50;
+    g.width_m = g.length_m = 1.0f;
+    g.vertical = true;
+    g.y_m = 1.14f;
+    g.offset_m = {-0.5f, 0.0f, 0.0f};
+    c.grid = g;
+    c.desc.policy = BudgetPolicy::explicit_split;
+    c.desc.substeps = 8;
+    c.desc.iterations = 1;
+    s.cloths.push_back(c);
+    ColliderDesc bar;
+    bar.shape = ColliderShape::capsule;
+    bar.p0 = {-0.7f, 0.05f, -0.03f};
+    bar.p1 = {0.7f, 0.05f, -0.03f};
+    bar.radius_m = 0.05f;
+    bar.inflation_m = 0.004f;
+    bar.friction = 0.3f;
+    s.colliders.push_back(bar);
+    ColliderDesc ground;
+    ground.shape = ColliderShape::plane;
+    ground.p0 = {0.0f, 0.0f, 0.0f};
+    ground.p1 = {0.0f, 1.0f, 0.0f};
+    ground.inflation_m = 0.004f;
+    ground.friction = 0.5f;
+    s.colliders.push_back(ground);
+    return s;
+}
+
 }  // namespace weft::scenes

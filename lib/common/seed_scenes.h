@@ -84,6 +84,14 @@ struct SeedWorld {
 // The experiment as a scene (what samples/scenes/*.json also describe).
 Scene seed_scene(SeedScene scene, const SceneOptions& options);
 
+// Self-collision's heap (weft-bench self, tests/test_self_collision.cpp): a 50 x 50 sheet, 1 m
+// square, hanging in the x-y plane and let go 4 cm over a bar (a capsule of 5 cm radius lying on a
+// ground with friction, its axis 3 cm behind the sheet's plane): the lower edge lands on the bar's
+// side and is thrown back, and the rest of the sheet folds down onto itself. 8 substeps of one sweep
+// a frame of 1/60 s: at one substep the sheet, landing at 4-5 m/s, crumples within its own plane
+// (overlapping triangles of one layer) before any layer lies on another.
+Scene heap_scene();
+
 // Builds the scene; returns the failure message (empty on success).
 std::string make_seed_world(SeedScene scene, const SceneOptions& options, SeedWorld* out);
 

@@ -20,6 +20,7 @@
 #include "common/metrics.h"
 #include "common/scene.h"
 #include "common/scene_json.h"
+#include "common/seed_scenes.h"
 #include "weft/debug.h"
 
 namespace weft::bench {
@@ -31,47 +32,6 @@ double median(std::vector<double> x) {
     if (x.empty()) return 0.0;
     std::sort(x.begin(), x.end());
     return x[x.size() / 2];
-}
-
-// A 50 x 50 sheet, 1 m square, hanging in the x-y plane and let go 4 cm over a bar (a capsule of
-// 5 cm radius lying on a ground with friction, its axis 3 cm behind the sheet's plane): the lower
-// edge lands on the bar's side and is thrown back, and the rest of the sheet folds down onto itself.
-// 8 substeps of one sweep a frame.
-scenes::Scene heap_scene() {
-    scenes::Scene s;
-    s.name = "heap";
-    s.dt_s = 1.0f / 60.0f;
-    scenes::ClothSpec c;
-    c.name = "sheet";
-    scenes::GridSource g;
-    g.n = 50;
-    g.width_m = g.length_m = 1.0f;
-    g.vertical = true;
-    g.y_m = 1.14f;
-    g.offset_m = {-0.5f, 0.0f, 0.0f};
-    c.grid = g;
-    // Eight substeps of one sweep: at one substep the sheet, landing at 4-5 m/s, crumples within
-    // its own plane (overlapping triangles of one layer) before any layer lies on another.
-    c.desc.policy = BudgetPolicy::explicit_split;
-    c.desc.substeps = 8;
-    c.desc.iterations = 1;
-    s.cloths.push_back(c);
-    ColliderDesc bar;
-    bar.shape = ColliderShape::capsule;
-    bar.p0 = {-0.7f, 0.05f, -0.03f};
-    bar.p1 = {0.7f, 0.05f, -0.03f};
-    bar.radius_m = 0.05f;
-    bar.inflation_m = 0.004f;
-    bar.friction = 0.3f;
-    s.colliders.push_back(bar);
-    ColliderDesc ground;
-    ground.shape = ColliderShape::plane;
-    ground.p0 = {0.0f, 0.0f, 0.0f};
-    ground.p1 = {0.0f, 1.0f, 0.0f};
-    ground.inflation_m = 0.004f;
-    ground.friction = 0.5f;
-    s.colliders.push_back(ground);
-    return s;
 }
 
 struct Row {
@@ -103,7 +63,7 @@ int run_self(const SelfBenchOptions& o) {
         if (std::string e = scenes::load_scene_file(source + "/samples/scenes/drape.json", &drape); !e.empty())
             return std::fprintf(stderr, "weft-bench self: %s\n", e.c_str()), 1;
         cases.push_back({drape, 0});
-        cases.push_back({heap_scene(), 0});
+        cases.push_back({scenes::heap_scene(), 0});
         bake::SewBody mannequin;
         if (std::string e = mannequin_sew_body(&mannequin); !e.empty())
             return std::fprintf(stderr, "weft-bench self: %s\n", e.c_str()), 1;

@@ -131,6 +131,17 @@ void for_entries_in_box(const SelfCollisionState& st, uint32_t begin, uint32_t e
     }
 }
 
+// Coulomb friction on a contact of unit normal n (Macklin et al. 2014, sec. 6.1): the tangential part
+// of `relative` (the two sides' motion over the substep) is cancelled up to `limit` (friction times
+// the depth); returns the correction, divided by the contact's weight as the push is (zero: none).
+P3 friction_slip(P3 relative, P3 n, float limit, float weight) {
+    const P3 tangent = relative - dot(relative, n) * n;
+    const float tangent2 = dot(tangent, tangent);
+    if (!(tangent2 > 0.0f && limit > 0.0f)) return {0.0f, 0.0f, 0.0f};
+    const float keep = tangent2 <= limit * limit ? 0.0f : 1.0f - limit / std::sqrt(tangent2);
+    return ((keep - 1.0f) / weight) * tangent;  // cancels (1 - keep) of the tangent
+}
+
 // 3. Particle s against triangle (a, b, c): the push out to the thickness and friction. Returns
 // whether they were in contact.
 bool contact(Particles& p, uint32_t s, const uint32_t corner[3], const SelfCollisionArgs& args) {
@@ -172,13 +183,8 @@ bool contact(Particles& p, uint32_t s, const uint32_t corner[3], const SelfColli
     const P3 moved_x = position(p, s) - px;
     const P3 moved_face = u * (position(p, corner[0]) - pa) + v * (position(p, corner[1]) - pb) +
                           w * (position(p, corner[2]) - pc);
-    const P3 relative = moved_x - moved_face;
-    const P3 tangent = relative - dot(relative, n) * n;
-    const float tangent2 = dot(tangent, tangent);
-    const float limit = args.friction * (thickness - distance);
-    if (tangent2 > 0.0f && limit > 0.0f) {
-        const float keep = tangent2 <= limit * limit ? 0.0f : 1.0f - limit / std::sqrt(tangent2);
-        const P3 slip = ((keep - 1.0f) / weight) * tangent;  // cancels (1 - keep) of the tangent
+    const P3 slip = friction_slip(moved_x - moved_face, n, args.friction * (thickness - distance), weight);
+    if (slip.x != 0.0f || slip.y != 0.0f || slip.z != 0.0f) {
         move(p, s, wx * slip);
         move(p, corner[0], (-wa * u) * slip);
         move(p, corner[1], (-wb * v) * slip);
@@ -250,6 +256,17 @@ bool edge_contact(Particles& p, uint32_t s, uint32_t r, uint32_t q0, uint32_t q1
     move(p, r, (wr * a) * push);
     move(p, q0, (-w0 * (1.0f - b)) * push);
     move(p, q1, (-w1 * b) * push);
+    // Friction, as for a face: the closest points' relative tangential motion over the substep,
+    // cancelled up to friction * |C|, shared the same way.
+    const P3 moved_edge = (1.0f - a) * (position(p, s) - pp0) + a * (position(p, r) - pp1);
+    const P3 moved_other = (1.0f - b) * (position(p, q0) - pe0) + b * (position(p, q1) - pe1);
+    const P3 slip = friction_slip(moved_edge - moved_other, n, args.friction * (thickness - distance), weight);
+    if (slip.x != 0.0f || slip.y != 0.0f || slip.z != 0.0f) {
+        move(p, s, (ws * (1.0f - a)) * slip);
+        move(p, r, (wr * a) * slip);
+        move(p, q0, (-w0 * (1.0f - b)) * slip);
+        move(p, q1, (-w1 * b) * slip);
+    }
     return true;
 }
 

@@ -17,7 +17,8 @@
 //      three edges: where the closest points of the two segments lie inside both and closer than
 //      the thickness, or have swapped sides since the substep's start (by less than the capture
 //      depth), the two edges are pushed apart to the thickness on their former side (Bridson et al.
-//      2002's edge-edge proximity, as a PBD constraint shared by the four particles' inverse masses).
+//      2002's edge-edge proximity, as a PBD constraint shared by the four particles' inverse masses),
+//      with the same friction.
 //      An edge whose ends are both beyond the capture depth on one side of the triangle's plane, or
 //      both within kSelfFlatThicknesses of it (one flat layer), cannot reach its edges: not tested.
 // Only a triangle's own corners are excluded: the default thickness (4 mm) is a fifth of a baked
