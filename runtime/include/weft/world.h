@@ -173,7 +173,10 @@ struct ClothDesc {
     // self_thickness_m from the faces of the cloth's own triangles, with friction. Chosen at
     // add_cloth (its memory: WorldDesc::max_self_collision_particles and _triangles); off, it costs nothing.
     bool self_collision = false;
-    float self_thickness_m = 0.004f;  // the distance kept between a particle and a face, m (0.5 mm..5 cm)
+    // The distance kept between a particle and a face, m (0.5 mm..5 cm). The hash's cells are sized for
+    // the value at add_cloth: a much larger one set later can stretch a triangle's box over too many
+    // cells, and such triangles are skipped (WorldStats::self_skipped_triangles).
+    float self_thickness_m = 0.004f;
     float self_friction = 0.2f;       // Coulomb coefficient between layers of the cloth
 };
 
