@@ -171,6 +171,7 @@ void visit_cloth_arrays(const WorldDesc& desc, const ClothArrayCounts& n, ClothI
         SelfCollisionState& h = cloth.self_collision;
         visit(h.cell_start, n.self_buckets);
         visit(h.slot_bucket, n.self_slots);
+        visit(h.shortest_edge_m, n.self_slots);
         visit(h.edge_first, n.self_edge_first);
         visit(h.edge_other, n.self_edge_other);
         visit(h.entry_slot, n.self_entries);

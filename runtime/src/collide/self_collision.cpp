@@ -142,9 +142,30 @@ P3 friction_slip(P3 relative, P3 n, float limit, float weight) {
     return ((keep - 1.0f) / weight) * tangent;  // cancels (1 - keep) of the tangent
 }
 
+// A contact's PBD weight, sum w_i g_i^2 over its particles' inverse masses w_i and barycentric
+// gradients g_i, raised where needed to the largest w_i g_i, so that no particle moves further than
+// the contact's depth. Without it a closest point near an edge's pinned end (g of the movable end
+// near 0) moved that end by depth / g: a garment whose attached waistband met a fold blew up.
+// Where it applies the contact is resolved over the sweeps instead of at once.
+float bounded_weight(float wg0, float wg1, float wg2, float wg3, float squared) {
+    return std::fmax(squared, std::fmax(std::fmax(wg0, wg1), std::fmax(wg2, wg3)));
+}
+
+// A contact's thickness: the cloth's, but no more than kSelfThicknessPerEdge times the shortest
+// edge (in the start pose) at any of its four particles. Where a garment's mesh is finer than the
+// thickness (slivers at a seam, a panel meshed at 1 mm), particles a few edges apart along the
+// cloth lie closer than the thickness without any fold, and pushing them apart to it tore the mesh
+// (a pooled hem's 0.6 mm edges stretched 25 times their length in a frame).
+float contact_thickness(const SelfCollisionState& st, const SelfCollisionArgs& args, uint32_t i, uint32_t j,
+                        uint32_t k, uint32_t l) {
+    const float* e = st.shortest_edge_m;
+    return std::fmin(args.thickness_m, kSelfThicknessPerEdge * std::fmin(std::fmin(e[i], e[j]), std::fmin(e[k], e[l])));
+}
+
 // 3. Particle s against triangle (a, b, c): the push out to the thickness and friction. Returns
 // whether they were in contact.
-bool contact(Particles& p, uint32_t s, const uint32_t corner[3], const SelfCollisionArgs& args) {
+bool contact(Particles& p, uint32_t s, const uint32_t corner[3], const SelfCollisionArgs& args,
+             const SelfCollisionState& st) {
     const P3 a = position(p, corner[0]), b = position(p, corner[1]), c = position(p, corner[2]);
     const P3 x = position(p, s);
     const P3 e1 = b - a, e2 = c - a, ax = x - a;
@@ -167,11 +188,11 @@ bool contact(Particles& p, uint32_t s, const uint32_t corner[3], const SelfColli
     const P3 px = previous(p, s);
     const float side = dot(px - pa, cross(pb - pa, pc - pa)) < 0.0f ? -1.0f : 1.0f;
     const float distance = side * dot(ax, n);
-    const float thickness = args.thickness_m;
+    const float thickness = contact_thickness(st, args, s, corner[0], corner[1], corner[2]);
     if (!(distance < thickness) || distance < -kSelfCaptureThicknesses * thickness) return false;
     const float wx = p.inverse_mass[s], wa = p.inverse_mass[corner[0]], wb = p.inverse_mass[corner[1]],
                 wc = p.inverse_mass[corner[2]];
-    const float weight = wx + wa * u * u + wb * v * v + wc * w * w;  // > 0: s is movable
+    const float weight = bounded_weight(wx, wa * u, wb * v, wc * w, wx + wa * u * u + wb * v * v + wc * w * w);  // > 0: s is movable
     // C = distance - thickness < 0; its gradient is side * n at x and -side * n * (u, v, w) at the corners.
     const P3 push = ((thickness - distance) / weight * side) * n;
     move(p, s, wx * push);
@@ -216,7 +237,8 @@ bool closest_points_inside(const Segment& u, const Segment& v) {
 
 // 4. Edge (s, r) against the triangle's edge (q0, q1), none of them shared. Returns whether they were
 // in contact.
-bool edge_contact(Particles& p, uint32_t s, uint32_t r, uint32_t q0, uint32_t q1, const SelfCollisionArgs& args) {
+bool edge_contact(Particles& p, uint32_t s, uint32_t r, uint32_t q0, uint32_t q1, const SelfCollisionArgs& args,
+                  const SelfCollisionState& st) {
     const P3 p0 = position(p, s), p1 = position(p, r), e0 = position(p, q0), e1 = position(p, q1);
     // The closest points p0 + a (p1 - p0) and e0 + b (e1 - e0) (Ericson 5.1.9), where both lie
     // inside their segments; an end's closest point is a particle's, which the face tests keep.
@@ -230,7 +252,7 @@ bool edge_contact(Particles& p, uint32_t s, uint32_t r, uint32_t q0, uint32_t q1
     if (!(a_scaled > 0.0f && a_scaled < denominator && b_scaled > 0.0f && b_scaled < denominator * ee)) return false;
     const float a = a_scaled / denominator, b = (bb * a + ff) / ee;
     if (!(a > 0.0f && a < 1.0f && b > 0.0f && b < 1.0f)) return false;
-    const float thickness = args.thickness_m, capture = kSelfCaptureThicknesses * thickness;
+    const float thickness = contact_thickness(st, args, s, r, q0, q1), capture = kSelfCaptureThicknesses * thickness;
     const P3 gap = (p0 + a * d1) - (e0 + b * d2);
     const float gap2 = dot(gap, gap);
     if (!(gap2 < capture * capture)) return false;
@@ -249,7 +271,8 @@ bool edge_contact(Particles& p, uint32_t s, uint32_t r, uint32_t q0, uint32_t q1
         n = (1.0f / distance) * gap;
     }
     const float ws = p.inverse_mass[s], wr = p.inverse_mass[r], w0 = p.inverse_mass[q0], w1 = p.inverse_mass[q1];
-    const float weight = ws * (1.0f - a) * (1.0f - a) + wr * a * a + w0 * (1.0f - b) * (1.0f - b) + w1 * b * b;
+    const float weight = bounded_weight(ws * (1.0f - a), wr * a, w0 * (1.0f - b), w1 * b,
+                                        ws * (1.0f - a) * (1.0f - a) + wr * a * a + w0 * (1.0f - b) * (1.0f - b) + w1 * b * b);
     if (!(weight > 0.0f)) return false;
     const P3 push = ((thickness - distance) / weight) * n;
     move(p, s, (ws * (1.0f - a)) * push);
@@ -298,6 +321,16 @@ void build_self_collision_edges(const ClothAsset& asset, SelfCollisionState& st)
             if (i == 0 || list[i] != list[i - 1]) st.edge_other[packed++] = list[i];
     }
     first[slots] = packed;
+    for (uint32_t s = 0; s < slots; ++s) {
+        float shortest = std::numeric_limits<float>::infinity();
+        for (uint32_t k = first[s]; k < first[s + 1]; ++k) {
+            const uint32_t r = st.edge_other[k];
+            const float dx = asset.start_x[r] - asset.start_x[s], dy = asset.start_y[r] - asset.start_y[s],
+                        dz = asset.start_z[r] - asset.start_z[s];
+            shortest = std::fmin(shortest, std::sqrt(dx * dx + dy * dy + dz * dz));
+        }
+        st.shortest_edge_m[s] = shortest;  // +inf for a slot on no triangle
+    }
 }
 
 uint32_t self_collision_table_size(uint32_t slot_count) {
@@ -356,13 +389,13 @@ void collide_self(Particles& p, const ClothAsset& asset, SelfCollisionState& st,
         bool normal_found = false;
         const float flat = kSelfFlatThicknesses * args.thickness_m, capture = kSelfCaptureThicknesses * args.thickness_m;
         const auto visit = [&](uint32_t s) {
-            counts.contacts += uint64_t(contact(p, s, corner, args));
             if (!normal_found) {
                 const P3 n = cross(b - a, c - a);
                 const float n2 = dot(n, n);
                 normal = n2 > 0.0f ? (1.0f / std::sqrt(n2)) * n : P3{0.0f, 0.0f, 0.0f};
                 normal_found = true;
             }
+            counts.contacts += uint64_t(contact(p, s, corner, args, st));
             // Edges that cannot reach the triangle's edges, by their ends' heights over its plane:
             // both on one side beyond the capture depth (the triangle's edges lie in the plane), or
             // both within `flat` of it (the sheet round the triangle, where nothing is folded).
@@ -381,7 +414,8 @@ void collide_self(Particles& p, const ClothAsset& asset, SelfCollisionState& st,
                 const Segment edge = segment(xs, xr);
                 for (uint32_t e = 0; e < 3; ++e)
                     if (closest_points_inside(edge, sides[e]))
-                        counts.contacts += uint64_t(edge_contact(p, s, r, corner[e], corner[(e + 1) % 3], args));
+                        counts.contacts += uint64_t(
+                            edge_contact(p, s, r, corner[e], corner[(e + 1) % 3], args, st));
             }
         };
         for (int32_t iy = c0[1]; iy <= c1[1]; ++iy)

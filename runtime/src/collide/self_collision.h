@@ -48,6 +48,10 @@ inline constexpr uint32_t kSelfEntryBlock = 8;
 inline constexpr float kSelfFlatThicknesses = 0.5f;
 // A contact deeper than this many thicknesses on the wrong side is left alone (an old crossing).
 inline constexpr float kSelfCaptureThicknesses = 2.0f;
+// A contact's thickness (and capture depth) is at most this many times the shortest start-pose
+// edge at any of its particles (self_collision.cpp, contact_thickness): a mesh finer than the
+// thickness.
+inline constexpr float kSelfThicknessPerEdge = 0.5f;
 
 // A cloth's self-collision arrays (in the world's block) and its hash's shape.
 struct SelfCollisionState {
@@ -61,6 +65,7 @@ struct SelfCollisionState {
     // edge_other[edge_first[s] .. edge_first[s + 1]), each once.
     uint32_t* edge_first = nullptr;  // [slot_count + 1]
     uint32_t* edge_other = nullptr;  // [6 * triangle_count]: room for every triangle's corners' two edges
+    float* shortest_edge_m = nullptr;  // [slot_count]: each slot's shortest edge in the start pose (contact_thickness)
     uint32_t table_size = 0;  // a power of two >= 16
     float cell_m = 0.0f;      // the cells' edge, chosen at add_cloth from the asset's triangles
 };
@@ -73,8 +78,8 @@ uint32_t self_collision_table_size(uint32_t slot_count);
 // reach (thickness and capture), so a triangle's widened box usually spans two cells per axis.
 float self_collision_cell_m(const ClothAsset& asset, float thickness_m);
 
-// Fills state.edge_first and edge_other from the asset's triangles (add_cloth; slot_bucket is
-// its scratch).
+// Fills state.edge_first, edge_other and shortest_edge_m from the asset's triangles (add_cloth;
+// slot_bucket is its scratch).
 void build_self_collision_edges(const ClothAsset& asset, SelfCollisionState& state);
 
 struct SelfCollisionArgs {
