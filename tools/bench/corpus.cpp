@@ -58,8 +58,9 @@ void run_moving(const std::vector<std::byte>& asset_bytes, const CorpusOptions& 
     std::filesystem::create_directories(dir);
     std::ofstream(dir + "/garment.weft", std::ios::binary)
         .write(reinterpret_cast<const char*>(asset_bytes.data()), std::streamsize(asset_bytes.size()));
-    const scenes::Scene scene = scenes::garment_on_blending_body(
+    scenes::Scene scene = scenes::garment_on_blending_body(
         "garment.weft", std::filesystem::absolute(o.body).string(), std::filesystem::absolute(o.blend_to).string(), o.moving_s);
+    scene.cloths[0].desc.self_collision = o.self_collision;
     scenes::SceneWorld sw;
     const std::string e = scenes::build_scene(scene, &sw, {dir});
     std::filesystem::remove_all(dir);
@@ -68,7 +69,7 @@ void run_moving(const std::vector<std::byte>& asset_bytes, const CorpusOptions& 
         return;
     }
     const uint32_t moving = uint32_t(std::lround(o.moving_s / scene.dt_s)), resting = uint32_t(std::lround(kMovingRest_s / scene.dt_s));
-    double deepest = 0.0, speed = 0.0;
+    double deepest = 0.0, speed = 0.0, worst_spring = 0.0;
     uint32_t deepest_frame = 0, first_too_deep_frame = 0;
     Vec3 deepest_at{};
     bool finite = true;
@@ -85,6 +86,7 @@ void run_moving(const std::vector<std::byte>& asset_bytes, const CorpusOptions& 
             deepest = d, deepest_frame = f, deepest_at = at;
         if (first_too_deep_frame == 0 && deepest > kMovingMaxPenetration_m) first_too_deep_frame = f;
         speed = metrics::mean_speed(view);
+        worst_spring = std::max(worst_spring, metrics::stretch_strain(view).max);
     }
     j["moving_finite"] = finite;
     j["moving_max_penetration_m"] = deepest;
@@ -92,6 +94,8 @@ void run_moving(const std::vector<std::byte>& asset_bytes, const CorpusOptions& 
     j["moving_first_too_deep_frame"] = first_too_deep_frame;  // 0: none below the bound
     j["moving_deepest_at_m"] = {deepest_at.x, deepest_at.y, deepest_at.z};
     j["moving_final_speed_m_s"] = speed;
+    j["moving_max_strain"] = worst_spring;  // the worst spring over the run (start_max_strain: at its start)
+    j["moving_self_collision"] = o.self_collision;
     j["moving_ok"] = finite && deepest <= kMovingMaxPenetration_m && speed < kMovingRestSpeed_m_s;
 }
 
@@ -168,7 +172,7 @@ double percentile(std::vector<double> v, double q) {
 
 json summarise(const std::vector<json>& lines, bool sewn) {
     uint32_t flat_ok = 0, sewn_ok = 0, stayed_on = 0, lower = 0, lower_stayed = 0, moving = 0, moving_ok = 0;
-    std::vector<double> flat_cf, flat_pad, cf, pad, sew_s, mean_strain, max_strain;
+    std::vector<double> flat_cf, flat_pad, cf, pad, sew_s, mean_strain, max_strain, moving_strain;
     for (const json& j : lines) {
         if (j.value("flat_ok", false)) {
             ++flat_ok;
@@ -181,6 +185,7 @@ json summarise(const std::vector<json>& lines, bool sewn) {
         cf.push_back(j["contiguous_fraction"]), pad.push_back(j["padding_ratio"]), sew_s.push_back(j["sew_s"]);
         if (!j.value("stayed_on", false)) continue;
         if (j.contains("moving_ok") || j.contains("moving_error")) ++moving, moving_ok += j.value("moving_ok", false);
+        if (j.contains("moving_max_strain")) moving_strain.push_back(j["moving_max_strain"]);
         ++stayed_on, lower_stayed += is_lower;
         mean_strain.push_back(j["start_mean_strain"]), max_strain.push_back(j["start_max_strain"]);
     }
@@ -202,6 +207,10 @@ json summarise(const std::vector<json>& lines, bool sewn) {
     s["median_padding_ratio"] = median(pad);
     s["median_sew_s"] = median(sew_s);
     if (moving > 0) s["moving"] = moving, s["moving_ok"] = moving_ok;
+    if (!moving_strain.empty()) {
+        s["moving_median_max_strain"] = median(moving_strain);
+        s["moving_worst_max_strain"] = *std::max_element(moving_strain.begin(), moving_strain.end());
+    }
     return s;
 }
 

@@ -1,6 +1,7 @@
 // weft-bench corpus: a folder of sewing patterns baked flat and sewn, one garment per child process
 // (a crash or a hang fails that garment, never the batch), --jobs at a time.
-//   weft-bench corpus DIR [--body BODY [--blend-to POSE]] [--jobs N] [--json] [--filter A,B] [--timeout S]
+//   weft-bench corpus DIR [--body BODY [--blend-to POSE [--self-collision]]] [--jobs N] [--json] [--filter A,B]
+//                     [--timeout S]
 #pragma once
 
 #include <cstdint>
@@ -15,6 +16,7 @@ struct CorpusOptions {
     // that blends the body to it over moving_s and holds it (issue 21, point 4).
     std::string blend_to;
     float moving_s = 4.0f;
+    bool self_collision = false;  // the moving run with ClothDesc::self_collision on
     uint32_t jobs = 0;         // 0: one per core
     uint32_t sweeps = 8;       // the sewing and drape budget (weft-bake --sweeps)
     double timeout_s = 600.0;  // a garment still baking after this fails with "timed out"

@@ -627,6 +627,7 @@ int main(int argc, char** argv) {
     corpus->add_option("--body", corpus_o.body, "sew onto this body (OBJ, glTF or 'mannequin'); none: flat bakes only");
     corpus->add_option("--blend-to", corpus_o.blend_to, "with --body: run each garment that stays on while the body blends to this pose (same faces)");
     corpus->add_option("--moving-s", corpus_o.moving_s, "seconds the blend takes")->check(CLI::Range(0.1f, 60.0f))->capture_default_str();
+    corpus->add_flag("--self-collision", corpus_o.self_collision, "with --blend-to: the moving run with self-collision on");
     corpus->add_option("--jobs", corpus_o.jobs, "garments baked at once (0: one per core)")->capture_default_str();
     corpus->add_option("--sweeps", corpus_o.sweeps, "the sewing and drape budget (weft-bake --sweeps)")
         ->check(CLI::Range(1u, 1000u))->capture_default_str();

@@ -84,7 +84,7 @@ void sort_into_buckets(const Particles& p, SelfCollisionState& st) {
 struct Box {
     P3 lo, hi;
 };
-bool inside(const Box& b, P3 q) {
+[[maybe_unused]] bool inside(const Box& b, P3 q) {
     return q.x >= b.lo.x && q.x <= b.hi.x && q.y >= b.lo.y && q.y <= b.hi.y && q.z >= b.lo.z && q.z <= b.hi.z;
 }
 
@@ -147,8 +147,10 @@ P3 friction_slip(P3 relative, P3 n, float limit, float weight) {
 // the contact's depth. Without it a closest point near an edge's pinned end (g of the movable end
 // near 0) moved that end by depth / g: a garment whose attached waistband met a fold blew up.
 // Where it applies the contact is resolved over the sweeps instead of at once.
+float larger(float a, float b) { return a > b ? a : b; }  // inline, unlike std::fmax (no NaN here)
+float smaller(float a, float b) { return a < b ? a : b; }
 float bounded_weight(float wg0, float wg1, float wg2, float wg3, float squared) {
-    return std::fmax(squared, std::fmax(std::fmax(wg0, wg1), std::fmax(wg2, wg3)));
+    return larger(squared, larger(larger(wg0, wg1), larger(wg2, wg3)));
 }
 
 // A contact's thickness: the cloth's, but no more than kSelfThicknessPerEdge times the shortest
@@ -159,7 +161,7 @@ float bounded_weight(float wg0, float wg1, float wg2, float wg3, float squared) 
 float contact_thickness(const SelfCollisionState& st, const SelfCollisionArgs& args, uint32_t i, uint32_t j,
                         uint32_t k, uint32_t l) {
     const float* e = st.shortest_edge_m;
-    return std::fmin(args.thickness_m, kSelfThicknessPerEdge * std::fmin(std::fmin(e[i], e[j]), std::fmin(e[k], e[l])));
+    return smaller(args.thickness_m, kSelfThicknessPerEdge * smaller(smaller(e[i], e[j]), smaller(e[k], e[l])));
 }
 
 // 3. Particle s against triangle (a, b, c): the push out to the thickness and friction. Returns
@@ -188,6 +190,7 @@ bool contact(Particles& p, uint32_t s, const uint32_t corner[3], const SelfColli
     const P3 px = previous(p, s);
     const float side = dot(px - pa, cross(pb - pa, pc - pa)) < 0.0f ? -1.0f : 1.0f;
     const float distance = side * dot(ax, n);
+    if (!(distance < args.thickness_m)) return false;  // beyond any contact's thickness
     const float thickness = contact_thickness(st, args, s, corner[0], corner[1], corner[2]);
     if (!(distance < thickness) || distance < -kSelfCaptureThicknesses * thickness) return false;
     const float wx = p.inverse_mass[s], wa = p.inverse_mass[corner[0]], wb = p.inverse_mass[corner[1]],
@@ -226,7 +229,7 @@ Segment segment(P3 from, P3 to) {
 
 // Whether the closest points of the lines through two segments lie inside both (Ericson 5.1.9),
 // checked without a division: the screen before edge_contact, on positions read once a triangle.
-bool closest_points_inside(const Segment& u, const Segment& v) {
+[[maybe_unused]] bool closest_points_inside(const Segment& u, const Segment& v) {
     const P3 r0 = u.start - v.start;
     const float bb = dot(u.direction, v.direction), cc = dot(u.direction, r0), ff = dot(v.direction, r0);
     const float denominator = u.length2 * v.length2 - bb * bb;
@@ -252,9 +255,10 @@ bool edge_contact(Particles& p, uint32_t s, uint32_t r, uint32_t q0, uint32_t q1
     if (!(a_scaled > 0.0f && a_scaled < denominator && b_scaled > 0.0f && b_scaled < denominator * ee)) return false;
     const float a = a_scaled / denominator, b = (bb * a + ff) / ee;
     if (!(a > 0.0f && a < 1.0f && b > 0.0f && b < 1.0f)) return false;
-    const float thickness = contact_thickness(st, args, s, r, q0, q1), capture = kSelfCaptureThicknesses * thickness;
     const P3 gap = (p0 + a * d1) - (e0 + b * d2);
-    const float gap2 = dot(gap, gap);
+    const float gap2 = dot(gap, gap), widest = kSelfCaptureThicknesses * args.thickness_m;
+    if (!(gap2 < widest * widest)) return false;  // beyond any contact's capture depth
+    const float thickness = contact_thickness(st, args, s, r, q0, q1), capture = kSelfCaptureThicknesses * thickness;
     if (!(gap2 < capture * capture)) return false;
     // Which side edge (s, r) stood on at the substep's start, seen from the other edge.
     const P3 pp0 = previous(p, s), pp1 = previous(p, r), pe0 = previous(p, q0), pe1 = previous(p, q1);
@@ -291,6 +295,109 @@ bool edge_contact(Particles& p, uint32_t s, uint32_t r, uint32_t q0, uint32_t q1
         move(p, q1, (-w1 * b) * slip);
     }
     return true;
+}
+
+// What a visit's edge screens read: the triangle (its first corner, unit normal, widened box and
+// sides, all as read when the triangle's walk began) and the visited particle.
+struct EdgeScreen {
+    P3 a, normal;
+    Box box;
+    const Segment* sides;  // [3], corner k to k + 1
+    const uint32_t* corner;
+    P3 xs;
+    float hs;          // xs's height over the triangle's plane
+    float capture, flat;
+    uint32_t s;
+};
+
+// 4a. The screens of edges (s, r) for r = others[0 .. count), count <= kSelfEntryBlock: bit k of
+// inside[e] is set when edge k passes them and its closest points to side e lie inside both
+// segments (closest_points_inside), the ones edge_contact then tests. Screened: r a corner of the
+// triangle; r < s, movable and in the box (the edge is visited from r); both ends beyond the capture
+// depth on one side of the plane, or both within `flat` of it. All of an edge list is screened from
+// the positions before any of its contacts: those move s, r and the triangle's corners, none of
+// which a later edge of the list reads (xs and the sides were read before, as always). Eight lanes
+// at a time with AVX2, the same IEEE operations lane by lane as the scalar loop: the same bits.
+void screen_edges(const Particles& p, const EdgeScreen& q, const uint32_t* others, uint32_t count,
+                  uint32_t inside[3]) {
+#if WEFT_HAVE_AVX2
+    alignas(32) uint32_t index[kSelfEntryBlock];
+    for (uint32_t k = 0; k < kSelfEntryBlock; ++k) index[k] = k < count ? others[k] : q.s;  // a readable slot
+    const __m256i r = _mm256_load_si256(reinterpret_cast<const __m256i*>(index));
+    // Eight scalar loads a coordinate: faster than vgatherdps here (a handful of edges, latency-bound).
+    const auto gather = [&index](const float* base) {
+        return _mm256_setr_ps(base[index[0]], base[index[1]], base[index[2]], base[index[3]], base[index[4]],
+                              base[index[5]], base[index[6]], base[index[7]]);
+    };
+    const __m256 xr = gather(p.x), yr = gather(p.y), zr = gather(p.z), wr = gather(p.inverse_mass);
+    const auto set = [](float v) { return _mm256_set1_ps(v); };
+    const auto add = [](__m256 u, __m256 v) { return _mm256_add_ps(u, v); };
+    const auto sub = [](__m256 u, __m256 v) { return _mm256_sub_ps(u, v); };
+    const auto mul = [](__m256 u, __m256 v) { return _mm256_mul_ps(u, v); };
+    const auto cmp_gt = [](__m256 u, __m256 v) { return _mm256_cmp_ps(u, v, _CMP_GT_OQ); };
+    const auto cmp_lt = [](__m256 u, __m256 v) { return _mm256_cmp_ps(u, v, _CMP_LT_OQ); };
+    const auto both = [](__m256 u, __m256 v) { return _mm256_and_ps(u, v); };
+    const auto either = [](__m256 u, __m256 v) { return _mm256_or_ps(u, v); };
+    // r a corner, or r < s, movable and in the box: not this visit's edge.
+    const __m256i corner_hit = _mm256_or_si256(
+        _mm256_cmpeq_epi32(r, _mm256_set1_epi32(int32_t(q.corner[0]))),
+        _mm256_or_si256(_mm256_cmpeq_epi32(r, _mm256_set1_epi32(int32_t(q.corner[1]))),
+                        _mm256_cmpeq_epi32(r, _mm256_set1_epi32(int32_t(q.corner[2])))));
+    // r < s as unsigned: flip the sign bits for the signed comparison.
+    const __m256i flip = _mm256_set1_epi32(int32_t(0x80000000u));
+    const __m256i lower = _mm256_cmpgt_epi32(_mm256_xor_si256(_mm256_set1_epi32(int32_t(q.s)), flip), _mm256_xor_si256(r, flip));
+    __m256 in_box = both(_mm256_cmp_ps(xr, set(q.box.lo.x), _CMP_GE_OQ), _mm256_cmp_ps(xr, set(q.box.hi.x), _CMP_LE_OQ));
+    in_box = both(in_box, both(_mm256_cmp_ps(yr, set(q.box.lo.y), _CMP_GE_OQ), _mm256_cmp_ps(yr, set(q.box.hi.y), _CMP_LE_OQ)));
+    in_box = both(in_box, both(_mm256_cmp_ps(zr, set(q.box.lo.z), _CMP_GE_OQ), _mm256_cmp_ps(zr, set(q.box.hi.z), _CMP_LE_OQ)));
+    const __m256 from_r = both(_mm256_castsi256_ps(lower), both(cmp_gt(wr, set(0.0f)), in_box));
+    __m256 keep = _mm256_andnot_ps(either(_mm256_castsi256_ps(corner_hit), from_r),
+                                   _mm256_castsi256_ps(_mm256_cmpgt_epi32(_mm256_set1_epi32(int32_t(count)),
+                                                                          _mm256_setr_epi32(0, 1, 2, 3, 4, 5, 6, 7))));
+    // Heights over the plane: dot(xr - a, normal), summed as dot() does.
+    const __m256 dx = sub(xr, set(q.a.x)), dy = sub(yr, set(q.a.y)), dz = sub(zr, set(q.a.z));
+    const __m256 hr = add(add(mul(dx, set(q.normal.x)), mul(dy, set(q.normal.y))), mul(dz, set(q.normal.z)));
+    const __m256 cap = set(q.capture), hs = set(q.hs);
+    const __m256 above = both(cmp_gt(hs, cap), cmp_gt(hr, cap));
+    const __m256 below = both(cmp_lt(hs, set(-q.capture)), cmp_lt(hr, set(-q.capture)));
+    const __m256 sign = set(-0.0f);
+    const __m256 flat = both(cmp_lt(_mm256_andnot_ps(sign, hs), set(q.flat)), cmp_lt(_mm256_andnot_ps(sign, hr), set(q.flat)));
+    keep = _mm256_andnot_ps(either(either(above, below), flat), keep);
+    if (_mm256_movemask_ps(keep) == 0) {
+        inside[0] = inside[1] = inside[2] = 0;
+        return;
+    }
+    // closest_points_inside(segment(xs, xr), side e).
+    const __m256 ux = sub(xr, set(q.xs.x)), uy = sub(yr, set(q.xs.y)), uz = sub(zr, set(q.xs.z));
+    const __m256 ul2 = add(add(mul(ux, ux), mul(uy, uy)), mul(uz, uz));
+    for (uint32_t e = 0; e < 3; ++e) {
+        const Segment& v = q.sides[e];
+        const P3 r0 = q.xs - v.start;
+        const __m256 bb = add(add(mul(ux, set(v.direction.x)), mul(uy, set(v.direction.y))), mul(uz, set(v.direction.z)));
+        const __m256 cc = add(add(mul(ux, set(r0.x)), mul(uy, set(r0.y))), mul(uz, set(r0.z)));
+        const __m256 ff = set(dot(v.direction, r0)), vl2 = set(v.length2);
+        const __m256 denominator = sub(mul(ul2, vl2), mul(bb, bb));
+        const __m256 a_scaled = sub(mul(bb, ff), mul(cc, vl2));
+        const __m256 b_scaled = add(mul(bb, a_scaled), mul(ff, denominator));
+        __m256 ok = both(keep, cmp_gt(denominator, mul(mul(set(1e-6f), ul2), vl2)));
+        ok = both(ok, both(cmp_gt(a_scaled, set(0.0f)), cmp_lt(a_scaled, denominator)));
+        ok = both(ok, both(cmp_gt(b_scaled, set(0.0f)), cmp_lt(b_scaled, mul(denominator, vl2))));
+        inside[e] = uint32_t(_mm256_movemask_ps(ok));
+    }
+#else
+    inside[0] = inside[1] = inside[2] = 0;
+    for (uint32_t k = 0; k < count; ++k) {
+        const uint32_t r = others[k];
+        if (r == q.corner[0] || r == q.corner[1] || r == q.corner[2]) continue;
+        const P3 xr = position(p, r);
+        if (r < q.s && p.inverse_mass[r] > 0.0f && weft::inside(q.box, xr)) continue;
+        const float hr = dot(xr - q.a, q.normal);
+        if ((q.hs > q.capture && hr > q.capture) || (q.hs < -q.capture && hr < -q.capture) ||
+            (std::fabs(q.hs) < q.flat && std::fabs(hr) < q.flat))
+            continue;
+        const Segment edge = segment(q.xs, xr);
+        for (uint32_t e = 0; e < 3; ++e) inside[e] |= uint32_t(closest_points_inside(edge, q.sides[e])) << k;
+    }
+#endif
 }
 
 }  // namespace
@@ -396,26 +503,18 @@ void collide_self(Particles& p, const ClothAsset& asset, SelfCollisionState& st,
                 normal_found = true;
             }
             counts.contacts += uint64_t(contact(p, s, corner, args, st));
-            // Edges that cannot reach the triangle's edges, by their ends' heights over its plane:
-            // both on one side beyond the capture depth (the triangle's edges lie in the plane), or
-            // both within `flat` of it (the sheet round the triangle, where nothing is folded).
+            // 4. Its edges against the triangle's, those the screens leave (screen_edges).
             const P3 xs = position(p, s);
-            const float hs = dot(xs - a, normal);
-            // Edge (s, r) once: from its lower end when both ends are in the box (in the hash).
-            for (uint32_t k = st.edge_first[s]; k < st.edge_first[s + 1]; ++k) {
-                const uint32_t r = st.edge_other[k];
-                if (r == corner[0] || r == corner[1] || r == corner[2]) continue;
-                const P3 xr = position(p, r);
-                if (r < s && p.inverse_mass[r] > 0.0f && inside(box, xr)) continue;
-                const float hr = dot(xr - a, normal);
-                if ((hs > capture && hr > capture) || (hs < -capture && hr < -capture) ||
-                    (std::fabs(hs) < flat && std::fabs(hr) < flat))
-                    continue;
-                const Segment edge = segment(xs, xr);
-                for (uint32_t e = 0; e < 3; ++e)
-                    if (closest_points_inside(edge, sides[e]))
-                        counts.contacts += uint64_t(
-                            edge_contact(p, s, r, corner[e], corner[(e + 1) % 3], args, st));
+            const EdgeScreen screen{a, normal, box, sides, corner, xs, dot(xs - a, normal), capture, flat, s};
+            for (uint32_t first = st.edge_first[s], end = st.edge_first[s + 1]; first < end; first += kSelfEntryBlock) {
+                const uint32_t count = end - first < kSelfEntryBlock ? end - first : kSelfEntryBlock;
+                uint32_t inside[3];
+                screen_edges(p, screen, st.edge_other + first, count, inside);
+                for (uint32_t k = 0; k < count; ++k)
+                    for (uint32_t e = 0; e < 3; ++e)
+                        if ((inside[e] >> k) & 1u)
+                            counts.contacts += uint64_t(edge_contact(p, s, st.edge_other[first + k], corner[e],
+                                                                     corner[(e + 1) % 3], args, st));
             }
         };
         for (int32_t iy = c0[1]; iy <= c1[1]; ++iy)

@@ -21,6 +21,7 @@
 //      with the same friction.
 //      An edge whose ends are both beyond the capture depth on one side of the triangle's plane, or
 //      both within kSelfFlatThicknesses of it (one flat layer), cannot reach its edges: not tested.
+//      A particle's edges go through these screens eight at a time (screen_edges).
 // Only a triangle's own corners are excluded: the default thickness (4 mm) is a fifth of a baked
 // garment's edge, so a neighbour comes that close to a triangle's face only where the cloth lies
 // folded on itself, which is self-contact.
