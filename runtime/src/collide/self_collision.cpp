@@ -329,7 +329,7 @@ void screen_edges(const Particles& p, const EdgeScreen& q, const uint32_t* other
         return _mm256_setr_ps(base[index[0]], base[index[1]], base[index[2]], base[index[3]], base[index[4]],
                               base[index[5]], base[index[6]], base[index[7]]);
     };
-    const __m256 xr = gather(p.x), yr = gather(p.y), zr = gather(p.z), wr = gather(p.inverse_mass);
+    const __m256 xr = gather(p.x), yr = gather(p.y), zr = gather(p.z);
     const auto set = [](float v) { return _mm256_set1_ps(v); };
     const auto add = [](__m256 u, __m256 v) { return _mm256_add_ps(u, v); };
     const auto sub = [](__m256 u, __m256 v) { return _mm256_sub_ps(u, v); };
@@ -338,6 +338,20 @@ void screen_edges(const Particles& p, const EdgeScreen& q, const uint32_t* other
     const auto cmp_lt = [](__m256 u, __m256 v) { return _mm256_cmp_ps(u, v, _CMP_LT_OQ); };
     const auto both = [](__m256 u, __m256 v) { return _mm256_and_ps(u, v); };
     const auto either = [](__m256 u, __m256 v) { return _mm256_or_ps(u, v); };
+    inside[0] = inside[1] = inside[2] = 0;
+    // Heights over the plane first (dot(xr - a, normal), summed as dot() does): in a flat or
+    // unfolded neighbourhood they leave no lane, and nothing more is read.
+    const __m256 dx = sub(xr, set(q.a.x)), dy = sub(yr, set(q.a.y)), dz = sub(zr, set(q.a.z));
+    const __m256 hr = add(add(mul(dx, set(q.normal.x)), mul(dy, set(q.normal.y))), mul(dz, set(q.normal.z)));
+    const __m256 cap = set(q.capture), hs = set(q.hs);
+    const __m256 above = both(cmp_gt(hs, cap), cmp_gt(hr, cap));
+    const __m256 below = both(cmp_lt(hs, set(-q.capture)), cmp_lt(hr, set(-q.capture)));
+    const __m256 sign = set(-0.0f);
+    const __m256 flat = both(cmp_lt(_mm256_andnot_ps(sign, hs), set(q.flat)), cmp_lt(_mm256_andnot_ps(sign, hr), set(q.flat)));
+    const __m256 lane_used = _mm256_castsi256_ps(
+        _mm256_cmpgt_epi32(_mm256_set1_epi32(int32_t(count)), _mm256_setr_epi32(0, 1, 2, 3, 4, 5, 6, 7)));
+    __m256 keep = _mm256_andnot_ps(either(either(above, below), flat), lane_used);
+    if (_mm256_movemask_ps(keep) == 0) return;
     // r a corner, or r < s, movable and in the box: not this visit's edge.
     const __m256i corner_hit = _mm256_or_si256(
         _mm256_cmpeq_epi32(r, _mm256_set1_epi32(int32_t(q.corner[0]))),
@@ -349,23 +363,9 @@ void screen_edges(const Particles& p, const EdgeScreen& q, const uint32_t* other
     __m256 in_box = both(_mm256_cmp_ps(xr, set(q.box.lo.x), _CMP_GE_OQ), _mm256_cmp_ps(xr, set(q.box.hi.x), _CMP_LE_OQ));
     in_box = both(in_box, both(_mm256_cmp_ps(yr, set(q.box.lo.y), _CMP_GE_OQ), _mm256_cmp_ps(yr, set(q.box.hi.y), _CMP_LE_OQ)));
     in_box = both(in_box, both(_mm256_cmp_ps(zr, set(q.box.lo.z), _CMP_GE_OQ), _mm256_cmp_ps(zr, set(q.box.hi.z), _CMP_LE_OQ)));
-    const __m256 from_r = both(_mm256_castsi256_ps(lower), both(cmp_gt(wr, set(0.0f)), in_box));
-    __m256 keep = _mm256_andnot_ps(either(_mm256_castsi256_ps(corner_hit), from_r),
-                                   _mm256_castsi256_ps(_mm256_cmpgt_epi32(_mm256_set1_epi32(int32_t(count)),
-                                                                          _mm256_setr_epi32(0, 1, 2, 3, 4, 5, 6, 7))));
-    // Heights over the plane: dot(xr - a, normal), summed as dot() does.
-    const __m256 dx = sub(xr, set(q.a.x)), dy = sub(yr, set(q.a.y)), dz = sub(zr, set(q.a.z));
-    const __m256 hr = add(add(mul(dx, set(q.normal.x)), mul(dy, set(q.normal.y))), mul(dz, set(q.normal.z)));
-    const __m256 cap = set(q.capture), hs = set(q.hs);
-    const __m256 above = both(cmp_gt(hs, cap), cmp_gt(hr, cap));
-    const __m256 below = both(cmp_lt(hs, set(-q.capture)), cmp_lt(hr, set(-q.capture)));
-    const __m256 sign = set(-0.0f);
-    const __m256 flat = both(cmp_lt(_mm256_andnot_ps(sign, hs), set(q.flat)), cmp_lt(_mm256_andnot_ps(sign, hr), set(q.flat)));
-    keep = _mm256_andnot_ps(either(either(above, below), flat), keep);
-    if (_mm256_movemask_ps(keep) == 0) {
-        inside[0] = inside[1] = inside[2] = 0;
-        return;
-    }
+    const __m256 from_r = both(_mm256_castsi256_ps(lower), both(cmp_gt(gather(p.inverse_mass), set(0.0f)), in_box));
+    keep = _mm256_andnot_ps(either(_mm256_castsi256_ps(corner_hit), from_r), keep);
+    if (_mm256_movemask_ps(keep) == 0) return;
     // closest_points_inside(segment(xs, xr), side e).
     const __m256 ux = sub(xr, set(q.xs.x)), uy = sub(yr, set(q.xs.y)), uz = sub(zr, set(q.xs.z));
     const __m256 ul2 = add(add(mul(ux, ux), mul(uy, uy)), mul(uz, uz));
