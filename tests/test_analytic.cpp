@@ -111,11 +111,7 @@ CatenaryRun hang_strip(uint32_t sweeps) {
         }
     }
     std::vector<uint32_t> triangles;
-    for (uint32_t i = 0; i + 1 < along; ++i)
-        for (uint32_t j = 0; j + 1 < across; ++j) {
-            const uint32_t a = i * across + j, b = a + 1, c = a + across, d = c + 1;
-            triangles.insert(triangles.end(), {a, c, b, b, c, d});
-        }
+    test::grid_triangles(along, across, 0, &triangles);
     ClothMeshDesc mesh;
     mesh.particle_count = uint32_t(start.size());
     mesh.positions = start.data();

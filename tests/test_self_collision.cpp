@@ -46,11 +46,7 @@ struct TwoSheets {
                 const bool border = i == 0 || j == 0 || i == n - 1 || j == n - 1;
                 masses.push_back(pin_border && border ? 0.0f : mass);
             }
-        for (uint32_t i = 0; i + 1 < n; ++i)
-            for (uint32_t j = 0; j + 1 < n; ++j) {
-                const uint32_t a = first + i * n + j, b = a + 1, c = a + n, d = c + 1;
-                triangles.insert(triangles.end(), {a, c, b, b, c, d});
-            }
+        test::grid_triangles(n, n, first, &triangles);
     }
 };
 
@@ -196,11 +192,7 @@ void reshaped_sheet(uint32_t n, float edge, MassOf&& mass_of, const std::vector<
             flat.push_back({edge * float(j), 0.0f, edge * float(i)});
             out->masses.push_back(mass_of(i, j));
         }
-    for (uint32_t i = 0; i + 1 < n; ++i)
-        for (uint32_t j = 0; j + 1 < n; ++j) {
-            const uint32_t a = i * n + j, b = a + 1, c = a + n, d = c + 1;
-            triangles.insert(triangles.end(), {a, c, b, b, c, d});
-        }
+    test::grid_triangles(n, n, 0, &triangles);
     ClothMeshDesc mesh;
     mesh.particle_count = uint32_t(flat.size());
     mesh.positions = flat.data();

@@ -164,6 +164,16 @@ inline WorldDesc world_for(const std::vector<const ClothAsset*>& assets, uint32_
 }
 
 // Cooks a mesh; fails the test if it cannot.
+// The triangles of a rows x cols grid of particles numbered row by row from `first`, two a quad
+// (a, c, b), (b, c, d) with a the quad's first corner, c the one below it.
+inline void grid_triangles(uint32_t rows, uint32_t cols, uint32_t first, std::vector<uint32_t>* triangles) {
+    for (uint32_t i = 0; i + 1 < rows; ++i)
+        for (uint32_t j = 0; j + 1 < cols; ++j) {
+            const uint32_t a = first + i * cols + j, b = a + 1, c = a + cols, d = c + 1;
+            triangles->insert(triangles->end(), {a, c, b, b, c, d});
+        }
+}
+
 inline CookedCloth cook(const ClothMeshDesc& mesh, const CookOptions& options = {}) {
     CookedCloth cooked;
     const Result r = cook_cloth(mesh, options, &cooked);
