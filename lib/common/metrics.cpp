@@ -136,6 +136,19 @@ uint64_t self_crossings(const ClothView& c) {
     return self_crossings(a.triangles, a.triangle_count, by_slot);
 }
 
+uint64_t layer_crossings(const ClothView& a, const ClothView& b) {
+    // Both meshes as one (b's slots after a's): no triangle shares a particle with the other
+    // cloth's edges, so the crossings between them are the union's less each cloth's own.
+    const ClothAsset &aa = *a.asset, &ab = *b.asset;
+    std::vector<Vec3> x(size_t(aa.slot_count) + ab.slot_count);
+    for (uint32_t s = 0; s < aa.slot_count; ++s) x[s] = {a.x[s], a.y[s], a.z[s]};
+    for (uint32_t s = 0; s < ab.slot_count; ++s) x[aa.slot_count + s] = {b.x[s], b.y[s], b.z[s]};
+    std::vector<uint32_t> triangles(aa.triangles, aa.triangles + 3 * size_t(aa.triangle_count));
+    for (uint32_t k = 0; k < 3 * ab.triangle_count; ++k) triangles.push_back(aa.slot_count + ab.triangles[k]);
+    const uint64_t both = self_crossings(triangles.data(), uint32_t(triangles.size() / 3), x);
+    return both - self_crossings(a) - self_crossings(b);
+}
+
 Strain stretch_strain(const ClothView& c) {
     return strain_of(*c.asset, [&](uint32_t s) { return Vec3{c.x[s], c.y[s], c.z[s]}; });
 }

@@ -59,6 +59,9 @@ double max_body_penetration_m(const World* world, BodyId body, const ClothAsset&
 uint64_t self_crossings(const uint32_t* triangles, uint32_t triangle_count, const std::vector<Vec3>& positions);
 // The same over a cloth's current positions.
 uint64_t self_crossings(const ClothView& cloth);
+// Edge-triangle crossings between two cloths (issue 25's measure of layers swapping): the edges of
+// each through the triangles of the other, at their current positions.
+uint64_t layer_crossings(const ClothView& a, const ClothView& b);
 
 // --- errors against a reference run (docs/accuracy.md) ------------------------------------------
 

@@ -279,6 +279,16 @@ std::string build_scene(const Scene& scene, SceneWorld* out, const std::vector<s
         ClothDesc reserved = spec.desc;
         reserved.asset = cloth.asset;
         reserve_cloth(wd, reserved);
+        // Layers: the cloths it is worn over come before it.
+        const ClothAsset* largest_inner = nullptr;
+        for (const std::string& name : spec.worn_over) {
+            size_t j = 0;
+            while (j < i && scene.cloths[j].name != name) ++j;
+            if (j == i) return "cloth '" + spec.name + "': worn over '" + name + "', which is not a cloth listed before it";
+            if (largest_inner == nullptr || out->cloths[j].asset->slot_count > largest_inner->slot_count)
+                largest_inner = out->cloths[j].asset;
+        }
+        if (largest_inner != nullptr) reserve_layer(wd, *cloth.asset, *largest_inner);
     }
     if (scene.body) {
         out->body = std::make_unique<SceneBody>();
@@ -341,6 +351,10 @@ std::string build_scene(const Scene& scene, SceneWorld* out, const std::vector<s
                 for (uint32_t k = 0; k < kConstraintKindCount; ++k) cd.compliance_m_per_n[k] = f.compliance_m_per_n[k];
             if (!spec.damping_given) cd.damping_per_s = f.damping_per_s;
         }
+        cd.worn_over_count = uint32_t(spec.worn_over.size());
+        for (uint32_t k = 0; k < cd.worn_over_count; ++k)
+            for (size_t j = 0; j < i; ++j)
+                if (scene.cloths[j].name == spec.worn_over[k]) cd.worn_over[k] = out->cloths[j].id;
         out->cloths[i].desc = cd;
         if (Result r = add_cloth(out->world, cd, &out->cloths[i].id); !r.ok())
             return "cloth '" + scene.cloths[i].name + "': " + r.message;

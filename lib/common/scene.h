@@ -59,6 +59,8 @@ struct ClothSpec {
     bool compliance_given = false, damping_given = false;
     CookOptions cook;                // grid only
     ClothDesc desc;                  // solver settings; desc.asset is filled by build_scene
+    // The cloths it is worn over, by name: cloths listed before it (desc.worn_over is filled by build_scene).
+    std::vector<std::string> worn_over;
 };
 
 // A body collider (weft/body.h) and how it moves: the project's mannequin or a mesh file, still,

@@ -141,7 +141,8 @@ void parse_solver(const json& j, const std::string& where, ClothDesc* d) {
 ClothSpec parse_cloth(const json& j, const std::string& where) {
     object(j, where, {"name", "grid", "asset", "translation_m", "solver", "compliance_m_per_n", "damping_per_s",
                       "drag_coefficient", "lift_coefficient", "tethers_per_particle", "coarse_spacing_m",
-                      "self_collision", "self_thickness_m", "self_friction"});
+                      "self_collision", "self_thickness_m", "self_friction", "worn_over", "layer_thickness_m",
+                      "layer_friction"});
     ClothSpec c;
     c.name = j.contains("name") ? text(j["name"], where + ".name") : where;
     if (j.contains("grid") == j.contains("asset")) fail(where, "needs exactly one of 'grid' and 'asset'");
@@ -169,6 +170,14 @@ ClothSpec parse_cloth(const json& j, const std::string& where) {
     read_bool(j, "self_collision", where, &c.desc.self_collision);
     read(j, "self_thickness_m", where, kMinSelfThickness_m, kMaxSelfThickness_m, &c.desc.self_thickness_m);
     read(j, "self_friction", where, 0.0, 10.0, &c.desc.self_friction);
+    if (j.contains("worn_over")) {
+        const json& w = j["worn_over"];
+        if (!w.is_array() || w.size() > kMaxWornOver)
+            fail(where + ".worn_over", "must be a list of at most " + std::to_string(kMaxWornOver) + " cloth names");
+        for (size_t k = 0; k < w.size(); ++k) c.worn_over.push_back(text(w[k], where + ".worn_over[" + std::to_string(k) + "]"));
+    }
+    read(j, "layer_thickness_m", where, kMinSelfThickness_m, kMaxSelfThickness_m, &c.desc.layer_thickness_m);
+    read(j, "layer_friction", where, 0.0, 10.0, &c.desc.layer_friction);
     return c;
 }
 

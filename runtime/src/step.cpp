@@ -8,8 +8,8 @@
 //      every constraint batch, c) the tethers once (measured: tethers after every sweep cost 2x the
 //      pass for a smaller max strain, docs/solver.md), d) a cloth's skin constraints (max distance,
 //      backstop; weft/attachments.h)
-//   4. collision test and response: the cloth against itself (with ClothDesc::self_collision), the
-//      inflated colliders, then the bodies' offset hulls
+//   4. collision test and response: the cloth against itself (with ClothDesc::self_collision), against
+//      the cloths it is worn over (ClothDesc::worn_over), the inflated colliders, then the bodies' offset hulls
 //      (section 4.2; a body the game moved is refitted once at the start of the step; a
 //      skin_constraints body skips both for the cloths its skin constraints bind)
 //   5. after the last substep, the render output (the normals feature): vertex normals (and
@@ -27,8 +27,9 @@
 //
 // The step runs in stages of independent work items (weft/world.h, StepStage): the bodies (each
 // moved body's refit), then the cloths (all of the above for one cloth, which writes only its own
-// particles and counters and reads the bodies and colliders); end_step then adds the counters up
-// in a fixed order. So any split of the items over threads gives the same bits.
+// particles and counters and reads the bodies and colliders), then the cloths worn over those, layer
+// by layer (they also read the stepped cloths they are worn over); end_step then adds the counters
+// up in a fixed order. So any split of the items over threads gives the same bits.
 #include <algorithm>
 #include <chrono>
 #include <cmath>
@@ -192,6 +193,21 @@ void collide_with_itself(World& world, ClothInstance& cloth) {
     PassTimer timer(world, cloth, Pass::self_collision);
     collide_self(cloth.particles, *cloth.asset, cloth.self_collision,
                  {cloth.settings.self_thickness_m, cloth.settings.self_friction}, cloth.counts.self);
+}
+
+// 4. The cloth against the cloths it is worn over (ClothDesc::worn_over; collide/layers.h). They
+// stepped in an earlier stage: each is read where it was at this substep's end.
+void collide_with_layers(World& world, ClothInstance& cloth, uint32_t substep, uint32_t substeps, float h) {
+    if (cloth.worn_over_count == 0) return;
+    PassTimer timer(world, cloth, Pass::layers);
+    const LayerArgs args{cloth.settings.layer_thickness_m, cloth.settings.layer_friction, h};
+    for (uint32_t k = 0; k < cloth.worn_over_count; ++k) {
+        const ClothInstance& inner = world.cloths[cloth.worn_over[k]];
+        // An inner cloth asleep did not move this step.
+        const InnerLayer layer{&inner.particles, inner.asset, float(substeps - 1 - substep) * h,
+                               inner.counts.skipped ? 0.0f : inner.previous_substep_s};
+        collide_layer(cloth.particles, *cloth.asset, cloth.layers, layer, args, cloth.counts.layers);
+    }
 }
 
 // After the step's last collision pass: which coarse nodes hold the cloth (in contact with a
@@ -421,6 +437,8 @@ void step_cloth(World& world, ClothInstance& cloth, float dt) {
         project_skin_constraints(world, cloth, substep,
                                  cloth.split.substeps);        // 3d. max distance and backstop
         collide_with_itself(world, cloth);                     // 4. collision response: itself,
+        collide_with_layers(world, cloth, substep,
+                            cloth.split.substeps, h);          //    the cloths it is worn over,
         collide(world, cloth, substep,
                 cloth.split.substeps);                         //    colliders,
         collide_bodies(world, cloth, substep, cloth.split.substeps);  // then bodies
@@ -444,12 +462,15 @@ uint64_t count_projections(const World& world, BatchLayout layout) {
     return lanes;
 }
 
+// The layer a cloth stage steps (StepStage: cloths, second_layer, third_layer).
+uint32_t cloth_layer(StepStage stage) { return uint32_t(stage) - uint32_t(StepStage::cloths); }
+
 // The stages' work items: run_step_items and the scheduler's tasks.
 void run_items(World& world, StepStage stage, uint32_t begin, uint32_t end) {
     for (uint32_t i = begin; i < end; ++i) {
         if (stage == StepStage::bodies) {
             if (world.bodies[i].slot.live) move_body(world, i);
-        } else if (world.cloths[i].slot.live) {
+        } else if (world.cloths[i].slot.live && world.cloths[i].layer == cloth_layer(stage)) {
             step_cloth(world, world.cloths[i], world.step_dt_s);
         }
     }
@@ -482,7 +503,8 @@ void run_stage(World& world, StepStage stage) {
 Result check_step_range(const World* world, StepStage stage, uint32_t begin, uint32_t end) {
     if (world == nullptr) return make_error(ErrorCode::invalid_argument, "world is null");
     if (!world->step_open) return make_error(ErrorCode::invalid_argument, "no step is open: call begin_step first");
-    if (stage != StepStage::bodies && stage != StepStage::cloths)
+    if (stage != StepStage::bodies && stage != StepStage::cloths && stage != StepStage::second_layer &&
+        stage != StepStage::third_layer)
         return make_error(ErrorCode::invalid_argument, "unknown step stage %u", unsigned(stage));
     const uint32_t items = step_stage_items(world, stage);
     if (begin > end || end > items)
@@ -522,7 +544,16 @@ uint32_t step_stage_items(const World* world, StepStage stage) {
     if (world == nullptr) return 0;
     // A free slot's item does nothing: the items keep their places, so the split over threads and
     // the order of the sums stay the same whatever came and went.
-    return stage == StepStage::bodies ? world->body_slots : stage == StepStage::cloths ? world->cloth_slots : 0;
+    switch (stage) {
+        case StepStage::bodies: return world->body_slots;
+        case StepStage::cloths: return world->cloth_slots;
+        case StepStage::second_layer:
+        case StepStage::third_layer:  // only while a cloth is in that layer: a scene pays for what it uses
+            for (uint32_t i = 0; i < world->cloth_slots; ++i)
+                if (world->cloths[i].slot.live && world->cloths[i].layer == cloth_layer(stage)) return world->cloth_slots;
+            return 0;
+    }
+    return 0;
 }
 
 Result run_step_items(World* world, StepStage stage, uint32_t begin, uint32_t end) {
@@ -537,6 +568,7 @@ Result end_step(World* world) {
     WorldStats& stats = world->stats;
     stats.colliders_skipped = stats.body_contacts = stats.body_rays = stats.body_queried = 0;
     stats.self_contacts = stats.self_skipped_triangles = 0;
+    stats.layer_contacts = stats.layer_skipped_triangles = 0;
     stats.sleeping_cloths = stats.unhealthy_cloths = stats.recovered_cloths = 0;
     stats.body_refits = stats.body_embree_refits = 0;
     for (uint32_t i = 0; i < world->body_slots; ++i) {  // in body order, then cloth order
@@ -555,6 +587,8 @@ Result end_step(World* world) {
         stats.body_queried += c.body.queried;
         stats.self_contacts += c.self.contacts;
         stats.self_skipped_triangles += c.self.skipped_triangles;
+        stats.layer_contacts += c.layers.contacts;
+        stats.layer_skipped_triangles += c.layers.skipped_triangles;
         stats.sleeping_cloths += uint64_t(world->cloths[i].slot.live && world->cloths[i].sleeping);
         const HealthState& health = world->cloths[i].health;
         const bool stepped = world->cloths[i].slot.live && !c.skipped;
@@ -573,7 +607,9 @@ Result end_step(World* world) {
 Result step(World* world, float dt_s) {
     if (Result r = begin_step(world, dt_s); !r.ok()) return r;
     run_stage(*world, StepStage::bodies);  // 0. the game's new body poses
-    run_stage(*world, StepStage::cloths);  // 1-5 for every cloth
+    run_stage(*world, StepStage::cloths);  // 1-7 for every cloth worn over nothing
+    run_stage(*world, StepStage::second_layer);  // then for those worn over them,
+    run_stage(*world, StepStage::third_layer);   // and over those
     return end_step(world);
 }
 

@@ -55,6 +55,7 @@ const char* pass_name(Pass pass) {
         case Pass::render_mesh: return "render_mesh";
         case Pass::health: return "health";
         case Pass::self_collision: return "self_collision";
+        case Pass::layers: return "layers";
         case Pass::count: break;
     }
     return "unknown";
@@ -79,21 +80,37 @@ struct ClothArrayCounts {
     size_t last_good = 0;       // the last good copy's slots (RecoveryPolicy::last_good_state)
     size_t self_slots = 0;      // self-collision's per-slot arrays (ClothDesc::self_collision)
     size_t self_buckets = 0;    // its hash's bucket starts (table size + 1)
-    size_t self_entries = 0;    // its hash's entries (slots + kSelfEntryBlock)
+    size_t self_entries = 0;    // its hash's entries (slots + kHashEntryBlock)
     size_t self_edge_first = 0; // its edges by particle: the offsets (slots + 1)
     size_t self_edge_other = 0; // and the neighbours (6 per triangle)
+    size_t layer_own_slots = 0;       // a layered cloth's hash of its own particles (ClothDesc::worn_over)
+    size_t layer_own_buckets = 0;
+    size_t layer_own_entries = 0;
+    size_t layer_inner_slots = 0;     // its hash of the largest inner cloth's particles, and their positions
+    size_t layer_inner_buckets = 0;
+    size_t layer_inner_entries = 0;
 };
 
 // The entries of a cloth's per-triangle arrays in the normals pass's walk: the runs' lanes, then
 // one per triangle done one at a time (as ClothAsset::wind_rest_area).
 uint32_t triangle_lanes(const ClothAsset& a) { return a.wind_lane_count + a.triangle_count - a.wind_run_triangles; }
 
-ClothArrayCounts cloth_array_counts(const WorldDesc& desc, const ClothAsset& asset, const ClothDesc& cloth) {
+// `inner_slots`: the slots of the largest cloth it is worn over (0: none).
+ClothArrayCounts cloth_array_counts(const WorldDesc& desc, const ClothAsset& asset, const ClothDesc& cloth,
+                                    uint32_t inner_slots) {
     ClothArrayCounts n;
+    if (inner_slots > 0) {
+        n.layer_own_slots = asset.slot_count;
+        n.layer_own_buckets = size_t(particle_hash_table_size(asset.slot_count)) + 1;
+        n.layer_own_entries = size_t(asset.slot_count) + kHashEntryBlock;
+        n.layer_inner_slots = inner_slots;
+        n.layer_inner_buckets = size_t(particle_hash_table_size(inner_slots)) + 1;
+        n.layer_inner_entries = size_t(inner_slots) + kHashEntryBlock;
+    }
     n.last_good = cloth.recovery == RecoveryPolicy::last_good_state ? asset.slot_count : 0;
     n.self_slots = cloth.self_collision ? asset.slot_count : 0;
-    n.self_buckets = cloth.self_collision ? size_t(self_collision_table_size(asset.slot_count)) + 1 : 0;
-    n.self_entries = cloth.self_collision ? size_t(asset.slot_count) + kSelfEntryBlock : 0;
+    n.self_buckets = cloth.self_collision ? size_t(particle_hash_table_size(asset.slot_count)) + 1 : 0;
+    n.self_entries = cloth.self_collision ? size_t(asset.slot_count) + kHashEntryBlock : 0;
     n.self_edge_first = cloth.self_collision ? size_t(asset.slot_count) + 1 : 0;
     n.self_edge_other = cloth.self_collision ? 6 * size_t(asset.triangle_count) : 0;
     n.slots = asset.slot_count;
@@ -127,10 +144,15 @@ ClothArrayCounts capacity_array_counts(const WorldDesc& desc) {
                          ? 2 * size_t(desc.max_self_collision_particles) + 17 * size_t(desc.max_cloths)
                          : 0;
     n.self_entries = desc.max_self_collision_particles > 0
-                         ? size_t(desc.max_self_collision_particles) + kSelfEntryBlock * size_t(desc.max_cloths)
+                         ? size_t(desc.max_self_collision_particles) + kHashEntryBlock * size_t(desc.max_cloths)
                          : 0;
     n.self_edge_first = desc.max_self_collision_particles > 0 ? size_t(desc.max_self_collision_particles) + desc.max_cloths : 0;
     n.self_edge_other = 6 * size_t(desc.max_self_collision_triangles);
+    // Each layered cloth's own and inner slots are both within its share of max_layer_particles.
+    const size_t layered = desc.max_layer_particles;
+    n.layer_own_slots = n.layer_inner_slots = layered;
+    n.layer_own_buckets = n.layer_inner_buckets = layered > 0 ? 2 * layered + 17 * size_t(desc.max_cloths) : 0;
+    n.layer_own_entries = n.layer_inner_entries = layered > 0 ? layered + kHashEntryBlock * size_t(desc.max_cloths) : 0;
     return n;
 }
 
@@ -168,14 +190,25 @@ void visit_cloth_arrays(const WorldDesc& desc, const ClothArrayCounts& n, ClothI
         for (float** a : {&g.x, &g.y, &g.z, &g.previous_x, &g.previous_y, &g.previous_z}) visit(*a, n.last_good);
     }
     if (n.self_slots > 0) {
-        SelfCollisionState& h = cloth.self_collision;
-        visit(h.cell_start, n.self_buckets);
-        visit(h.slot_bucket, n.self_slots);
-        visit(h.shortest_edge_m, n.self_slots);
-        visit(h.edge_first, n.self_edge_first);
-        visit(h.edge_other, n.self_edge_other);
-        visit(h.entry_slot, n.self_entries);
-        for (float** a : {&h.entry_x, &h.entry_y, &h.entry_z}) visit(*a, n.self_entries);
+        SelfCollisionState& s = cloth.self_collision;
+        visit(s.hash.cell_start, n.self_buckets);
+        visit(s.hash.slot_bucket, n.self_slots);
+        visit(s.shortest_edge_m, n.self_slots);
+        visit(s.edge_first, n.self_edge_first);
+        visit(s.edge_other, n.self_edge_other);
+        visit(s.hash.entry_slot, n.self_entries);
+        for (float** a : {&s.hash.entry_x, &s.hash.entry_y, &s.hash.entry_z}) visit(*a, n.self_entries);
+    }
+    if (n.layer_own_slots > 0) {
+        LayerState& l = cloth.layers;
+        for (ParticleHash* h : {&l.own, &l.inner}) {
+            const bool own = h == &l.own;
+            visit(h->cell_start, own ? n.layer_own_buckets : n.layer_inner_buckets);
+            visit(h->slot_bucket, own ? n.layer_own_slots : n.layer_inner_slots);
+            visit(h->entry_slot, own ? n.layer_own_entries : n.layer_inner_entries);
+            for (float** a : {&h->entry_x, &h->entry_y, &h->entry_z}) visit(*a, own ? n.layer_own_entries : n.layer_inner_entries);
+        }
+        for (float** a : {&l.inner_x, &l.inner_y, &l.inner_z}) visit(*a, n.layer_inner_slots);
     }
 }
 
@@ -224,7 +257,8 @@ Result check_world_desc(const WorldDesc& desc) {
         desc.max_body_vertices > (1u << 26) || desc.max_body_triangles > (1u << 26) ||
         desc.max_skin_constraints > (1u << 28) || desc.max_triangle_lanes > (1u << 28) ||
         desc.max_render_vertices > (1u << 28) || desc.max_last_good_particles > (1u << 28) ||
-        desc.max_self_collision_particles > (1u << 28) || desc.max_self_collision_triangles > (1u << 28))
+        desc.max_self_collision_particles > (1u << 28) || desc.max_self_collision_triangles > (1u << 28) ||
+        desc.max_layer_particles > (1u << 28))
         return make_error(ErrorCode::out_of_range, "a capacity is absurdly large");
     if (!is_finite(desc.gravity_m_s2) || !std::isfinite(desc.air_density_kg_m3))
         return make_error(ErrorCode::non_finite, "gravity or air density is not finite");
@@ -308,6 +342,15 @@ Result check_cloth_settings(const ClothDesc& desc) {
                           double(kMinSelfThickness_m), double(kMaxSelfThickness_m));
     if (desc.self_friction < 0.0f || desc.self_friction > 10.0f)
         return make_error(ErrorCode::out_of_range, "self_friction %g outside 0..10", double(desc.self_friction));
+    if (!std::isfinite(desc.layer_thickness_m) || !std::isfinite(desc.layer_friction))
+        return make_error(ErrorCode::non_finite, "layer_thickness_m or layer_friction is not finite");
+    if (desc.layer_thickness_m < kMinSelfThickness_m || desc.layer_thickness_m > kMaxSelfThickness_m)
+        return make_error(ErrorCode::out_of_range, "layer_thickness_m %g outside %g..%g m", double(desc.layer_thickness_m),
+                          double(kMinSelfThickness_m), double(kMaxSelfThickness_m));
+    if (desc.layer_friction < 0.0f || desc.layer_friction > 10.0f)
+        return make_error(ErrorCode::out_of_range, "layer_friction %g outside 0..10", double(desc.layer_friction));
+    if (desc.worn_over_count > kMaxWornOver)
+        return make_error(ErrorCode::out_of_range, "worn over %u cloths, at most %u", desc.worn_over_count, kMaxWornOver);
     return {};
 }
 
@@ -538,14 +581,14 @@ Result find_collider(const World* world, ColliderId id) {
 
 // A cloth's arrays moved by `delta` bytes (compaction): its pointers follow.
 void rebase_cloth(const WorldDesc& desc, ClothInstance& cloth, ptrdiff_t delta) {
-    visit_cloth_arrays(desc, cloth_array_counts(desc, *cloth.asset, cloth.settings), cloth,
+    visit_cloth_arrays(desc, cloth_array_counts(desc, *cloth.asset, cloth.settings, cloth.layers.inner_capacity), cloth,
                        [&](auto*& array, size_t) { rebase(array, delta); });
 }
 
-size_t cloth_region_bytes(const WorldDesc& desc, const ClothAsset& asset, const ClothDesc& cloth) {
+size_t cloth_region_bytes(const WorldDesc& desc, const ClothAsset& asset, const ClothDesc& cloth, uint32_t inner_slots) {
     ArenaSizer sizer;
     ClothInstance shape;
-    visit_cloth_arrays(desc, cloth_array_counts(desc, asset, cloth), shape,
+    visit_cloth_arrays(desc, cloth_array_counts(desc, asset, cloth, inner_slots), shape,
                        [&](auto*& array, size_t count) { sizer.add(sizeof(*array) * count); });
     return sizer.bytes;
 }
@@ -613,6 +656,10 @@ void reserve_cloth(WorldDesc& desc, const ClothDesc& cloth) {
         desc.max_self_collision_particles += cloth.asset->slot_count;
         desc.max_self_collision_triangles += cloth.asset->triangle_count;
     }
+}
+
+void reserve_layer(WorldDesc& desc, const ClothAsset& outer, const ClothAsset& largest_inner) {
+    desc.max_layer_particles += outer.slot_count + largest_inner.slot_count;
 }
 
 MemoryRequirements world_memory_requirements(const WorldDesc& desc) {
@@ -709,6 +756,21 @@ Result add_cloth(World* world, const ClothDesc& desc, ClothId* out_cloth) {
         return make_error(ErrorCode::capacity_exceeded,
                           "cloth needs %u self-collision triangles (max_self_collision_triangles), %u left", self_triangles,
                           world->desc.max_self_collision_triangles - world->self_collision_triangles_used);
+    // Layered garments: the cloths it is worn over must be live (they step in an earlier stage).
+    uint32_t inner_slots = 0, layer = 0;
+    for (uint32_t k = 0; k < desc.worn_over_count; ++k) {
+        if (Result r = find_cloth(world, desc.worn_over[k]); !r.ok()) return r;
+        const ClothInstance& inner = world->cloths[desc.worn_over[k].index];
+        if (inner.layer + 1 >= kMaxClothLayers)
+            return make_error(ErrorCode::out_of_range, "worn over cloth %u, itself in layer %u of at most %u",
+                              desc.worn_over[k].index, inner.layer + 1, kMaxClothLayers);
+        inner_slots = std::max(inner_slots, inner.asset->slot_count);
+        layer = std::max(layer, inner.layer + 1);
+    }
+    const uint32_t layer_slots = inner_slots > 0 ? asset.slot_count + inner_slots : 0;
+    if (layer_slots > world->desc.max_layer_particles - world->layer_particles_used)
+        return make_error(ErrorCode::capacity_exceeded, "cloth needs %u layer slots (max_layer_particles), %u left",
+                          layer_slots, world->desc.max_layer_particles - world->layer_particles_used);
     if (world->desc.tangents && asset.uv == nullptr)
         return make_error(ErrorCode::invalid_argument, "the world has tangents but the asset has no texture coordinates");
     if (Result r = validate_asset_with_scratch(asset, world->validation_scratch, validation_scratch_count(world->desc));
@@ -718,13 +780,13 @@ Result add_cloth(World* world, const ClothDesc& desc, ClothId* out_cloth) {
     // Carve the cloth's arrays in a region of their own (the sizing above says they fit).
     Arena room;
     Region region;
-    if (Result r = reserve_instance_memory(*world, cloth_region_bytes(world->desc, asset, desc), &room, &region); !r.ok())
+    if (Result r = reserve_instance_memory(*world, cloth_region_bytes(world->desc, asset, desc, inner_slots), &room, &region); !r.ok())
         return r;
     ClothInstance& cloth = world->cloths[index];
     const uint32_t generation = cloth.slot.generation;
     cloth = ClothInstance();
     cloth.slot = {true, generation, region};
-    const ClothArrayCounts counts = cloth_array_counts(world->desc, asset, desc);
+    const ClothArrayCounts counts = cloth_array_counts(world->desc, asset, desc, inner_slots);
     visit_cloth_arrays(world->desc, counts, cloth, [&](auto*& array, size_t count) {
         array = room.allocate_array<std::remove_reference_t<decltype(*array)>>(count);
     });
@@ -742,9 +804,24 @@ Result add_cloth(World* world, const ClothDesc& desc, ClothId* out_cloth) {
         for (uint32_t i = 0; i < asset.coarse_slot_count + kCoarseNodePadding; ++i) node_array[i] = 0.0f;
     if (cloth.particles.tangent_x != nullptr) tangent_uv_gradients(asset, cloth.particles);
     if (desc.self_collision) {
-        cloth.self_collision.table_size = self_collision_table_size(asset.slot_count);
-        cloth.self_collision.cell_m = self_collision_cell_m(asset, desc.self_thickness_m);
+        cloth.self_collision.hash.table_size = particle_hash_table_size(asset.slot_count);
+        cloth.self_collision.hash.cell_m = self_collision_cell_m(asset, desc.self_thickness_m);
         build_self_collision_edges(asset, cloth.self_collision);
+    }
+    if (inner_slots > 0) {
+        LayerState& l = cloth.layers;
+        l.inner_capacity = inner_slots;
+        l.own.table_size = particle_hash_table_size(asset.slot_count);
+        l.inner.table_size = particle_hash_table_size(inner_slots);
+        // Its particles are walked by the inner cloths' triangles, theirs by its own.
+        l.inner.cell_m = layer_cell_m(asset, desc.layer_thickness_m);
+        for (uint32_t k = 0; k < desc.worn_over_count; ++k) {
+            cloth.worn_over[k] = desc.worn_over[k].index;
+            l.own.cell_m = std::max(l.own.cell_m, layer_cell_m(*world->cloths[desc.worn_over[k].index].asset,
+                                                               desc.layer_thickness_m));
+        }
+        cloth.worn_over_count = desc.worn_over_count;
+        cloth.layer = layer;
     }
     place_at_start(*world->kernels, cloth);
     cloth.health.start_extent_m = start_extent_m(asset);
@@ -752,6 +829,7 @@ Result add_cloth(World* world, const ClothDesc& desc, ClothId* out_cloth) {
     world->last_good_used += last_good;
     world->self_collision_used += self_slots;
     world->self_collision_triangles_used += self_triangles;
+    world->layer_particles_used += layer_slots;
     world->triangle_lanes_used += tangent_lanes;
     world->render_vertices_used += render_vertices;
     world->constraints_used += asset.lane_count;
@@ -764,15 +842,23 @@ Result add_cloth(World* world, const ClothDesc& desc, ClothId* out_cloth) {
 
 Result remove_cloth(World* world, ClothId id) {
     if (Result r = find_cloth(world, id); !r.ok()) return r;
+    for (uint32_t i = 0; i < world->cloth_slots; ++i) {
+        const ClothInstance& c = world->cloths[i];
+        for (uint32_t k = 0; c.slot.live && k < c.worn_over_count; ++k)
+            if (c.worn_over[k] == id.index)
+                return make_error(ErrorCode::invalid_argument, "cloth %u is worn over cloth %u: remove that one first",
+                                  id.index, i);
+    }
     ClothInstance& cloth = world->cloths[id.index];
     const ClothAsset& asset = *cloth.asset;
     world->particles_used -= asset.slot_count;
+    if (cloth.worn_over_count > 0) world->layer_particles_used -= asset.slot_count + cloth.layers.inner_capacity;
     world->constraints_used -= asset.lane_count;
     world->coarse_nodes_used -= asset.coarse_slot_count;
     if (world->desc.tangents) world->triangle_lanes_used -= triangle_lanes(asset);
     if (world->desc.render_meshes) world->render_vertices_used -= asset.render.vertex_count;
     if (cloth.last_good.x != nullptr) world->last_good_used -= asset.slot_count;
-    if (cloth.self_collision.cell_start != nullptr) {
+    if (cloth.self_collision.hash.cell_start != nullptr) {
         world->self_collision_used -= asset.slot_count;
         world->self_collision_triangles_used -= asset.triangle_count;
     }
@@ -885,6 +971,13 @@ Result set_cloth_settings(World* world, ClothId cloth, const ClothDesc& desc) {
     if (desc.self_collision != c.settings.self_collision)
         return make_error(ErrorCode::invalid_argument,
                           "self_collision is chosen at add_cloth (its hash's memory), not changed after");
+    bool same_layers = desc.worn_over_count == c.settings.worn_over_count;
+    for (uint32_t k = 0; same_layers && k < desc.worn_over_count; ++k)
+        same_layers = desc.worn_over[k].index == c.settings.worn_over[k].index &&
+                      desc.worn_over[k].generation == c.settings.worn_over[k].generation;
+    if (!same_layers)
+        return make_error(ErrorCode::invalid_argument,
+                          "worn_over is chosen at add_cloth (its stage and memory), not changed after");
     if (desc.contact_tethers && !c.settings.contact_tethers) clear_contact_anchors(c);  // none are current
     wake(c);
     c.settings = desc;

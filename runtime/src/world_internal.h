@@ -3,6 +3,7 @@
 
 #include "asset/validate.h"
 #include "collide/body.h"
+#include "collide/layers.h"
 #include "collide/self_collision.h"
 #include "error.h"
 #include "kernels.h"
@@ -21,6 +22,7 @@ struct ClothStepCounts {
     uint64_t colliders_skipped = 0;
     BodyPassCounts body;
     SelfCollisionCounts self;
+    LayerCounts layers;
     bool skipped = false;  // asleep: the step ran nothing
 };
 
@@ -87,6 +89,13 @@ struct alignas(64) ClothInstance {  // a cache line of its own: cloths step on d
     HealthState health;
     LastGoodState last_good;  // arrays only when added with RecoveryPolicy::last_good_state
     SelfCollisionState self_collision;  // arrays only when added with ClothDesc::self_collision
+    // Layered garments (ClothDesc::worn_over): the cloths it is worn over (indices, checked live at
+    // add_cloth; they cannot be removed before it), its layer (0: worn over nothing; its StepStage)
+    // and its arrays (only with worn_over).
+    uint32_t worn_over[kMaxWornOver] = {};
+    uint32_t worn_over_count = 0;
+    uint32_t layer = 0;
+    LayerState layers;
     float priority = 0.0f;  // the frame budget's (set_cloth_priority): higher keeps its sweeps longer
     // Character motion: the root the game gave (set_cloth_root), the root of the last step, and
     // whether a root was given yet.
@@ -153,6 +162,7 @@ struct World {
     uint32_t last_good_used = 0;        // slots of the cloths' last good copies
     uint32_t self_collision_used = 0;   // slots of the cloths with self-collision
     uint32_t self_collision_triangles_used = 0;  // and their triangles
+    uint32_t layer_particles_used = 0;  // the layered cloths' own and largest inner slots
 
     Vec3 gravity_m_s2{};
     Vec3 wind_m_s{};

@@ -16,7 +16,7 @@ namespace weft {
 // `normals`: the vertex normals the step ends with (WorldDesc::normals).
 // normals: the vertex normals (and tangents, WorldDesc::tangents); render_mesh: the render meshes.
 // health: the end of step health check and any recovery (cloth_health).
-enum class Pass : uint8_t { wind = 0, integrate, coarse, constraints, tethers, collide, body, normals, render_mesh, health, self_collision, count };
+enum class Pass : uint8_t { wind = 0, integrate, coarse, constraints, tethers, collide, body, normals, render_mesh, health, self_collision, layers, count };
 const char* pass_name(Pass pass);
 
 struct WorldStats {
@@ -41,6 +41,10 @@ struct WorldStats {
     // triangles skipped because they were stretched over more cells than the hash looks at.
     uint64_t self_contacts = 0;
     uint64_t self_skipped_triangles = 0;
+    // Layered garments (ClothDesc::worn_over), last step: particle-face pairs pushed apart between a
+    // cloth and those it is worn over (both ways), and triangles skipped as self-collision's are.
+    uint64_t layer_contacts = 0;
+    uint64_t layer_skipped_triangles = 0;
     // Nanoseconds (all steps, while profiling) of pass_ns[body] spent refitting moved
     // bodies (Weft's hierarchy, or Embree's BVH for the reference pass).
     uint64_t body_refit_ns = 0;

@@ -73,6 +73,9 @@ struct WorldDesc {
     uint32_t max_last_good_particles = 0;  // summed slots of cloths with RecoveryPolicy::last_good_state
     uint32_t max_self_collision_particles = 0;  // summed slots of cloths with ClothDesc::self_collision
     uint32_t max_self_collision_triangles = 0;  // and their summed triangles (reserve_cloth adds both)
+    // Summed over the cloths worn over others (ClothDesc::worn_over): their own slots plus the slots
+    // of the largest cloth each is worn over (reserve_layer adds them).
+    uint32_t max_layer_particles = 0;
 
     // Features: a pass that is not enabled is not in the step at all (and costs nothing).
     bool wind = false;
@@ -126,6 +129,23 @@ enum class BudgetPolicy : uint8_t {
 // one held by colliders.
 enum class CoarseLevel : uint8_t { automatic, off, on };
 
+// Ids name a place in the world's instance array and the generation of what holds it: removing an
+// instance bumps the generation, so its old id is refused (ErrorCode::stale_id) even after another
+// instance took the place.
+struct ColliderId {
+    uint32_t index = 0;
+    uint32_t generation = 0;
+};
+struct ClothId {
+    uint32_t index = 0;
+    uint32_t generation = 0;
+};
+
+// Layered garments: a cloth is worn over at most kMaxWornOver cloths, and a cloth worn over others is
+// at most in the kMaxClothLayers-th layer (next to the skin is the first).
+inline constexpr uint32_t kMaxWornOver = 4;
+inline constexpr uint32_t kMaxClothLayers = 3;
+
 // ClothDesc::self_thickness_m's accepted range, metres.
 inline constexpr float kMinSelfThickness_m = 0.0005f;
 inline constexpr float kMaxSelfThickness_m = 0.05f;
@@ -178,6 +198,17 @@ struct ClothDesc {
     // cells, and such triangles are skipped (WorldStats::self_skipped_triangles).
     float self_thickness_m = 0.004f;
     float self_friction = 0.2f;       // Coulomb coefficient between layers of the cloth
+
+    // Layered garments (docs/architecture.md, "Layered garments"): the cloths this one is worn over
+    // (a jacket over a tee, a skirt over leggings), added before it. Each substep its particles are
+    // kept layer_thickness_m in front of their faces (the side a baked garment's faces point to, away
+    // from the body) and theirs behind its own; the inner cloth wins: only this one moves. Its step
+    // runs in a later stage than theirs (StepStage). Chosen at add_cloth (its memory:
+    // WorldDesc::max_layer_particles); a cloth worn over cannot be removed before this one.
+    ClothId worn_over[kMaxWornOver] = {};
+    uint32_t worn_over_count = 0;
+    float layer_thickness_m = 0.003f;  // 0.5 mm..5 cm, as self_thickness_m
+    float layer_friction = 0.3f;       // Coulomb coefficient between the layers
 };
 
 // The frame budget never cuts a cloth below this many sweeps a step (nor below its own ClothDesc::sweeps).
@@ -193,18 +224,6 @@ inline constexpr float kEnergySpikeRatio = 10.0f;  // kinetic energy per kg beyo
 inline constexpr float kEnergyFloor_J_per_kg = 50.0f;  // the baseline is at least this (10 m/s)
 inline constexpr uint32_t kLastGoodRefreshSteps = 15;  // healthy steps in a row between copies
 
-// Ids name a place in the world's instance array and the generation of what holds it: removing an
-// instance bumps the generation, so its old id is refused (ErrorCode::stale_id) even after another
-// instance took the place.
-struct ColliderId {
-    uint32_t index = 0;
-    uint32_t generation = 0;
-};
-struct ClothId {
-    uint32_t index = 0;
-    uint32_t generation = 0;
-};
-
 // --- creation -------------------------------------------------------------------------------
 
 // Adds to `desc` the capacity one instance of `asset` needs (a cloth, its particle slots, constraint
@@ -212,6 +231,9 @@ struct ClothId {
 void reserve_cloth(WorldDesc& desc, const ClothAsset& asset, RecoveryPolicy recovery = RecoveryPolicy::none);
 // The same for the cloth `cloth` describes (its asset, its recovery policy and self-collision).
 void reserve_cloth(WorldDesc& desc, const ClothDesc& cloth);
+// Adds what a cloth of `outer` worn over cloths of which `largest_inner` has the most slots needs
+// for its layers (WorldDesc::max_layer_particles); reserve_cloth still adds the cloth itself.
+void reserve_layer(WorldDesc& desc, const ClothAsset& outer, const ClothAsset& largest_inner);
 
 MemoryRequirements world_memory_requirements(const WorldDesc& desc);
 
@@ -244,11 +266,15 @@ Result step(World* world, float dt_s);
 
 // The same step, stage by stage, for a game that runs the work items itself:
 //   begin_step(world, dt);
-//   for each stage in order (bodies, then cloths): run_step_items(world, stage, begin, end) over
-//       [0, step_stage_items(world, stage)), in any ranges, on any threads, all before the next stage;
+//   for each stage in order (bodies, cloths, second_layer, third_layer): run_step_items(world, stage,
+//       begin, end) over [0, step_stage_items(world, stage)), in any ranges, on any threads, all
+//       before the next stage;
 //   end_step(world);   // sums the counters; the step is done
 // Nothing else may be called on the world between begin_step and end_step.
-enum class StepStage : uint8_t { bodies, cloths };
+// The cloths stage steps every cloth worn over nothing; second_layer those worn over a cloth of the
+// cloths stage, third_layer those worn over one of the second (ClothDesc::worn_over). A layer stage
+// has no items while no cloth is in it.
+enum class StepStage : uint8_t { bodies, cloths, second_layer, third_layer };
 Result begin_step(World* world, float dt_s);
 uint32_t step_stage_items(const World* world, StepStage stage);
 Result run_step_items(World* world, StepStage stage, uint32_t begin, uint32_t end);

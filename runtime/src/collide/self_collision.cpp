@@ -1,146 +1,12 @@
 // Self-collision: the spatial hash, the triangles' walk and the point-face contact (self_collision.h).
 #include "collide/self_collision.h"
 
-#include "simd/float_w.h"  // WEFT_HAVE_AVX2 and its intrinsics
-
 #include <cmath>
 #include <utility>
 #include <limits>
 
 namespace weft {
 namespace {
-
-// Cell coordinates beyond this are not hashed (a position far from anything, or not finite):
-// float -> int conversion of them would be undefined.
-constexpr float kMaxCellCoordinate = 1.0e9f;
-
-struct P3 {
-    float x, y, z;
-};
-P3 operator-(P3 a, P3 b) { return {a.x - b.x, a.y - b.y, a.z - b.z}; }
-P3 operator+(P3 a, P3 b) { return {a.x + b.x, a.y + b.y, a.z + b.z}; }
-P3 operator*(float s, P3 a) { return {s * a.x, s * a.y, s * a.z}; }
-float dot(P3 a, P3 b) { return a.x * b.x + a.y * b.y + a.z * b.z; }
-P3 cross(P3 a, P3 b) { return {a.y * b.z - a.z * b.y, a.z * b.x - a.x * b.z, a.x * b.y - a.y * b.x}; }
-
-P3 position(const Particles& p, uint32_t s) { return {p.x[s], p.y[s], p.z[s]}; }
-P3 previous(const Particles& p, uint32_t s) { return {p.previous_x[s], p.previous_y[s], p.previous_z[s]}; }
-void move(Particles& p, uint32_t s, P3 d) {
-    p.x[s] += d.x;
-    p.y[s] += d.y;
-    p.z[s] += d.z;
-}
-
-// A cell coordinate, false when it is out of hashing range (or NaN).
-bool cell_of(float coordinate_m, float inverse_cell, int32_t* out) {
-    const float f = coordinate_m * inverse_cell;
-    if (!(f > -kMaxCellCoordinate && f < kMaxCellCoordinate)) return false;
-    const int32_t i = int32_t(f);  // towards zero; floor below
-    *out = i - int32_t(f < float(i));
-    return true;
-}
-
-// Cells next to each other along x take buckets next to each other, so a triangle's row of cells
-// along x is one range of entries. (y, z) are hashed (Teschner et al. 2003's primes).
-uint32_t bucket_of(int32_t ix, int32_t iy, int32_t iz, uint32_t mask) {
-    return (((uint32_t(iy) * 19349663u) ^ (uint32_t(iz) * 83492791u)) + uint32_t(ix)) & mask;
-}
-
-// 1. The movable particles into their buckets: a counting sort, stable in slot order.
-void sort_into_buckets(const Particles& p, SelfCollisionState& st) {
-    const uint32_t table = st.table_size, mask = table - 1;
-    const float inverse_cell = 1.0f / st.cell_m;
-    for (uint32_t b = 0; b <= table; ++b) st.cell_start[b] = 0;
-    for (uint32_t s = 0; s < p.slot_count; ++s) {
-        int32_t ix, iy, iz;
-        st.slot_bucket[s] = ~0u;
-        if (!(p.inverse_mass[s] > 0.0f)) continue;  // pinned or padding: never pushed
-        if (!cell_of(p.x[s], inverse_cell, &ix) || !cell_of(p.y[s], inverse_cell, &iy) ||
-            !cell_of(p.z[s], inverse_cell, &iz))
-            continue;
-        const uint32_t b = bucket_of(ix, iy, iz, mask);
-        st.slot_bucket[s] = b;
-        st.cell_start[b] += 1;
-    }
-    uint32_t end = 0;  // cell_start[b] = the end of bucket b, then each entry placed before it
-    for (uint32_t b = 0; b < table; ++b) st.cell_start[b] = end += st.cell_start[b];
-    st.cell_start[table] = end;
-    for (uint32_t s = p.slot_count; s-- > 0;) {
-        const uint32_t b = st.slot_bucket[s];
-        if (b == ~0u) continue;
-        const uint32_t e = --st.cell_start[b];
-        st.entry_slot[e] = s;
-        st.entry_x[e] = p.x[s];
-        st.entry_y[e] = p.y[s];
-        st.entry_z[e] = p.z[s];
-    }
-    // The blocks of kSelfEntryBlock entries read past the last one: those lanes are never in a box.
-    for (uint32_t e = end; e < end + kSelfEntryBlock; ++e) {
-        st.entry_slot[e] = ~0u;
-        st.entry_x[e] = st.entry_y[e] = st.entry_z[e] = std::numeric_limits<float>::quiet_NaN();
-    }
-}
-
-struct Box {
-    P3 lo, hi;
-};
-[[maybe_unused]] bool inside(const Box& b, P3 q) {
-    return q.x >= b.lo.x && q.x <= b.hi.x && q.y >= b.lo.y && q.y <= b.hi.y && q.z >= b.lo.z && q.z <= b.hi.z;
-}
-
-// Entries [begin, end) inside `box` and not a corner of its triangle, kSelfEntryBlock at a time
-// (one comparison mask per block, no branch per entry), each handed to `visit`.
-template <class Visit>
-void for_entries_in_box(const SelfCollisionState& st, uint32_t begin, uint32_t end, const Box& box,
-                        const uint32_t corner[3], Visit&& visit) {
-    for (uint32_t e = begin; e < end; e += kSelfEntryBlock) {
-#if WEFT_HAVE_AVX2  // the same mask as the loop below, in one register (a mask: the same bits either way)
-        const __m256 x = _mm256_loadu_ps(st.entry_x + e), y = _mm256_loadu_ps(st.entry_y + e),
-                     z = _mm256_loadu_ps(st.entry_z + e);
-        __m256 in = _mm256_and_ps(_mm256_cmp_ps(x, _mm256_set1_ps(box.lo.x), _CMP_GE_OQ),
-                                  _mm256_cmp_ps(x, _mm256_set1_ps(box.hi.x), _CMP_LE_OQ));
-        in = _mm256_and_ps(in, _mm256_and_ps(_mm256_cmp_ps(y, _mm256_set1_ps(box.lo.y), _CMP_GE_OQ),
-                                             _mm256_cmp_ps(y, _mm256_set1_ps(box.hi.y), _CMP_LE_OQ)));
-        in = _mm256_and_ps(in, _mm256_and_ps(_mm256_cmp_ps(z, _mm256_set1_ps(box.lo.z), _CMP_GE_OQ),
-                                             _mm256_cmp_ps(z, _mm256_set1_ps(box.hi.z), _CMP_LE_OQ)));
-        // The triangle's own corners are never its contacts: out of the mask too.
-        const __m256i slot = _mm256_loadu_si256(reinterpret_cast<const __m256i*>(st.entry_slot + e));
-        const __m256i own = _mm256_or_si256(
-            _mm256_cmpeq_epi32(slot, _mm256_set1_epi32(int32_t(corner[0]))),
-            _mm256_or_si256(_mm256_cmpeq_epi32(slot, _mm256_set1_epi32(int32_t(corner[1]))),
-                            _mm256_cmpeq_epi32(slot, _mm256_set1_epi32(int32_t(corner[2])))));
-        in = _mm256_andnot_ps(_mm256_castsi256_ps(own), in);
-        uint32_t inside = uint32_t(_mm256_movemask_ps(in));
-#else
-        uint32_t inside = 0;
-        for (uint32_t k = 0; k < kSelfEntryBlock; ++k) {
-            const float x = st.entry_x[e + k], y = st.entry_y[e + k], z = st.entry_z[e + k];
-            const uint32_t slot = st.entry_slot[e + k];
-            inside |= uint32_t((x >= box.lo.x) & (x <= box.hi.x) & (y >= box.lo.y) & (y <= box.hi.y) &
-                               (z >= box.lo.z) & (z <= box.hi.z) & (slot != corner[0]) & (slot != corner[1]) &
-                               (slot != corner[2]))
-                      << k;
-        }
-#endif
-        if (end - e < kSelfEntryBlock) inside &= (1u << (end - e)) - 1u;
-        while (inside != 0) {
-            const uint32_t k = uint32_t(__builtin_ctz(inside));
-            inside &= inside - 1u;
-            visit(st.entry_slot[e + k]);
-        }
-    }
-}
-
-// Coulomb friction on a contact of unit normal n (Macklin et al. 2014, sec. 6.1): the tangential part
-// of `relative` (the two sides' motion over the substep) is cancelled up to `limit` (friction times
-// the depth); returns the correction, divided by the contact's weight as the push is (zero: none).
-P3 friction_slip(P3 relative, P3 n, float limit, float weight) {
-    const P3 tangent = relative - dot(relative, n) * n;
-    const float tangent2 = dot(tangent, tangent);
-    if (!(tangent2 > 0.0f && limit > 0.0f)) return {0.0f, 0.0f, 0.0f};
-    const float keep = tangent2 <= limit * limit ? 0.0f : 1.0f - limit / std::sqrt(tangent2);
-    return ((keep - 1.0f) / weight) * tangent;  // cancels (1 - keep) of the tangent
-}
 
 float larger(float a, float b) { return a > b ? a : b; }  // inline, unlike std::fmax (no NaN here)
 float smaller(float a, float b) { return a < b ? a : b; }
@@ -169,21 +35,11 @@ float contact_thickness(const SelfCollisionState& st, const SelfCollisionArgs& a
 // whether they were in contact.
 bool contact(Particles& p, uint32_t s, const uint32_t corner[3], const SelfCollisionArgs& args,
              const SelfCollisionState& st) {
-    const P3 a = position(p, corner[0]), b = position(p, corner[1]), c = position(p, corner[2]);
-    const P3 x = position(p, s);
-    const P3 e1 = b - a, e2 = c - a, ax = x - a;
-    // The projection's barycentric weights (Ericson 3.4); a point beside the face is left to the
-    // triangle it lies over.
-    const float d00 = dot(e1, e1), d01 = dot(e1, e2), d11 = dot(e2, e2);
-    const float d20 = dot(ax, e1), d21 = dot(ax, e2);
-    const float denominator = d00 * d11 - d01 * d01;
-    if (!(denominator > 1e-20f)) return false;  // degenerate (or NaN)
-    const float v_scaled = d11 * d20 - d01 * d21, w_scaled = d00 * d21 - d01 * d20;  // times the denominator
-    if (!(v_scaled >= 0.0f && w_scaled >= 0.0f && v_scaled + w_scaled <= denominator)) return false;
-    const float v = v_scaled / denominator, w = w_scaled / denominator;
-    const float u = 1.0f - v - w;
-    const P3 n_raw = cross(e1, e2);
-    const P3 n = (1.0f / std::sqrt(dot(n_raw, n_raw))) * n_raw;  // |n_raw|^2 = denominator > 0
+    const P3 a = position(p, corner[0]), x = position(p, s);
+    FacePoint f;
+    if (!project_onto_face(a, position(p, corner[1]), position(p, corner[2]), x, &f)) return false;
+    const float u = f.u, v = f.v, w = f.w;
+    const P3 n = f.n, ax = x - a;
     // The side the particle belongs on: where it was at the substep's start (it may have crossed
     // the face since). Near the face the plane's side is the sheet's side, also for a particle that
     // stood over a neighbouring triangle then.
@@ -311,7 +167,7 @@ struct EdgeScreen {
     uint32_t s;
 };
 
-// 4a. The screens of edges (s, r) for r = others[0 .. count), count <= kSelfEntryBlock: bit k of
+// 4a. The screens of edges (s, r) for r = others[0 .. count), count <= kHashEntryBlock: bit k of
 // inside[e] is set when edge k passes them and its closest points to side e lie inside both
 // segments (closest_points_inside), the ones edge_contact then tests. Screened: r a corner of the
 // triangle; r < s, movable and in the box (the edge is visited from r); both ends beyond the capture
@@ -322,8 +178,8 @@ struct EdgeScreen {
 void screen_edges(const Particles& p, const EdgeScreen& q, const uint32_t* others, uint32_t count,
                   uint32_t inside[3]) {
 #if WEFT_HAVE_AVX2
-    alignas(32) uint32_t index[kSelfEntryBlock];
-    for (uint32_t k = 0; k < kSelfEntryBlock; ++k) index[k] = k < count ? others[k] : q.s;  // a readable slot
+    alignas(32) uint32_t index[kHashEntryBlock];
+    for (uint32_t k = 0; k < kHashEntryBlock; ++k) index[k] = k < count ? others[k] : q.s;  // a readable slot
     const __m256i r = _mm256_load_si256(reinterpret_cast<const __m256i*>(index));
     // Eight scalar loads a coordinate: faster than vgatherdps here (a handful of edges, latency-bound).
     const auto gather = [&index](const float* base) {
@@ -406,7 +262,7 @@ void screen_edges(const Particles& p, const EdgeScreen& q, const uint32_t* other
 void build_self_collision_edges(const ClothAsset& asset, SelfCollisionState& st) {
     const uint32_t slots = asset.slot_count;
     uint32_t* const first = st.edge_first;
-    uint32_t* const cursor = st.slot_bucket;  // scratch
+    uint32_t* const cursor = st.hash.slot_bucket;  // scratch
     for (uint32_t s = 0; s <= slots; ++s) first[s] = 0;
     for (uint32_t k = 0; k < 3 * asset.triangle_count; ++k) first[asset.triangles[k] + 1] += 2;
     for (uint32_t s = 0; s < slots; ++s) first[s + 1] += first[s];
@@ -441,56 +297,21 @@ void build_self_collision_edges(const ClothAsset& asset, SelfCollisionState& st)
     }
 }
 
-uint32_t self_collision_table_size(uint32_t slot_count) {
-    uint32_t size = 16;
-    while (size < slot_count) size *= 2;
-    return size;
-}
-
 float self_collision_cell_m(const ClothAsset& a, float thickness_m) {
-    double sum = 0.0;
-    uint32_t counted = 0;
-    for (uint32_t t = 0; t < a.triangle_count; ++t) {
-        float longest2 = 0.0f;
-        for (uint32_t k = 0; k < 3; ++k) {
-            const uint32_t i = a.triangles[3 * t + k], j = a.triangles[3 * t + (k + 1) % 3];
-            const float dx = a.start_x[j] - a.start_x[i], dy = a.start_y[j] - a.start_y[i],
-                        dz = a.start_z[j] - a.start_z[i];
-            longest2 = std::fmax(longest2, dx * dx + dy * dy + dz * dz);
-        }
-        if (!std::isfinite(longest2)) continue;
-        sum += std::sqrt(double(longest2));
-        counted += 1;
-    }
     const float reach = (1.0f + kSelfCaptureThicknesses) * thickness_m;
-    const float edge = counted > 0 ? float(sum / counted) : 0.0f;
+    const float edge = mean_longest_edge_m(a.start_x, a.start_y, a.start_z, a.triangles, a.triangle_count);
     return std::fmax(edge + 2.0f * reach, 1e-3f);
 }
 
 void collide_self(Particles& p, const ClothAsset& asset, SelfCollisionState& st, const SelfCollisionArgs& args,
                   SelfCollisionCounts& counts) {
-    sort_into_buckets(p, st);
-    const uint32_t mask = st.table_size - 1;
-    const float inverse_cell = 1.0f / st.cell_m;
+    sort_into_buckets(p.x, p.y, p.z, p.inverse_mass, p.slot_count, st.hash);
     const float reach = (1.0f + kSelfCaptureThicknesses) * args.thickness_m;
     for (uint32_t t = 0; t < asset.triangle_count; ++t) {
         const uint32_t corner[3] = {asset.triangles[3 * t], asset.triangles[3 * t + 1], asset.triangles[3 * t + 2]};
-        // 2. The triangle's box, widened by the reach, and the cells it meets.
+        // 2. The triangle's box, widened by the reach, and the particles in it.
         const P3 a = position(p, corner[0]), b = position(p, corner[1]), c = position(p, corner[2]);
-        const auto lower = [](float u, float v, float w) { return u < v ? (u < w ? u : w) : (v < w ? v : w); };
-        const auto upper = [](float u, float v, float w) { return u > v ? (u > w ? u : w) : (v > w ? v : w); };
-        const Box box{{lower(a.x, b.x, c.x) - reach, lower(a.y, b.y, c.y) - reach, lower(a.z, b.z, c.z) - reach},
-                      {upper(a.x, b.x, c.x) + reach, upper(a.y, b.y, c.y) + reach, upper(a.z, b.z, c.z) + reach}};
-        int32_t c0[3], c1[3];
-        if (!cell_of(box.lo.x, inverse_cell, &c0[0]) || !cell_of(box.lo.y, inverse_cell, &c0[1]) ||
-            !cell_of(box.lo.z, inverse_cell, &c0[2]) || !cell_of(box.hi.x, inverse_cell, &c1[0]) ||
-            !cell_of(box.hi.y, inverse_cell, &c1[1]) || !cell_of(box.hi.z, inverse_cell, &c1[2]))
-            continue;  // not finite: the health check's business
-        if (uint32_t(c1[0] - c0[0]) >= kMaxSelfCellsPerAxis || uint32_t(c1[1] - c0[1]) >= kMaxSelfCellsPerAxis ||
-            uint32_t(c1[2] - c0[2]) >= kMaxSelfCellsPerAxis) {
-            counts.skipped_triangles += 1;
-            continue;
-        }
+        const Box box = widened_box(a, b, c, reach);
         const Segment sides[3] = {segment(a, b), segment(b, c), segment(c, a)};  // corner k to k + 1
         // The triangle's unit normal, found for its first candidate (most triangles have none).
         P3 normal{0.0f, 0.0f, 0.0f};
@@ -507,8 +328,8 @@ void collide_self(Particles& p, const ClothAsset& asset, SelfCollisionState& st,
             // 4. Its edges against the triangle's, those the screens leave (screen_edges).
             const P3 xs = position(p, s);
             const EdgeScreen screen{a, normal, box, sides, corner, xs, dot(xs - a, normal), capture, flat, s};
-            for (uint32_t first = st.edge_first[s], end = st.edge_first[s + 1]; first < end; first += kSelfEntryBlock) {
-                const uint32_t count = end - first < kSelfEntryBlock ? end - first : kSelfEntryBlock;
+            for (uint32_t first = st.edge_first[s], end = st.edge_first[s + 1]; first < end; first += kHashEntryBlock) {
+                const uint32_t count = end - first < kHashEntryBlock ? end - first : kHashEntryBlock;
                 uint32_t inside[3];
                 screen_edges(p, screen, st.edge_other + first, count, inside);
                 for (uint32_t k = 0; k < count; ++k)
@@ -518,17 +339,9 @@ void collide_self(Particles& p, const ClothAsset& asset, SelfCollisionState& st,
                                                                      corner[(e + 1) % 3], args, st));
             }
         };
-        for (int32_t iy = c0[1]; iy <= c1[1]; ++iy)
-            for (int32_t iz = c0[2]; iz <= c1[2]; ++iz) {
-                // The row of cells c0[0]..c1[0] along x: consecutive buckets, maybe wrapping round.
-                const uint32_t first = bucket_of(c0[0], iy, iz, mask), last = bucket_of(c1[0], iy, iz, mask);
-                if (first <= last) {
-                    for_entries_in_box(st, st.cell_start[first], st.cell_start[last + 1], box, corner, visit);
-                } else {
-                    for_entries_in_box(st, st.cell_start[first], st.cell_start[mask + 1], box, corner, visit);
-                    for_entries_in_box(st, st.cell_start[0], st.cell_start[last + 1], box, corner, visit);
-                }
-            }
+        // A triangle stretched over more cells than kMaxHashCellsPerAxis is skipped and counted; one
+        // that is not finite is the health check's business.
+        if (for_particles_in_box(st.hash, box, corner, visit) == BoxWalk::too_large) counts.skipped_triangles += 1;
     }
 }
 

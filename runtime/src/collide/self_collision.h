@@ -27,7 +27,7 @@
 // folded on itself, which is self-contact.
 //
 // Fixed work: the sort is two passes over the slots; a triangle looks at no more than
-// kMaxSelfCellsPerAxis cells along each axis (a triangle stretched beyond that is skipped and
+// kMaxHashCellsPerAxis cells along each axis (a triangle stretched beyond that is skipped and
 // counted, the health check's business). Nothing allocates: the arrays are the cloth's, carved at
 // add_cloth. Triangles go in asset order and each contact is applied at once (Gauss-Seidel): the
 // same bits every run, on either SIMD path (this is one plain code path for both).
@@ -35,15 +35,12 @@
 
 #include <cstdint>
 
+#include "collide/particle_hash.h"
 #include "kernels.h"
 #include "weft/cloth_asset.h"
 
 namespace weft {
 
-// Cells a triangle's widened box may span along one axis before it is skipped.
-inline constexpr uint32_t kMaxSelfCellsPerAxis = 4;
-// The broad phase tests this many hash entries at once; the entry arrays hold as many more.
-inline constexpr uint32_t kSelfEntryBlock = 8;
 // An edge with both ends within this many thicknesses of a triangle's plane lies in it: no edge-edge
 // test against that triangle (two layers are kept a thickness apart, so it is one layer).
 inline constexpr float kSelfFlatThicknesses = 0.5f;
@@ -54,33 +51,22 @@ inline constexpr float kSelfCaptureThicknesses = 2.0f;
 // thickness.
 inline constexpr float kSelfThicknessPerEdge = 0.5f;
 
-// A cloth's self-collision arrays (in the world's block) and its hash's shape.
+// A cloth's self-collision arrays (in the world's block): its particles' hash and its mesh's edges.
 struct SelfCollisionState {
-    uint32_t* cell_start = nullptr;   // [table_size + 1]: each bucket's first entry (prefix sums)
-    uint32_t* entry_slot = nullptr;   // [slot_count + kSelfEntryBlock]: the movable slots, sorted by bucket
-    uint32_t* slot_bucket = nullptr;  // [slot_count]: each slot's bucket this substep (~0u: none)
-    float* entry_x = nullptr;         // [slot_count + kSelfEntryBlock]: their positions at the sort, metres
-    float* entry_y = nullptr;
-    float* entry_z = nullptr;
+    ParticleHash hash;  // the movable particles; its slot_bucket is also build_self_collision_edges' scratch
     // The mesh's edges by particle (built at add_cloth): slot s's neighbours are
     // edge_other[edge_first[s] .. edge_first[s + 1]), each once.
     uint32_t* edge_first = nullptr;  // [slot_count + 1]
     uint32_t* edge_other = nullptr;  // [6 * triangle_count]: room for every triangle's corners' two edges
     float* shortest_edge_m = nullptr;  // [slot_count]: each slot's shortest edge in the start pose (contact_thickness)
-    uint32_t table_size = 0;  // a power of two >= 16
-    float cell_m = 0.0f;      // the cells' edge, chosen at add_cloth from the asset's triangles
 };
-
-// The hash's bucket count for a cloth of `slot_count` slots: the next power of two, at least 16
-// (at most twice the slots, which WorldDesc::max_self_collision_particles sizes for).
-uint32_t self_collision_table_size(uint32_t slot_count);
 
 // The cells' edge for an asset: its triangles' mean longest edge in the start pose plus twice the
 // reach (thickness and capture), so a triangle's widened box usually spans two cells per axis.
 float self_collision_cell_m(const ClothAsset& asset, float thickness_m);
 
 // Fills state.edge_first, edge_other and shortest_edge_m from the asset's triangles (add_cloth;
-// slot_bucket is its scratch).
+// hash.slot_bucket is its scratch).
 void build_self_collision_edges(const ClothAsset& asset, SelfCollisionState& state);
 
 struct SelfCollisionArgs {
@@ -90,7 +76,7 @@ struct SelfCollisionArgs {
 
 struct SelfCollisionCounts {
     uint64_t contacts = 0;           // particle-triangle and edge-edge pairs pushed apart
-    uint64_t skipped_triangles = 0;  // triangles stretched over more cells than kMaxSelfCellsPerAxis
+    uint64_t skipped_triangles = 0;  // triangles stretched over more cells than kMaxHashCellsPerAxis
 };
 
 void collide_self(Particles& p, const ClothAsset& asset, SelfCollisionState& state, const SelfCollisionArgs& args,
