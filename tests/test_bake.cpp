@@ -346,13 +346,14 @@ TEST_CASE("bake: a manifest's entries take the defaults, their own options and p
       "assets": [
         { "pattern": "patterns/skirt.json" },
         { "pattern": "gc/gc_1001_0000_specification.json", "target_edge_m": 0.015, "body": null },
-        { "pattern": "patterns/skirt.json", "name": "skirt-16", "simd_width": 16, "sweeps": 16, "offset_m": [0, 0.1, 0] }
+        { "pattern": "patterns/skirt.json", "name": "skirt-16", "simd_width": 16, "sweeps": 16, "offset_m": [0, 0.1, 0] },
+        { "pattern": "patterns/overshirt.json", "over": ["patterns/tee.json"] }
       ]
     })";
     REQUIRE(is_manifest(manifest));
     std::vector<BatchEntry> entries;
     REQUIRE(read_manifest("/art/assets.json", manifest, command_line, &entries) == "");
-    REQUIRE(entries.size() == 3);
+    REQUIRE(entries.size() == 4);
     CHECK(entries[0].name == "skirt");
     CHECK(entries[0].pattern == "/art/patterns/skirt.json");
     CHECK(entries[0].body == "/art/bodies/mean_all.obj");
@@ -366,6 +367,8 @@ TEST_CASE("bake: a manifest's entries take the defaults, their own options and p
     CHECK(entries[2].simd_width == 16);
     CHECK(entries[2].sweeps == 16);
     CHECK(entries[2].offset_m[1] == 0.1);
+    CHECK(entries[0].over.empty());
+    CHECK(entries[3].over == std::vector<std::string>{"/art/patterns/tee.json"});  // worn over it: --over
 }
 
 TEST_CASE("bake: a manifest's mistakes are refused, naming the entry") {
@@ -381,6 +384,18 @@ TEST_CASE("bake: a manifest's mistakes are refused, naming the entry") {
     CHECK(error(R"([{"pattern": "a.json", "name": "../a"}])") ==
           "m.json: assets[0].name: not an asset name (a file name without folders)");
     CHECK(error("[]") == "m.json: \"assets\" is not a list of patterns");
+    CHECK(error(R"([{"pattern": "a.json", "over": [3]}])") == "m.json: assets[0].over: not a pattern file name");
+    CHECK(error(R"([{"pattern": "a.json", "over": ["a", "b", "c", "d", "e"]}])") ==
+          "m.json: assets[0].over: not a pattern or a list of at most 4");
     CHECK_FALSE(is_manifest(R"({"format": "weft-pattern"})"));
     CHECK_FALSE(is_manifest("{ not json"));
+}
+
+// weft-bake --over: a garment worn over others is sewn on a body.
+TEST_CASE("bake: a garment worn over another needs a body") {
+    BakeOptions options;
+    options.over_patterns.push_back(read_text(kSamples / "tee.json"));
+    Baked baked;
+    const Status s = bake_pattern(read_text(kSamples / "overshirt.json"), options, &baked);
+    CHECK(s.error == "a garment worn over others is sewn on a body (--over needs --body)");
 }

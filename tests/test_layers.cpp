@@ -37,38 +37,33 @@ ClothView view(const scenes::SceneWorld& w, uint32_t i) {
 
 }  // namespace
 
-// Five seconds of the walk (the first one its ramp), the crossings counted every fifth frame. The
-// two garments were baked apart, so the overshirt's dressed pose lies through the tee (about 5 000
-// edge-triangle crossings at the start). Worn over the tee it is pushed out within the first second;
-// what is left (4-60 crossings a frame, where the overshirt's skin constraints and folds hold it in)
-// is for baking in layer order (docs/decisions/2026-12-06-layered-garments.md).
-TEST_CASE("layers: the overshirt worn over the tee comes out of it on the walking mannequin, and stays through it without") {
+// The overshirt is baked over the tee (samples/assets.json: weft-bake --over), so it starts outside
+// it. Worn over the tee it never passes through it in ten seconds of the walk (the first one its
+// ramp; the crossings counted every sixth frame); worn over nothing it goes into the tee at once.
+TEST_CASE("layers: the overshirt baked and worn over the tee never passes through it on the walking mannequin") {
     for (bool worn_over : {true, false}) {
         CAPTURE(worn_over);
         scenes::Scene scene;
         scenes::SceneWorld w;
         build_layers(worn_over, &w, &scene);
-        const uint64_t at_start = metrics::layer_crossings(view(w, 0), view(w, 1));
-        uint64_t most = 0, least = ~uint64_t(0), contacts = 0;
-        for (uint32_t f = 1; f <= 300; ++f) {
+        CHECK(metrics::layer_crossings(view(w, 0), view(w, 1)) == 0);  // dressed in layer order
+        const uint32_t frames = worn_over ? 600 : 120;
+        uint32_t crossing_frames = 0, counted = 0;
+        uint64_t contacts = 0;
+        for (uint32_t f = 1; f <= frames; ++f) {
             REQUIRE(scenes::animate_body(w, float(f) * scene.dt_s).empty());
             REQUIRE(step(w.world, scene.dt_s).ok());
             contacts += world_stats(w.world).layer_contacts;
-            if (f < 60 || f % 5 != 0) continue;
-            const uint64_t crossings = metrics::layer_crossings(view(w, 0), view(w, 1));
-            most = std::max(most, crossings);
-            least = std::min(least, crossings);
+            if (f % 6 != 0) continue;
+            counted += 1;
+            crossing_frames += metrics::layer_crossings(view(w, 0), view(w, 1)) > 0;
         }
-        CAPTURE(at_start);
-        CAPTURE(most);
-        CAPTURE(least);
         CHECK(metrics::bounds(view(w, 1)).finite);
-        CHECK(at_start > 1000);
         if (worn_over) {
-            CHECK(most * 50 < at_start);  // under 2% of the start's in every counted frame
+            CHECK(crossing_frames == 0);
             CHECK(contacts > 0);
         } else {
-            CHECK(least * 2 > at_start);  // it stays through the tee
+            CHECK(crossing_frames > counted / 2);
             CHECK(contacts == 0);
         }
     }

@@ -89,6 +89,8 @@ struct ClothArrayCounts {
     size_t layer_inner_slots = 0;     // its hash of the largest inner cloth's particles, and their positions
     size_t layer_inner_buckets = 0;
     size_t layer_inner_entries = 0;
+    size_t layer_edge_first = 0;      // its mesh edges by particle (slots + 1)
+    size_t layer_edge_other = 0;      // and the neighbours (6 per triangle)
 };
 
 // The entries of a cloth's per-triangle arrays in the normals pass's walk: the runs' lanes, then
@@ -106,6 +108,8 @@ ClothArrayCounts cloth_array_counts(const WorldDesc& desc, const ClothAsset& ass
         n.layer_inner_slots = inner_slots;
         n.layer_inner_buckets = size_t(particle_hash_table_size(inner_slots)) + 1;
         n.layer_inner_entries = size_t(inner_slots) + kHashEntryBlock;
+        n.layer_edge_first = size_t(asset.slot_count) + 1;
+        n.layer_edge_other = 6 * size_t(asset.triangle_count);
     }
     n.last_good = cloth.recovery == RecoveryPolicy::last_good_state ? asset.slot_count : 0;
     n.self_slots = cloth.self_collision ? asset.slot_count : 0;
@@ -153,6 +157,8 @@ ClothArrayCounts capacity_array_counts(const WorldDesc& desc) {
     n.layer_own_slots = n.layer_inner_slots = layered;
     n.layer_own_buckets = n.layer_inner_buckets = layered > 0 ? 2 * layered + 17 * size_t(desc.max_cloths) : 0;
     n.layer_own_entries = n.layer_inner_entries = layered > 0 ? layered + kHashEntryBlock * size_t(desc.max_cloths) : 0;
+    n.layer_edge_first = layered > 0 ? layered + desc.max_cloths : 0;
+    n.layer_edge_other = 6 * size_t(desc.max_layer_triangles);
     return n;
 }
 
@@ -209,6 +215,8 @@ void visit_cloth_arrays(const WorldDesc& desc, const ClothArrayCounts& n, ClothI
             for (float** a : {&h->entry_x, &h->entry_y, &h->entry_z}) visit(*a, own ? n.layer_own_entries : n.layer_inner_entries);
         }
         for (float** a : {&l.inner_x, &l.inner_y, &l.inner_z}) visit(*a, n.layer_inner_slots);
+        visit(l.edge_first, n.layer_edge_first);
+        visit(l.edge_other, n.layer_edge_other);
     }
 }
 
@@ -258,7 +266,7 @@ Result check_world_desc(const WorldDesc& desc) {
         desc.max_skin_constraints > (1u << 28) || desc.max_triangle_lanes > (1u << 28) ||
         desc.max_render_vertices > (1u << 28) || desc.max_last_good_particles > (1u << 28) ||
         desc.max_self_collision_particles > (1u << 28) || desc.max_self_collision_triangles > (1u << 28) ||
-        desc.max_layer_particles > (1u << 28))
+        desc.max_layer_particles > (1u << 28) || desc.max_layer_triangles > (1u << 28))
         return make_error(ErrorCode::out_of_range, "a capacity is absurdly large");
     if (!is_finite(desc.gravity_m_s2) || !std::isfinite(desc.air_density_kg_m3))
         return make_error(ErrorCode::non_finite, "gravity or air density is not finite");
@@ -660,6 +668,7 @@ void reserve_cloth(WorldDesc& desc, const ClothDesc& cloth) {
 
 void reserve_layer(WorldDesc& desc, const ClothAsset& outer, const ClothAsset& largest_inner) {
     desc.max_layer_particles += outer.slot_count + largest_inner.slot_count;
+    desc.max_layer_triangles += outer.triangle_count;
 }
 
 MemoryRequirements world_memory_requirements(const WorldDesc& desc) {
@@ -771,6 +780,10 @@ Result add_cloth(World* world, const ClothDesc& desc, ClothId* out_cloth) {
     if (layer_slots > world->desc.max_layer_particles - world->layer_particles_used)
         return make_error(ErrorCode::capacity_exceeded, "cloth needs %u layer slots (max_layer_particles), %u left",
                           layer_slots, world->desc.max_layer_particles - world->layer_particles_used);
+    const uint32_t layer_triangles = inner_slots > 0 ? asset.triangle_count : 0;
+    if (layer_triangles > world->desc.max_layer_triangles - world->layer_triangles_used)
+        return make_error(ErrorCode::capacity_exceeded, "cloth needs %u layer triangles (max_layer_triangles), %u left",
+                          layer_triangles, world->desc.max_layer_triangles - world->layer_triangles_used);
     if (world->desc.tangents && asset.uv == nullptr)
         return make_error(ErrorCode::invalid_argument, "the world has tangents but the asset has no texture coordinates");
     if (Result r = validate_asset_with_scratch(asset, world->validation_scratch, validation_scratch_count(world->desc));
@@ -822,6 +835,7 @@ Result add_cloth(World* world, const ClothDesc& desc, ClothId* out_cloth) {
         }
         cloth.worn_over_count = desc.worn_over_count;
         cloth.layer = layer;
+        build_mesh_edges(asset, l.edge_first, l.edge_other, l.own.slot_bucket);
     }
     place_at_start(*world->kernels, cloth);
     cloth.health.start_extent_m = start_extent_m(asset);
@@ -830,6 +844,7 @@ Result add_cloth(World* world, const ClothDesc& desc, ClothId* out_cloth) {
     world->self_collision_used += self_slots;
     world->self_collision_triangles_used += self_triangles;
     world->layer_particles_used += layer_slots;
+    world->layer_triangles_used += layer_triangles;
     world->triangle_lanes_used += tangent_lanes;
     world->render_vertices_used += render_vertices;
     world->constraints_used += asset.lane_count;
@@ -852,7 +867,10 @@ Result remove_cloth(World* world, ClothId id) {
     ClothInstance& cloth = world->cloths[id.index];
     const ClothAsset& asset = *cloth.asset;
     world->particles_used -= asset.slot_count;
-    if (cloth.worn_over_count > 0) world->layer_particles_used -= asset.slot_count + cloth.layers.inner_capacity;
+    if (cloth.worn_over_count > 0) {
+        world->layer_particles_used -= asset.slot_count + cloth.layers.inner_capacity;
+        world->layer_triangles_used -= asset.triangle_count;
+    }
     world->constraints_used -= asset.lane_count;
     world->coarse_nodes_used -= asset.coarse_slot_count;
     if (world->desc.tangents) world->triangle_lanes_used -= triangle_lanes(asset);

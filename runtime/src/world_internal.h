@@ -163,6 +163,7 @@ struct World {
     uint32_t self_collision_used = 0;   // slots of the cloths with self-collision
     uint32_t self_collision_triangles_used = 0;  // and their triangles
     uint32_t layer_particles_used = 0;  // the layered cloths' own and largest inner slots
+    uint32_t layer_triangles_used = 0;  // and their own triangles
 
     Vec3 gravity_m_s2{};
     Vec3 wind_m_s{};

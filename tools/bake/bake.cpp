@@ -4,6 +4,7 @@
 #include <cmath>
 #include <cstring>
 #include <filesystem>
+#include <memory>
 #include <optional>
 
 #include "common/asset_writer.h"
@@ -141,6 +142,8 @@ Status bake_pattern(std::string_view text, const BakeOptions& options, Baked* ou
         std::swap(g.lattice, g.lattice_alternatives[winner - 1].lattice);
         std::swap(g.lattice_plane_stride, g.lattice_alternatives[winner - 1].plane_stride);
     }
+    if (!options.over_patterns.empty() && options.body == nullptr)
+        return {"a garment worn over others is sewn on a body (--over needs --body)"};
     if (options.body != nullptr) {  // sew the flat panels, packed as the winner, and cook the dressed mesh
         ClothMeshDesc flat = input.desc;
         flat.lattice = g.lattice.data();
@@ -163,6 +166,19 @@ Status bake_pattern(std::string_view text, const BakeOptions& options, Baked* ou
             v->erase(std::unique(v->begin(), v->end()), v->end());
         }
         SewOptions sew = options.sew;
+        // The garments worn under it, dressed first, innermost first (each over those before it).
+        std::vector<std::unique_ptr<Baked>> under;
+        for (size_t k = 0; k < options.over_patterns.size(); ++k) {
+            BakeOptions inner = options;
+            inner.on_stage = nullptr;
+            inner.render_mesh = nullptr;
+            inner.render_subdivide = -1;
+            inner.over_patterns.assign(options.over_patterns.begin(), options.over_patterns.begin() + long(k));
+            under.push_back(std::make_unique<Baked>());
+            if (Status s = bake_pattern(options.over_patterns[k], inner, under.back().get()); !s.ok())
+                return {"the garment worn under it (" + std::to_string(k + 1) + "): " + s.error};
+            sew.worn_over.push_back(&under.back()->cooked.asset());
+        }
         sew.ignore_arm_tips = sew.ignore_arm_tips || !out->pattern.sleeves;
         sew.skin_max_distance_scale.clear();  // each panel's factor on the skin constraints' max distance
         for (const Panel& panel : out->pattern.panels) sew.skin_max_distance_scale.push_back(float(panel.skin_max_distance_scale));

@@ -37,6 +37,11 @@ struct BakeOptions {
     // render_subdivide >= 0 makes one from the cloth's own triangles (subdivide_cloth_mesh).
     const RenderMeshSource* render_mesh = nullptr;
     int render_subdivide = -1;
+    // Layered garments (weft-bake --over): patterns (their JSON text) worn under this one, innermost
+    // first. Each is baked on `body` as weft-bake bakes it alone (each over those before it, with
+    // these options but no render mesh), and this garment is sewn and draped over them
+    // (SewOptions::worn_over). Needs `body`.
+    std::vector<std::string> over_patterns;
 };
 
 // Run shapes the baker tries (BakeOptions::choose_runs): {min_run_lanes, max_run_gap}.

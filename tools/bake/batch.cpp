@@ -40,6 +40,15 @@ std::string apply_options(const json& j, const std::filesystem::path& folder, bo
             } else {
                 return at + ": not a body (a mesh file, \"mannequin\" or null)";
             }
+        } else if (key == "over") {
+            // A pattern or a list of them, innermost first; relative to the manifest's folder.
+            const json list = value.is_string() ? json::array({value}) : value;
+            if (!list.is_array() || list.size() > kMaxWornOver) return at + ": not a pattern or a list of at most 4";
+            e->over.clear();
+            for (const json& p : list) {
+                if (!p.is_string() || p.get<std::string>().empty()) return at + ": not a pattern file name";
+                e->over.push_back(resolve(folder, p.get<std::string>()));
+            }
         } else if (key == "target_edge_m") {
             if (!value.is_number() || value.get<double>() < 1e-4 || value.get<double>() > 10.0)
                 return at + ": not a length from 0.0001 to 10 m";

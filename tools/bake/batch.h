@@ -25,6 +25,9 @@ struct BatchEntry {
     std::string manifest;  // the manifest that names it (a depfile dependency); empty for a folder
     std::string render_mesh;   // OBJ / glTF render mesh in the start pose's space (one pattern only)
     int render_subdivide = -1;  // >= 0: the cloth's triangles subdivided that often as the render mesh
+    // Patterns worn under it, innermost first (BakeOptions::over_patterns): dressed first on the same
+    // body, this one sewn over them. Needs a body.
+    std::vector<std::string> over;
 };
 
 // Whether `text` is a manifest: a JSON object whose "format" is "weft-bake-manifest".

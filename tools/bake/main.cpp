@@ -157,6 +157,10 @@ std::string bake_asset(const bake::BatchEntry& e, const bake::SewBody* body, con
     options.cook.simd_width = e.simd_width;
     options.body = body;
     options.sew.sweeps = e.sweeps;
+    for (const std::string& under : e.over) {
+        options.over_patterns.emplace_back();
+        if (!read_file(under, &options.over_patterns.back())) return "cannot read '" + under + "' (--over)";
+    }
     RenderMeshSource render;
     if (!e.render_mesh.empty()) {
         body::BodyMesh m;
@@ -191,6 +195,7 @@ std::string bake_asset(const bake::BatchEntry& e, const bake::SewBody* body, con
         d << depfile_path(out_path) << ": " << depfile_path(e.pattern);
         if (!e.body.empty() && e.body != "mannequin") d << " " << depfile_path(e.body);
         if (!e.render_mesh.empty()) d << " " << depfile_path(e.render_mesh);
+        for (const std::string& under : e.over) d << " " << depfile_path(under);
         if (!e.manifest.empty()) d << " " << depfile_path(e.manifest);
         d << "\n";
         if (!d) return "cannot write '" + depfile + "'";
@@ -360,6 +365,9 @@ int main(int argc, char** argv) {
     app.add_option("--info", info_path, "describe an asset file (loaded through the runtime's validating loader)");
     app.add_option("--body", defaults.body,
                    "sew the garment onto this body (OBJ, glTF, or 'mannequin': the project's own) and store it dressed");
+    app.add_option("--over", defaults.over,
+                   "with --body: a pattern worn under this garment (repeat for more, innermost first): it is dressed "
+                   "first as weft-bake dresses it alone, and this garment sewn over it (ClothDesc::worn_over)");
     app.add_option("--render-mesh", defaults.render_mesh,
                    "bind this render mesh (OBJ or glTF, authored on the asset's start pose: the flat layout, or the "
                    "dressed pose with --body) to the cloth and store it in the asset (docs/asset-format.md)");

@@ -192,14 +192,68 @@ ClothDesc sewing_cloth(const ClothAsset& asset, const SewOptions& o, float dampi
     return c;
 }
 
+// `p` moved in front of the nearest face of the garments it is worn over (SewOptions::worn_over)
+// within kWornOverReach_m, by their layer thickness, when it is behind or closer (their faces point
+// away from the body: collide/layers.h); else as it is.
+constexpr float kWornOverReach_m = 0.05f;
+Vec3 in_front_of_worn_over(Vec3 p, const SewOptions& o) {
+    float nearest2 = kWornOverReach_m * kWornOverReach_m;
+    Vec3 closest{}, normal{};
+    for (const ClothAsset* a : o.worn_over)
+        for (uint32_t t = 0; t < a->triangle_count; ++t) {
+            float corner[3][3];
+            for (int c = 0; c < 3; ++c) {
+                const uint32_t s = a->triangles[3 * t + c];
+                corner[c][0] = a->start_x[s], corner[c][1] = a->start_y[s], corner[c][2] = a->start_z[s];
+            }
+            const float q[3] = {p.x, p.y, p.z};
+            const BarycentricWeights<float> w = closest_on_triangle(q, corner[0], corner[1], corner[2]);
+            const Vec3 on{w.w0 * corner[0][0] + w.w1 * corner[1][0] + w.w2 * corner[2][0],
+                          w.w0 * corner[0][1] + w.w1 * corner[1][1] + w.w2 * corner[2][1],
+                          w.w0 * corner[0][2] + w.w1 * corner[1][2] + w.w2 * corner[2][2]};
+            const float d2 = dot(sub(p, on), sub(p, on));
+            if (!(d2 < nearest2)) continue;
+            const Vec3 e1 = sub(Vec3{corner[1][0], corner[1][1], corner[1][2]}, Vec3{corner[0][0], corner[0][1], corner[0][2]});
+            const Vec3 e2 = sub(Vec3{corner[2][0], corner[2][1], corner[2][2]}, Vec3{corner[0][0], corner[0][1], corner[0][2]});
+            const Vec3 n = cross(e1, e2);
+            const float n_length = length(n);
+            if (!(n_length > 0.0f)) continue;
+            nearest2 = d2, closest = on, normal = {n.x / n_length, n.y / n_length, n.z / n_length};
+        }
+    if (nearest2 >= kWornOverReach_m * kWornOverReach_m || dot(sub(p, closest), normal) >= o.layer_thickness_m) return p;
+    return {closest.x + o.layer_thickness_m * normal.x, closest.y + o.layer_thickness_m * normal.y,
+            closest.z + o.layer_thickness_m * normal.z};
+}
+
+// The garment's cloth worn over the world's inner garments (SewOptions::worn_over).
+ClothDesc worn_over_inner(const BodyWorld& w, const SewOptions& o, ClothDesc c) {
+    c.worn_over_count = uint32_t(w.inner.size());
+    for (size_t k = 0; k < w.inner.size(); ++k) c.worn_over[k] = w.inner[k];
+    c.layer_thickness_m = o.layer_thickness_m;
+    return c;
+}
+
 // open_body_world, or without `asset` (null) the body (and floor) alone; `room_for_another`: a
-// second cloth as large fits (the sewing replaces its cloth at each merge).
+// second cloth as large fits (the sewing replaces its cloth at each merge). With
+// SewOptions::worn_over the inner garments come first, held on the body by their own attachments
+// (they start at rest on the still body, and sleep once calm: no cost then), and the garment is worn
+// over them.
 Status open_world(const ClothAsset* asset, const SewBody& body, const SewOptions& o, float gravity,
                   float damping_per_s, BodyWorld* w, float margin_m, bool room_for_another = false) {
     WorldDesc desc;
     desc.max_cloths = 0;
     if (asset != nullptr) reserve_cloth(desc, *asset);
     if (asset != nullptr && room_for_another) reserve_cloth(desc, *asset);
+    const bool layered = asset != nullptr && !o.worn_over.empty();
+    if (layered) {
+        if (o.worn_over.size() > kMaxWornOver) return {"worn over more garments than a cloth can be"};
+        const ClothAsset* largest = o.worn_over[0];
+        for (const ClothAsset* inner : o.worn_over) {
+            reserve_cloth(desc, *inner);
+            if (inner->slot_count > largest->slot_count) largest = inner;
+        }
+        for (int k = 0; k < (room_for_another ? 2 : 1); ++k) reserve_layer(desc, *asset, *largest);
+    }
     desc.max_cloths = std::max(desc.max_cloths, 1u);  // a world holds at least one cloth, even unused
     desc.max_bodies = 1;
     desc.max_colliders = o.floor ? 1 : 0;
@@ -227,7 +281,19 @@ Status open_world(const ClothAsset* asset, const SewBody& body, const SewOptions
         if (Result r = add_collider(w->world, ground, &id); !r.ok()) return {std::string("floor: ") + r.message};
     }
     if (asset == nullptr) return {};
-    if (Result r = add_cloth(w->world, sewing_cloth(*asset, o, damping_per_s), &w->cloth); !r.ok())
+    for (size_t k = 0; layered && k < o.worn_over.size(); ++k) {
+        ClothDesc inner = sewing_cloth(*o.worn_over[k], o, damping_per_s);
+        inner.sleep_speed_m_s = o.rest_speed_m_s;
+        if (k > 0) inner = worn_over_inner(*w, o, inner);  // each over those before it, as it was baked
+        ClothId id;
+        if (Result r = add_cloth(w->world, inner, &id); !r.ok()) return {std::string("inner garment: ") + r.message};
+        // Its attachments name the whole body's triangles: not those of a body without its arm tips.
+        if (o.worn_over[k]->attachment_count > 0 && !o.ignore_arm_tips)
+            if (Result r = attach_cloth_to_body(w->world, id, w->body); !r.ok())
+                return {std::string("inner garment: attachments: ") + r.message};
+        w->inner.push_back(id);
+    }
+    if (Result r = add_cloth(w->world, worn_over_inner(*w, o, sewing_cloth(*asset, o, damping_per_s)), &w->cloth); !r.ok())
         return {std::string("garment: ") + r.message};
     return {};
 }
@@ -675,6 +741,9 @@ Status sew_garment(const ClothMeshDesc& unsewn, const std::vector<uint32_t>& att
         BodyContact c;
         if (query_body(probe.world, probe.body, target[k], &c, kProbeReach_m).ok() && c.found && c.penetration_m > 0.0f)
             target[k] = c.hull_point;
+        // Likewise a target behind a garment it is worn over (the mean of a front and a back source
+        // placed around a sleeve lies inside the inner sleeve) goes in front of the nearest inner face.
+        target[k] = in_front_of_worn_over(target[k], o);
     }
     // The attachments (the skirt's waistband) move with the cloth while the seams close; then,
     // while the cloth settles, each (a seam point among them as one, its sources at their mean) is
@@ -725,7 +794,7 @@ Status sew_garment(const ClothMeshDesc& unsewn, const std::vector<uint32_t>& att
         const ClothDesc cloth = sewing_cloth(next->cooked.asset(), sewing, o.sewing_damping_per_s);
         bool replaced = false;
         if (sewing_world != nullptr && remove_cloth(sewing_world->world, sewing_world->cloth).ok())
-            replaced = add_cloth(sewing_world->world, cloth, &sewing_world->cloth).ok();
+            replaced = add_cloth(sewing_world->world, worn_over_inner(*sewing_world, sewing, cloth), &sewing_world->cloth).ok();
         if (!replaced) {  // the first stage, or a merged garment the world has no room for
             auto w = std::make_unique<BodyWorld>();
             if (Status s = open_world(&next->cooked.asset(), body, sewing, o.sewing_gravity_m_s2, o.sewing_damping_per_s,

@@ -102,6 +102,11 @@ struct SewOptions {
     // panel's factor on their max distance (the pattern's "skin" max_distance_scale; empty: 1).
     SkinBindingOptions skin;
     std::vector<float> skin_max_distance_scale;
+    // Layered garments (weft-bake --over): garments already dressed on this body, innermost first,
+    // that this one is sewn and draped over (ClothDesc::worn_over, layer_thickness_m): its dressed pose
+    // and its skin constraints lie outside them. They must outlive the sewing.
+    std::vector<const ClothAsset*> worn_over;
+    float layer_thickness_m = ClothDesc{}.layer_thickness_m;
 };
 
 struct SewReport {
@@ -156,6 +161,7 @@ struct BodyWorld {
     World* world = nullptr;
     ClothId cloth;
     BodyId body;
+    std::vector<ClothId> inner;  // SewOptions::worn_over's garments, in their order
     BodyWorld() = default;
     BodyWorld(const BodyWorld&) = delete;
     BodyWorld& operator=(const BodyWorld&) = delete;

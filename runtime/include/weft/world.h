@@ -76,6 +76,7 @@ struct WorldDesc {
     // Summed over the cloths worn over others (ClothDesc::worn_over): their own slots plus the slots
     // of the largest cloth each is worn over (reserve_layer adds them).
     uint32_t max_layer_particles = 0;
+    uint32_t max_layer_triangles = 0;  // and their own triangles (reserve_layer adds them)
 
     // Features: a pass that is not enabled is not in the step at all (and costs nothing).
     bool wind = false;
@@ -232,7 +233,8 @@ void reserve_cloth(WorldDesc& desc, const ClothAsset& asset, RecoveryPolicy reco
 // The same for the cloth `cloth` describes (its asset, its recovery policy and self-collision).
 void reserve_cloth(WorldDesc& desc, const ClothDesc& cloth);
 // Adds what a cloth of `outer` worn over cloths of which `largest_inner` has the most slots needs
-// for its layers (WorldDesc::max_layer_particles); reserve_cloth still adds the cloth itself.
+// for its layers (WorldDesc::max_layer_particles and _triangles); reserve_cloth still adds the cloth
+// itself.
 void reserve_layer(WorldDesc& desc, const ClothAsset& outer, const ClothAsset& largest_inner);
 
 MemoryRequirements world_memory_requirements(const WorldDesc& desc);

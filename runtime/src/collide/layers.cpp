@@ -55,6 +55,35 @@ bool push_particle(Particles& p, uint32_t s, const InnerView& inner, const uint3
     return true;
 }
 
+// 2b. This cloth's edge (s, r) against the inner edge (q0, q1) of a face with unit normal n: where the
+// closest points lie inside both segments and the outer one is less than `thickness`
+// in front of the inner one along n, and not beside it by the thickness or more, the edge is pushed
+// out to the thickness (C = d - thickness >= 0 at the closest point, gradients 1 - a and a).
+bool push_edge(Particles& p, uint32_t s, uint32_t r, const InnerView& inner, uint32_t q0, uint32_t q1, P3 n,
+               const LayerArgs& args) {
+    SegmentPoints c;
+    if (!closest_points_inside(position(p, s), position(p, r), inner.at(q0), inner.at(q1), &c)) return false;
+    const float a = c.a, b = c.b;
+    const P3 gap = c.gap;
+    const float distance = dot(gap, n), capture = kLayerCaptureThicknesses * args.thickness_m;
+    if (!(distance < args.thickness_m) || distance < -capture) return false;
+    const P3 beside = gap - distance * n;
+    if (!(dot(beside, beside) < args.thickness_m * args.thickness_m)) return false;
+    const float ws = p.inverse_mass[s] * (1.0f - a), wr = p.inverse_mass[r] * a;
+    const float weight = larger(ws * (1.0f - a) + wr * a, larger(ws, wr));  // as push_face's
+    if (!(weight > 0.0f)) return false;
+    const P3 push = ((args.thickness_m - distance) / weight) * n;
+    const P3 ps = previous(p, s), pr = previous(p, r);
+    move(p, s, ws * push);
+    move(p, r, wr * push);
+    const P3 moved_edge = (1.0f - a) * (position(p, s) - ps) + a * (position(p, r) - pr);
+    const P3 moved_inner = (1.0f - b) * inner.motion(q0) + b * inner.motion(q1);
+    const P3 slip = friction_slip(moved_edge - moved_inner, n, args.friction * (args.thickness_m - distance), weight);
+    move(p, s, ws * slip);
+    move(p, r, wr * slip);
+    return true;
+}
+
 // 3. The inner particle q against this cloth's face (corners k): the face pushed out in front of it.
 bool push_face(Particles& p, const uint32_t k[3], const InnerView& inner, uint32_t q, const LayerArgs& args) {
     const P3 a = position(p, k[0]), xq = inner.at(q);
@@ -112,9 +141,28 @@ void collide_layer(Particles& p, const ClothAsset& asset, LayerState& st, const 
     sort_into_buckets(p.x, p.y, p.z, p.inverse_mass, p.slot_count, st.own);
     for (uint32_t t = 0; t < inner_asset.triangle_count; ++t) {
         const uint32_t* k = inner_asset.triangles + 3 * t;
-        const Box box = widened_box(inner.at(k[0]), inner.at(k[1]), inner.at(k[2]), reach);
+        const P3 a = inner.at(k[0]), b = inner.at(k[1]), c = inner.at(k[2]);
+        const Box box = widened_box(a, b, c, reach);
         if (!overlap(box, own_box)) continue;
-        const auto visit = [&](uint32_t s) { counts.contacts += uint64_t(push_particle(p, s, inner, k, args)); };
+        const P3 n_raw = cross(b - a, c - a);
+        const float n2 = dot(n_raw, n_raw);
+        if (!(n2 > 0.0f)) continue;  // degenerate, or not finite
+        const P3 n = (1.0f / std::sqrt(n2)) * n_raw;
+        const float capture = kLayerCaptureThicknesses * args.thickness_m;
+        const auto visit = [&](uint32_t s) {
+            counts.contacts += uint64_t(push_particle(p, s, inner, k, args));
+            // 2b. Its edges against the face's: those with an end within reach of the plane.
+            const float hs = dot(position(p, s) - a, n);
+            for (uint32_t e = st.edge_first[s]; e < st.edge_first[s + 1]; ++e) {
+                const uint32_t r = st.edge_other[e];
+                const P3 xr = position(p, r);
+                if (r < s && p.inverse_mass[r] > 0.0f && inside(box, xr)) continue;  // visited from r
+                const float hr = dot(xr - a, n);
+                if ((hs >= args.thickness_m && hr >= args.thickness_m) || (hs < -capture && hr < -capture)) continue;
+                for (uint32_t j = 0; j < 3; ++j)
+                    counts.contacts += uint64_t(push_edge(p, s, r, inner, k[j], k[(j + 1) % 3], n, args));
+            }
+        };
         if (for_particles_in_box(st.own, box, none, visit) == BoxWalk::too_large) counts.skipped_triangles += 1;
     }
 

@@ -11,7 +11,12 @@
 //      the triangle) that is less than `thickness` in front of it, or less than the capture depth
 //      behind it, is pushed out to the thickness. "In front" is where the face's normal points: a
 //      baked garment's triangles face away from the body (their winding is the panels' outside), so
-//      the outer layer belongs there whatever happened before, and a crossing is undone;
+//      the outer layer belongs there whatever happened before, and a crossing is undone. Then each
+//      edge of such a particle against the triangle's three edges: where their closest points lie
+//      inside both, the outer edge's less than `thickness` in front of the inner one's along the
+//      face's normal (and not beside it), the edge is pushed out likewise. Without it an outer edge
+//      spanning a ridge of the inner cloth (an armhole's gathers) cut through it with both ends
+//      outside every face's prism;
 //   3. the inner cloth's particles are hashed and every triangle of this cloth finds those in its box:
 //      an inner particle less than `thickness` behind the face, or less than the capture depth in
 //      front of it, pushes the face's corners out (by its barycentric weights) to the thickness.
@@ -33,7 +38,7 @@ namespace weft {
 
 // A contact deeper than this many thicknesses on the wrong side is left alone (another part of the
 // garment, beyond the other side of a limb).
-inline constexpr float kLayerCaptureThicknesses = 4.0f;
+inline constexpr float kLayerCaptureThicknesses = 2.0f;
 
 // A layered cloth's arrays (in the world's block).
 struct LayerState {
@@ -42,6 +47,9 @@ struct LayerState {
     float* inner_x = nullptr;  // [inner slots]: the inner cloth's positions at this substep's end, metres
     float* inner_y = nullptr;
     float* inner_z = nullptr;
+    // This cloth's mesh edges by particle (build_mesh_edges, at add_cloth).
+    uint32_t* edge_first = nullptr;  // [slot_count + 1]
+    uint32_t* edge_other = nullptr;  // [6 * triangle_count]
     uint32_t inner_capacity = 0;  // slots of the largest inner cloth the arrays were carved for
 };
 

@@ -11,8 +11,10 @@
 #include <cmath>
 #include <cstdint>
 #include <limits>
+#include <utility>
 
 #include "kernels.h"        // Particles
+#include "weft/cloth_asset.h"
 #include "simd/float_w.h"  // WEFT_HAVE_AVX2 and its intrinsics
 
 namespace weft {
@@ -224,6 +226,28 @@ inline bool project_onto_face(P3 a, P3 b, P3 c, P3 q, FacePoint* out) {
     return true;
 }
 
+// The closest points p0 + a (p1 - p0) and e0 + b (e1 - e0) of two segments (Ericson 5.1.9), where
+// both lie inside their segments (0 < a, b < 1), and gap = the first minus the second; false for
+// parallel or degenerate segments and closest points at or beyond an end (an end's closest point is
+// a particle's, which the point-face tests keep). Both parameters are checked before any division.
+struct SegmentPoints {
+    float a, b;
+    P3 gap;
+};
+inline bool closest_points_inside(P3 p0, P3 p1, P3 e0, P3 e1, SegmentPoints* out) {
+    const P3 d1 = p1 - p0, d2 = e1 - e0, r0 = p0 - e0;
+    const float aa = dot(d1, d1), ee = dot(d2, d2), bb = dot(d1, d2), cc = dot(d1, r0), ff = dot(d2, r0);
+    const float denominator = aa * ee - bb * bb;
+    if (!(denominator > 1e-6f * aa * ee)) return false;  // parallel (or degenerate, or NaN)
+    // a = a_scaled / D and b = b_scaled / (D ee).
+    const float a_scaled = bb * ff - cc * ee, b_scaled = bb * a_scaled + ff * denominator;
+    if (!(a_scaled > 0.0f && a_scaled < denominator && b_scaled > 0.0f && b_scaled < denominator * ee)) return false;
+    const float a = a_scaled / denominator, b = (bb * a + ff) / ee;
+    if (!(a > 0.0f && a < 1.0f && b > 0.0f && b < 1.0f)) return false;
+    *out = {a, b, (p0 + a * d1) - (e0 + b * d2)};
+    return true;
+}
+
 // Coulomb friction on a contact of unit normal n (Macklin et al. 2014, sec. 6.1): the tangential part
 // of `relative` (the two sides' motion over the substep) is cancelled up to `limit` (friction times
 // the depth); returns the correction, divided by the contact's weight as the push is (zero: none).
@@ -254,6 +278,37 @@ inline float mean_longest_edge_m(const float* x, const float* y, const float* z,
         counted += 1;
     }
     return counted > 0 ? float(sum / counted) : 0.0f;
+}
+
+// A mesh's edges by particle: slot s's neighbours are edge_other[edge_first[s] .. edge_first[s + 1]),
+// each once, sorted. edge_first holds slot_count + 1 entries, edge_other 6 per triangle (room for
+// every triangle's corners' two edges), `scratch` slot_count.
+inline void build_mesh_edges(const ClothAsset& asset, uint32_t* edge_first, uint32_t* edge_other, uint32_t* scratch) {
+    const uint32_t slots = asset.slot_count;
+    uint32_t* const first = edge_first;
+    uint32_t* const cursor = scratch;
+    for (uint32_t s = 0; s <= slots; ++s) first[s] = 0;
+    for (uint32_t k = 0; k < 3 * asset.triangle_count; ++k) first[asset.triangles[k] + 1] += 2;
+    for (uint32_t s = 0; s < slots; ++s) first[s + 1] += first[s];
+    for (uint32_t s = 0; s < slots; ++s) cursor[s] = first[s];
+    for (uint32_t t = 0; t < asset.triangle_count; ++t)
+        for (uint32_t k = 0; k < 3; ++k) {
+            const uint32_t a = asset.triangles[3 * t + k];
+            edge_other[cursor[a]++] = asset.triangles[3 * t + (k + 1) % 3];
+            edge_other[cursor[a]++] = asset.triangles[3 * t + (k + 2) % 3];
+        }
+    // Each slot's list sorted (insertion: a handful each) and its repeats dropped, packed down.
+    uint32_t packed = 0;
+    for (uint32_t s = 0; s < slots; ++s) {
+        const uint32_t begin = first[s], end = first[s + 1];
+        uint32_t* list = edge_other + begin;
+        for (uint32_t i = 1; i < end - begin; ++i)
+            for (uint32_t j = i; j > 0 && list[j - 1] > list[j]; --j) std::swap(list[j - 1], list[j]);
+        first[s] = packed;
+        for (uint32_t i = 0; i < end - begin; ++i)
+            if (i == 0 || list[i] != list[i - 1]) edge_other[packed++] = list[i];
+    }
+    first[slots] = packed;
 }
 
 }  // namespace weft

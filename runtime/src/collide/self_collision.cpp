@@ -99,20 +99,10 @@ Segment segment(P3 from, P3 to) {
 // in contact.
 bool edge_contact(Particles& p, uint32_t s, uint32_t r, uint32_t q0, uint32_t q1, const SelfCollisionArgs& args,
                   const SelfCollisionState& st) {
-    const P3 p0 = position(p, s), p1 = position(p, r), e0 = position(p, q0), e1 = position(p, q1);
-    // The closest points p0 + a (p1 - p0) and e0 + b (e1 - e0) (Ericson 5.1.9), where both lie
-    // inside their segments; an end's closest point is a particle's, which the face tests keep.
-    const P3 d1 = p1 - p0, d2 = e1 - e0, r0 = p0 - e0;
-    const float aa = dot(d1, d1), ee = dot(d2, d2), bb = dot(d1, d2), cc = dot(d1, r0), ff = dot(d2, r0);
-    const float denominator = aa * ee - bb * bb;
-    if (!(denominator > 1e-6f * aa * ee)) return false;  // parallel (or degenerate, or NaN)
-    // Both parameters inside their segments, checked before any division: a = a_scaled / D and
-    // b = b_scaled / (D ee).
-    const float a_scaled = bb * ff - cc * ee, b_scaled = bb * a_scaled + ff * denominator;
-    if (!(a_scaled > 0.0f && a_scaled < denominator && b_scaled > 0.0f && b_scaled < denominator * ee)) return false;
-    const float a = a_scaled / denominator, b = (bb * a + ff) / ee;
-    if (!(a > 0.0f && a < 1.0f && b > 0.0f && b < 1.0f)) return false;
-    const P3 gap = (p0 + a * d1) - (e0 + b * d2);
+    SegmentPoints c;
+    if (!closest_points_inside(position(p, s), position(p, r), position(p, q0), position(p, q1), &c)) return false;
+    const float a = c.a, b = c.b;
+    const P3 gap = c.gap;
     const float gap2 = dot(gap, gap), widest = kSelfCaptureThicknesses * args.thickness_m;
     if (!(gap2 < widest * widest)) return false;  // beyond any contact's capture depth
     const float thickness = contact_thickness(st, args, s, r, q0, q1), capture = kSelfCaptureThicknesses * thickness;
@@ -261,30 +251,8 @@ void screen_edges(const Particles& p, const EdgeScreen& q, const uint32_t* other
 
 void build_self_collision_edges(const ClothAsset& asset, SelfCollisionState& st) {
     const uint32_t slots = asset.slot_count;
-    uint32_t* const first = st.edge_first;
-    uint32_t* const cursor = st.hash.slot_bucket;  // scratch
-    for (uint32_t s = 0; s <= slots; ++s) first[s] = 0;
-    for (uint32_t k = 0; k < 3 * asset.triangle_count; ++k) first[asset.triangles[k] + 1] += 2;
-    for (uint32_t s = 0; s < slots; ++s) first[s + 1] += first[s];
-    for (uint32_t s = 0; s < slots; ++s) cursor[s] = first[s];
-    for (uint32_t t = 0; t < asset.triangle_count; ++t)
-        for (uint32_t k = 0; k < 3; ++k) {
-            const uint32_t a = asset.triangles[3 * t + k];
-            st.edge_other[cursor[a]++] = asset.triangles[3 * t + (k + 1) % 3];
-            st.edge_other[cursor[a]++] = asset.triangles[3 * t + (k + 2) % 3];
-        }
-    // Each slot's list sorted (insertion: a handful each) and its repeats dropped, packed down.
-    uint32_t packed = 0;
-    for (uint32_t s = 0; s < slots; ++s) {
-        const uint32_t begin = first[s], end = first[s + 1];
-        uint32_t* list = st.edge_other + begin;
-        for (uint32_t i = 1; i < end - begin; ++i)
-            for (uint32_t j = i; j > 0 && list[j - 1] > list[j]; --j) std::swap(list[j - 1], list[j]);
-        first[s] = packed;
-        for (uint32_t i = 0; i < end - begin; ++i)
-            if (i == 0 || list[i] != list[i - 1]) st.edge_other[packed++] = list[i];
-    }
-    first[slots] = packed;
+    build_mesh_edges(asset, st.edge_first, st.edge_other, st.hash.slot_bucket);
+    const uint32_t* const first = st.edge_first;
     for (uint32_t s = 0; s < slots; ++s) {
         float shortest = std::numeric_limits<float>::infinity();
         for (uint32_t k = first[s]; k < first[s + 1]; ++k) {
