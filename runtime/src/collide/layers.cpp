@@ -149,9 +149,24 @@ void collide_layer(Particles& p, const ClothAsset& asset, LayerState& st, const 
         if (!(n2 > 0.0f)) continue;  // degenerate, or not finite
         const P3 n = (1.0f / std::sqrt(n2)) * n_raw;
         const float capture = kLayerCaptureThicknesses * args.thickness_m;
+        // The face's sides as lines in its plane: side j (corner j to j + 1) and its unit normal in the
+        // plane, found for the first particle visited (most faces have none).
+        const P3 corner[3] = {a, b, c};
+        P3 side_normal[3];
+        bool sides_found = false;
         const auto visit = [&](uint32_t s) {
             counts.contacts += uint64_t(push_particle(p, s, inner, k, args));
-            // 2b. Its edges against the face's: those with an end within reach of the plane.
+            if (!sides_found) {
+                for (uint32_t j = 0; j < 3; ++j) {
+                    const P3 m = cross(n, corner[(j + 1) % 3] - corner[j]);
+                    side_normal[j] = (1.0f / std::sqrt(dot(m, m))) * m;
+                }
+                sides_found = true;
+            }
+            // 2b. Its edges against the face's sides: an edge with an end within reach of the plane,
+            // against a side whose line it comes within the thickness of, seen along n (with both ends
+            // further on one side, its closest point to the side lies beside it by more: push_edge
+            // would refuse it). Read as they are now: each contact moves s and r.
             const float hs = dot(position(p, s) - a, n);
             for (uint32_t e = st.edge_first[s]; e < st.edge_first[s + 1]; ++e) {
                 const uint32_t r = st.edge_other[e];
@@ -159,8 +174,12 @@ void collide_layer(Particles& p, const ClothAsset& asset, LayerState& st, const 
                 if (r < s && p.inverse_mass[r] > 0.0f && inside(box, xr)) continue;  // visited from r
                 const float hr = dot(xr - a, n);
                 if ((hs >= args.thickness_m && hr >= args.thickness_m) || (hs < -capture && hr < -capture)) continue;
-                for (uint32_t j = 0; j < 3; ++j)
-                    counts.contacts += uint64_t(push_edge(p, s, r, inner, k[j], k[(j + 1) % 3], n, args));
+                for (uint32_t j = 0; j < 3; ++j) {
+                    const float ds = dot(position(p, s) - corner[j], side_normal[j]),
+                                dr = dot(position(p, r) - corner[j], side_normal[j]);
+                    if ((ds < args.thickness_m || dr < args.thickness_m) && (ds > -args.thickness_m || dr > -args.thickness_m))
+                        counts.contacts += uint64_t(push_edge(p, s, r, inner, k[j], k[(j + 1) % 3], n, args));
+                }
             }
         };
         if (for_particles_in_box(st.own, box, none, visit) == BoxWalk::too_large) counts.skipped_triangles += 1;
