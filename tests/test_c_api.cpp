@@ -582,3 +582,71 @@ TEST_CASE("C API: self-collision is reserved by weft_reserve_cloth_desc, chosen 
     for (const WeftVec3& p : x) CHECK((std::isfinite(p.x) && std::isfinite(p.y) && std::isfinite(p.z)));
     weft_destroy_world(world);
 }
+
+// Layered garments through C: a sheet worn over another (the seed sphere's sheet, 2 mm above it, so
+// within the layer thickness as they fall)
+// steps to the bits world.h gives, its layer stage run item by item; the room is reserve_layer's.
+TEST_CASE("C API: a cloth worn over another steps to the same bits as through world.h, and is checked") {
+    const scenes::SceneOptions o = scene_options(16);
+    auto cpp = make_scene(SeedScene::sphere, o);
+    auto c = make_c_world(cpp->asset(), WEFT_SIMD_AUTOMATIC, {});
+    const ClothAsset& asset = cpp->asset();
+    WeftWorldDesc wd = weft_default_world_desc();
+    REQUIRE_WEFT_OK(weft_reserve_cloth(&wd, c->asset));
+    REQUIRE_WEFT_OK(weft_reserve_cloth(&wd, c->asset));
+    REQUIRE_WEFT_OK(weft_reserve_layer(&wd, c->asset, c->asset));
+    CHECK(wd.max_layer_particles == 2 * asset.slot_count);
+    CHECK(wd.max_layer_triangles == asset.triangle_count);
+    CHECK_WEFT_ERROR(weft_reserve_layer(&wd, nullptr, c->asset), WEFT_INVALID_ARGUMENT);
+    WeftMemoryRequirements need{};
+    REQUIRE_WEFT_OK(weft_world_memory_requirements(&wd, &need));
+    Block block = alloc_block(need);
+    WeftWorld* world = nullptr;
+    REQUIRE_WEFT_OK(weft_create_world(&wd, block.get(), need.bytes, &world));
+    WeftClothDesc inner = weft_default_cloth_desc(c->asset);
+    CHECK(inner.worn_over_count == 0);
+    CHECK(inner.layer_thickness_m == ClothDesc{}.layer_thickness_m);
+    WeftClothId inner_id = 0, outer_id = 0;
+    REQUIRE_WEFT_OK(weft_add_cloth(world, &inner, &inner_id));
+    WeftClothDesc outer = inner;
+    outer.translation_m = {0.0f, 0.002f, 0.0f};
+    outer.worn_over[0] = inner_id + (1u << 16);  // another generation: stale
+    outer.worn_over_count = 1;
+    CHECK_WEFT_ERROR(weft_add_cloth(world, &outer, &outer_id), WEFT_STALE_ID);
+    outer.worn_over[0] = inner_id;
+    REQUIRE_WEFT_OK(weft_add_cloth(world, &outer, &outer_id));
+    CHECK(weft_step_stage_items(world, WEFT_STAGE_SECOND_LAYER) == 2);
+    CHECK_WEFT_ERROR(weft_remove_cloth(world, inner_id), WEFT_INVALID_ARGUMENT);  // worn under outer
+
+    // The same through world.h.
+    WorldDesc cd;
+    cd.max_cloths = 0;
+    reserve_cloth(cd, asset);
+    reserve_cloth(cd, asset);
+    reserve_layer(cd, asset, asset);
+    test::OwnedWorld w;
+    REQUIRE(test::make_world(cd, &w).ok());
+    ClothDesc ci;
+    ci.asset = &asset;
+    ClothId ii{}, oi{};
+    REQUIRE(add_cloth(w.world, ci, &ii).ok());
+    ClothDesc co = ci;
+    co.translation_m = {0.0f, 0.002f, 0.0f};
+    co.worn_over[0] = ii;
+    co.worn_over_count = 1;
+    REQUIRE(add_cloth(w.world, co, &oi).ok());
+    uint64_t contacts = 0;
+    for (int f = 0; f < 30; ++f) {
+        REQUIRE(step(w.world, cpp->dt_s).ok());
+        contacts += world_stats(w.world).layer_contacts;
+        REQUIRE_WEFT_OK(weft_begin_step(world, cpp->dt_s));
+        for (WeftStepStage stage : {WEFT_STAGE_BODIES, WEFT_STAGE_CLOTHS, WEFT_STAGE_SECOND_LAYER, WEFT_STAGE_THIRD_LAYER})
+            for (uint32_t i = 0; i < weft_step_stage_items(world, stage); ++i) REQUIRE_WEFT_OK(weft_run_step_items(world, stage, i, i + 1));
+        REQUIRE_WEFT_OK(weft_end_step(world));
+    }
+    std::vector<Vec3> x(c->info.particle_count);
+    REQUIRE_WEFT_OK(weft_read_positions(world, outer_id, reinterpret_cast<WeftVec3*>(x.data()), uint32_t(x.size())));
+    CHECK(same_bits(x, read_all(w.world, oi, asset.particle_count)));
+    CHECK(contacts > 0);
+    weft_destroy_world(world);
+}

@@ -96,6 +96,8 @@ WorldDesc to_cpp(const WeftWorldDesc& d) {
     w.max_last_good_particles = d.max_last_good_particles;
     w.max_self_collision_particles = d.max_self_collision_particles;
     w.max_self_collision_triangles = d.max_self_collision_triangles;
+    w.max_layer_particles = d.max_layer_particles;
+    w.max_layer_triangles = d.max_layer_triangles;
     w.budget_ns_per_lane = d.budget_ns_per_lane;
     w.budget_ns_per_particle = d.budget_ns_per_particle;
     w.gravity_m_s2 = to_cpp(d.gravity_m_s2);
@@ -261,6 +263,15 @@ WeftResult weft_reserve_cloth_desc(WeftWorldDesc* desc, const WeftClothDesc* clo
     return {};
 }
 
+WeftResult weft_reserve_layer(WeftWorldDesc* desc, const WeftAsset* outer, const WeftAsset* largest_inner) {
+    if (desc == nullptr) return to_c(make_error(ErrorCode::invalid_argument, "desc is null"));
+    if (Result r = live_asset(outer); !r.ok()) return to_c(r);
+    if (Result r = live_asset(largest_inner); !r.ok()) return to_c(r);
+    desc->max_layer_particles += outer->asset.slot_count + largest_inner->asset.slot_count;
+    desc->max_layer_triangles += outer->asset.triangle_count;
+    return {};
+}
+
 WeftResult weft_world_memory_requirements(const WeftWorldDesc* desc, WeftMemoryRequirements* out) {
     if (desc == nullptr || out == nullptr) return to_c(make_error(ErrorCode::invalid_argument, "desc or out is null"));
     const MemoryRequirements need = world_memory_requirements(to_cpp(*desc));
@@ -309,6 +320,9 @@ WeftClothDesc weft_default_cloth_desc(const WeftAsset* asset) {
     c.self_collision = d.self_collision ? 1 : 0;
     c.self_thickness_m = d.self_thickness_m;
     c.self_friction = d.self_friction;
+    c.worn_over_count = 0;
+    c.layer_thickness_m = d.layer_thickness_m;
+    c.layer_friction = d.layer_friction;
     if (live_asset(asset).ok() && asset->asset.has_fabric) {  // the fabric the pattern named (as weft-sim)
         const Fabric& f = asset->asset.fabric;
         for (uint32_t k = 0; k < 3; ++k) c.compliance_m_per_n[k] = f.compliance_m_per_n[k];
@@ -335,6 +349,10 @@ WeftResult weft_add_cloth(WeftWorld* world, const WeftClothDesc* desc, WeftCloth
     c.self_collision = desc->self_collision != 0;
     c.self_thickness_m = desc->self_thickness_m;
     c.self_friction = desc->self_friction;
+    c.worn_over_count = desc->worn_over_count;  // above kMaxWornOver: refused by add_cloth
+    for (uint32_t k = 0; k < kMaxWornOver && k < desc->worn_over_count; ++k) c.worn_over[k] = cloth_id(desc->worn_over[k]);
+    c.layer_thickness_m = desc->layer_thickness_m;
+    c.layer_friction = desc->layer_friction;
     ClothId id;
     if (Result r = add_cloth(world->world, c, &id); !r.ok()) return to_c(r);
     *out_cloth = to_c_id(id.index, id.generation);

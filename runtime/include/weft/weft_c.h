@@ -145,6 +145,8 @@ typedef struct WeftWorldDesc {
     float budget_ns_per_particle; /* ns a particle slot per substep */
     uint32_t max_self_collision_particles; /* weft_reserve_cloth_desc adds the asset's for a self-colliding cloth */
     uint32_t max_self_collision_triangles;
+    uint32_t max_layer_particles; /* weft_reserve_layer adds what a cloth worn over others needs */
+    uint32_t max_layer_triangles;
 } WeftWorldDesc;
 
 /* No capacity, gravity (0, -9.81, 0) m/s^2, air 1.2 kg/m^3, no wind, the widest SIMD path, the
@@ -186,6 +188,10 @@ typedef struct WeftClothDesc {
     int self_collision;            /* non-zero: it collides with itself (chosen at weft_add_cloth) */
     float self_thickness_m;        /* the distance kept between a particle and the cloth's faces, m */
     float self_friction;           /* Coulomb coefficient between its layers */
+    WeftClothId worn_over[4];      /* layered garments: the cloths it is worn over (added before it), */
+    uint32_t worn_over_count;      /* 0..4; they win: it stays layer_thickness_m outside their faces */
+    float layer_thickness_m;       /* m */
+    float layer_friction;          /* Coulomb coefficient between the layers */
 } WeftClothDesc;
 
 /* world.h's ClothDesc defaults, with the compliance and damping of the asset's fabric if it has one. */
@@ -194,6 +200,9 @@ WeftClothDesc weft_default_cloth_desc(const WeftAsset* asset);
 /* Adds to the capacities what the cloth `cloth` describes needs: weft_reserve_cloth, and the room
    for its last good copy (WEFT_RECOVER_LAST_GOOD) and its self-collision. */
 WeftResult weft_reserve_cloth_desc(WeftWorldDesc* desc, const WeftClothDesc* cloth);
+/* Adds the room a cloth of `outer` worn over cloths of which `largest_inner` has the most particles
+   needs for its layers (weft/world.h: reserve_layer); weft_reserve_cloth_desc still adds the cloth. */
+WeftResult weft_reserve_layer(WeftWorldDesc* desc, const WeftAsset* outer, const WeftAsset* largest_inner);
 
 WeftResult weft_add_cloth(WeftWorld* world, const WeftClothDesc* desc, WeftClothId* out_cloth);
 
@@ -254,10 +263,16 @@ WeftResult weft_set_gravity(WeftWorld* world, WeftVec3 gravity_m_s2);
 WeftResult weft_step(WeftWorld* world, float dt_s);
 
 /* The same step stage by stage, for an engine's job system (weft/world.h): weft_begin_step, then for
- * each stage in order (WEFT_STAGE_BODIES, then WEFT_STAGE_CLOTHS) weft_run_step_items over
+ * each stage in order (WEFT_STAGE_BODIES, WEFT_STAGE_CLOTHS, then the layers worn over those:
+ * WEFT_STAGE_SECOND_LAYER, WEFT_STAGE_THIRD_LAYER, empty without layered cloths) weft_run_step_items over
  * [0, weft_step_stage_items) in any ranges on any threads, all before the next stage, then
  * weft_end_step. Any split gives the same bits as weft_step. */
-typedef WEFT_ENUM(WeftStepStage) { WEFT_STAGE_BODIES = 0, WEFT_STAGE_CLOTHS = 1 } WeftStepStage;
+typedef WEFT_ENUM(WeftStepStage) {
+    WEFT_STAGE_BODIES = 0,
+    WEFT_STAGE_CLOTHS = 1,
+    WEFT_STAGE_SECOND_LAYER = 2,
+    WEFT_STAGE_THIRD_LAYER = 3
+} WeftStepStage;
 WeftResult weft_begin_step(WeftWorld* world, float dt_s);
 uint32_t weft_step_stage_items(const WeftWorld* world, WeftStepStage stage);
 WeftResult weft_run_step_items(WeftWorld* world, WeftStepStage stage, uint32_t begin, uint32_t end);
