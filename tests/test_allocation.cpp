@@ -25,6 +25,7 @@
 
 #include "common/asset_writer.h"
 #include "common/crowd.h"
+#include "common/scene_json.h"
 #include "common/seed_scenes.h"
 #include "common/thread_pool.h"
 #include "support/test_support.h"
@@ -820,3 +821,26 @@ TEST_CASE("self-collision allocates nothing: the sphere's cloth folding onto its
         CHECK(allocations == 0);
     }
 }
+
+#ifdef WEFT_SAMPLE_ASSETS_DIR
+// Layered garments (ClothDesc::worn_over): the overshirt worn over the tee on the walking mannequin;
+// the body is posed outside the counted steps (the scene's animation is the game's).
+TEST_CASE("stepping an overshirt worn over a tee on the walking mannequin allocates nothing") {
+    scenes::Scene scene;
+    REQUIRE(scenes::load_scene_file(std::string(WEFT_SOURCE_DIR) + "/samples/scenes/layers-walk.json", &scene).empty());
+    scenes::SceneWorld w;
+    REQUIRE(scenes::build_scene(scene, &w, {WEFT_SAMPLE_ASSETS_DIR}).empty());
+    uint32_t failures = 0;
+    uint64_t allocations = 0, contacts = 0;
+    for (uint32_t f = 1; f <= 30; ++f) {
+        REQUIRE(scenes::animate_body(w, float(f) * scene.dt_s).empty());
+        CountingScope counting;
+        failures += !step(w.world, scene.dt_s).ok();
+        contacts += world_stats(w.world).layer_contacts;
+        allocations += counting.allocations();
+    }
+    CHECK(failures == 0);
+    CHECK(contacts > 0);  // the layers touched
+    CHECK(allocations == 0);
+}
+#endif
