@@ -6,8 +6,6 @@
 namespace weft {
 namespace {
 
-float larger(float a, float b) { return a > b ? a : b; }
-
 // The box of the finite points among slots [0, count) (with inverse_mass > 0 when given), widened
 // by `reach`; an empty box (lo > hi) when there are none.
 Box bounds(const float* x, const float* y, const float* z, const float* inverse_mass, uint32_t count, float reach) {
@@ -70,7 +68,7 @@ bool push_edge(Particles& p, uint32_t s, uint32_t r, const InnerView& inner, uin
     const P3 beside = gap - distance * n;
     if (!(dot(beside, beside) < args.thickness_m * args.thickness_m)) return false;
     const float ws = p.inverse_mass[s] * (1.0f - a), wr = p.inverse_mass[r] * a;
-    const float weight = larger(ws * (1.0f - a) + wr * a, larger(ws, wr));  // as push_face's
+    const float weight = bounded_weight(ws, wr, 0.0f, 0.0f, ws * (1.0f - a) + wr * a);
     if (!(weight > 0.0f)) return false;
     const P3 push = ((args.thickness_m - distance) / weight) * n;
     const P3 ps = previous(p, s), pr = previous(p, r);
@@ -92,9 +90,7 @@ bool push_face(Particles& p, const uint32_t k[3], const InnerView& inner, uint32
     const float distance = dot(xq - a, f.n), capture = kLayerCaptureThicknesses * args.thickness_m;
     if (!(distance > -args.thickness_m) || distance > capture) return false;
     const float wa = p.inverse_mass[k[0]] * f.u, wb = p.inverse_mass[k[1]] * f.v, wc = p.inverse_mass[k[2]] * f.w;
-    // PBD weight sum w_i g_i^2, raised to the largest w_i g_i so that no corner moves further than
-    // the depth (self_collision.cpp, bounded_weight).
-    const float weight = larger(wa * f.u + wb * f.v + wc * f.w, larger(wa, larger(wb, wc)));
+    const float weight = bounded_weight(wa, wb, wc, 0.0f, wa * f.u + wb * f.v + wc * f.w);
     if (!(weight > 0.0f)) return false;  // every corner pinned
     // C = -thickness - distance >= 0 for the face; its gradient at corner i is -g_i n.
     const P3 push = ((distance + args.thickness_m) / weight) * f.n;

@@ -8,17 +8,7 @@
 namespace weft {
 namespace {
 
-float larger(float a, float b) { return a > b ? a : b; }  // inline, unlike std::fmax (no NaN here)
-float smaller(float a, float b) { return a < b ? a : b; }
-
-// A contact's PBD weight, sum w_i g_i^2 over its particles' inverse masses w_i and barycentric
-// gradients g_i, raised where needed to the largest w_i g_i, so that no particle moves further than
-// the contact's depth. Without it a closest point near an edge's pinned end (g of the movable end
-// near 0) moved that end by depth / g: a garment whose attached waistband met a fold blew up.
-// Where it applies the contact is resolved over the sweeps instead of at once.
-float bounded_weight(float wg0, float wg1, float wg2, float wg3, float squared) {
-    return larger(squared, larger(larger(wg0, wg1), larger(wg2, wg3)));
-}
+float smaller(float a, float b) { return a < b ? a : b; }  // inline, unlike std::fmin (no NaN here)
 
 // A contact's thickness: the cloth's, but no more than kSelfThicknessPerEdge times the shortest
 // edge (in the start pose) at any of its four particles. Where a garment's mesh is finer than the
