@@ -108,6 +108,42 @@ TEST_CASE("mannequin: the walk swings the limbs, keeps the body together and rep
     CHECK(repeat < 1e-4);    // periodic
 }
 
+// The clip a skirt's self-collision is tested on (tests/test_sew.cpp): it starts and ends at rest,
+// bends forward, then sits with the feet on the floor and the hips lowered, the knees in front.
+TEST_CASE("mannequin: bend-and-sit starts at rest, bends forward, sits with the feet level, and repeats") {
+    const body::Mannequin& m = mannequin();
+    std::vector<Vec3> start, bent, seated, again;
+    body::clip_pose(m, body::Clip::bend_and_sit, 0.0f, &start);
+    body::clip_pose(m, body::Clip::bend_and_sit, 1.5f, &bent);    // bent over, held
+    body::clip_pose(m, body::Clip::bend_and_sit, 5.2f, &seated);  // seated, held
+    body::clip_pose(m, body::Clip::bend_and_sit, body::kBendAndSitPeriod_s, &again);
+    REQUIRE(start.size() == m.positions.size());
+    double at_rest = 0.0, repeat = 0.0;
+    float top_y = -1e9f, bent_top_y = -1e9f, bent_top_z = 0.0f, lowest = 1e9f, seated_lowest = 1e9f, seated_front = -1e9f;
+    for (size_t v = 0; v < start.size(); ++v) {
+        const Vec3 r = m.positions[v];
+        at_rest = std::max(at_rest, std::hypot(double(start[v].x) - r.x, double(start[v].y) - r.y, double(start[v].z) - r.z));
+        repeat = std::max(repeat, std::hypot(double(again[v].x) - r.x, double(again[v].y) - r.y, double(again[v].z) - r.z));
+        if (r.y > top_y) top_y = r.y;
+        if (bent[v].y > bent_top_y) bent_top_y = bent[v].y, bent_top_z = bent[v].z;
+        lowest = std::min(lowest, r.y);
+        seated_lowest = std::min(seated_lowest, seated[v].y);
+        seated_front = std::max(seated_front, seated[v].z);
+    }
+    CHECK(at_rest < 1e-5);   // dressed in the rest pose, the clip starts there
+    CHECK(repeat < 1e-5);    // and ends there
+    CHECK(bent_top_y < top_y - 0.3f);  // bent over: the head well below its standing height
+    CHECK(bent_top_z > 0.2f);          // and forward of the feet
+    CHECK(std::abs(seated_lowest - lowest) < 0.03f);  // seated, the soles stay on the floor
+    CHECK(seated_front > 0.4f);                        // the knees in front
+    // The hips lowered: the crotch's vertices (the lowest of the torso, near x = 0) drop by 20 cm or more.
+    float crotch = 1e9f, seated_crotch = 1e9f;
+    for (size_t v = 0; v < start.size(); ++v)
+        if (std::abs(m.positions[v].x) < 0.01f && m.positions[v].y > 0.5f * top_y - 0.2f && m.positions[v].y < 0.5f * top_y + 0.2f)
+            crotch = std::min(crotch, m.positions[v].y), seated_crotch = std::min(seated_crotch, seated[v].y);
+    CHECK(seated_crotch < crotch - 0.2f);
+}
+
 // Distance from p to the line through a and b, and where p projects on it (0 at a, 1 at b).
 std::pair<double, double> axis_distance(Vec3 p, Vec3 a, Vec3 b) {
     const double ab[3] = {double(b.x) - a.x, double(b.y) - a.y, double(b.z) - a.z};

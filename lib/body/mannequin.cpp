@@ -284,13 +284,67 @@ std::vector<Motion> walk_motions(const Mannequin& body, float t_s) {
     return world;
 }
 
+// 0 before `from`, 1 after `to`, smooth (zero speed at both ends) in between.
+double ease(double t, double from, double to) {
+    const double u = std::clamp((t - from) / (to - from), 0.0, 1.0);
+    return u * u * (3.0 - 2.0 * u);
+}
+
+// Each bone's rigid motion in the bend-and-sit clip at time t. Angles about +X: positive tips what
+// lies above the joint forward (+Z) and what hangs below it backward.
+std::vector<Motion> bend_and_sit_motions(const Mannequin& body, float t_s) {
+    const double t = std::fmod(double(t_s), double(kBendAndSitPeriod_s));
+    // Bend over 0-1.2 s, hold to 1.8, straighten by 3.0; sit over 3.4-4.8 s, hold to 5.6, stand by 7.
+    const double bend = ease(t, 0.0, 1.2) - ease(t, 1.8, 3.0);
+    const double sit = ease(t, 3.4, 4.8) - ease(t, 5.6, 7.0);
+    const double hip_flexion = 1.35 * sit;                    // thighs forward, near horizontal
+    const double pelvis_tilt = 0.45 * bend + 0.10 * sit;      // the hips' share of the bend forward
+    const double spine_bend = 0.65 * bend + 0.15 * sit;       // the waist's share; seated, a slight lean
+    const P x_axis{1, 0, 0};
+    // The pelvis turns about the hip joints' axis; seated, it is lowered by what the bent legs lose
+    // in height (thigh length * (1 - cos)) less what the shins keep vertical, so the feet stay level.
+    size_t thigh = 0;
+    while (thigh < body.bones.size() && body.bones[thigh].name.rfind("thigh", 0) != 0) ++thigh;
+    const Bone& leg = body.bones[thigh];
+    const P hip{0.0, leg.head.y, leg.head.z};
+    const double thigh_length = length(P{leg.tail.x, leg.tail.y, leg.tail.z} - P{leg.head.x, leg.head.y, leg.head.z});
+    const double drop = thigh_length * (1.0 - std::cos(hip_flexion));
+    std::vector<Motion> world(body.bones.size());
+    for (size_t b = 0; b < body.bones.size(); ++b) {
+        const Bone& bone = body.bones[b];
+        const P head{bone.head.x, bone.head.y, bone.head.z};
+        const std::string& n = bone.name;
+        Motion local;
+        if (n == "pelvis") {
+            local = rotation_about(hip, x_axis, pelvis_tilt);
+            local.t = local.t + P{0.0, -drop, 0.0};
+        } else if (n == "spine") {
+            local = rotation_about(head, x_axis, spine_bend);
+        } else if (n.rfind("thigh", 0) == 0) {
+            local = rotation_about(head, x_axis, -hip_flexion - pelvis_tilt);  // against the pelvis' tilt
+        } else if (n.rfind("shin", 0) == 0) {
+            local = rotation_about(head, x_axis, hip_flexion);  // the shins back to vertical
+        } else if (n.rfind("upper_arm", 0) == 0) {
+            local = rotation_about(head, x_axis, -0.5 * bend - 0.3 * sit);  // the arms reach forward
+        } else if (n.rfind("forearm", 0) == 0) {
+            local = rotation_about(head, x_axis, -0.3 * sit);  // seated, the hands beside the thighs
+        }
+        world[b] = bone.parent < 0 ? local : compose(world[size_t(bone.parent)], local);
+    }
+    return world;
+}
+
+std::vector<Motion> clip_motions(const Mannequin& body, Clip clip, float t_s) {
+    return clip == Clip::walk ? walk_motions(body, t_s) : bend_and_sit_motions(body, t_s);
+}
+
 P to_p(Vec3 v) { return {v.x, v.y, v.z}; }
 Vec3 to_vec3(P p) { return {float(p.x), float(p.y), float(p.z)}; }
 
 }  // namespace
 
-void walk_pose(const Mannequin& body, float t_s, std::vector<Vec3>* out) {
-    const std::vector<Motion> world = walk_motions(body, t_s);
+void clip_pose(const Mannequin& body, Clip clip, float t_s, std::vector<Vec3>* out) {
+    const std::vector<Motion> world = clip_motions(body, clip, t_s);
     out->resize(body.positions.size());
     for (size_t v = 0; v < body.positions.size(); ++v) {
         const P p = to_p(body.positions[v]);
@@ -333,9 +387,9 @@ std::string fit_limb_capsules(const Mannequin& body, const std::vector<std::stri
     return {};
 }
 
-void walk_capsules(const Mannequin& body, const std::vector<LimbCapsule>& rest, float t_s,
+void clip_capsules(const Mannequin& body, Clip clip, const std::vector<LimbCapsule>& rest, float t_s,
                    std::vector<LimbCapsule>* out) {
-    const std::vector<Motion> world = walk_motions(body, t_s);
+    const std::vector<Motion> world = clip_motions(body, clip, t_s);
     out->resize(rest.size());
     for (size_t i = 0; i < rest.size(); ++i) {
         const Motion& m = world[size_t(rest[i].bone)];

@@ -47,9 +47,19 @@ struct MannequinOptions {
 // Meshes the mannequin. Returns the failure message (empty on success).
 std::string make_mannequin(const Measurements& m, const MannequinOptions& options, Mannequin* out);
 
-// The mannequin walking in place at time t: legs and arms swing about their joints, the torso
-// sways (one stride every 1.1 s). Writes the skinned positions (linear blend skinning).
-void walk_pose(const Mannequin& body, float t_s, std::vector<Vec3>* out);
+// The mannequin's procedural motions, each starting from the rest pose (A-pose) it is dressed in:
+//   walk:         walking in place: legs and arms swing about their joints, the torso sways (one
+//                 stride every 1.1 s);
+//   bend_and_sit: the harder case for a skirt (kBendAndSitPeriod_s, then again): it bends forward at
+//                 the waist and hips and straightens, then sits down (thighs forward to near
+//                 horizontal, the knees bent, the pelvis lowered so the feet stay level), sits, and
+//                 stands up. There is no chair: the body holds the seated pose.
+enum class Clip : uint8_t { walk, bend_and_sit };
+inline constexpr float kBendAndSitPeriod_s = 7.0f;
+
+// The mannequin in `clip` at time t: the skinned positions (linear blend skinning).
+void clip_pose(const Mannequin& body, Clip clip, float t_s, std::vector<Vec3>* out);
+inline void walk_pose(const Mannequin& body, float t_s, std::vector<Vec3>* out) { clip_pose(body, Clip::walk, t_s, out); }
 
 // A capsule around one section of a limb bone: the collision proxy a game builds from its
 // skeleton (as Chaos's and NvCloth's per-bone capsules), moved by the bone alone.
@@ -66,8 +76,12 @@ struct LimbCapsule {
 std::string fit_limb_capsules(const Mannequin& body, const std::vector<std::string>& bones, int sections,
                               std::vector<LimbCapsule>* out);
 
-// The capsules moved with their bones to the walk at time t (the motion walk_pose skins with).
-void walk_capsules(const Mannequin& body, const std::vector<LimbCapsule>& rest, float t_s,
+// The capsules moved with their bones in `clip` at time t (the motion clip_pose skins with).
+void clip_capsules(const Mannequin& body, Clip clip, const std::vector<LimbCapsule>& rest, float t_s,
                    std::vector<LimbCapsule>* out);
+inline void walk_capsules(const Mannequin& body, const std::vector<LimbCapsule>& rest, float t_s,
+                          std::vector<LimbCapsule>* out) {
+    clip_capsules(body, Clip::walk, rest, t_s, out);
+}
 
 }  // namespace weft::body

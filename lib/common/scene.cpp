@@ -140,7 +140,8 @@ std::string load_body(const BodySpec& spec, const Scene& scene, const std::vecto
         out->rest = std::move(mesh.positions);
         out->triangles = std::move(mesh.triangles);
     }
-    if (spec.animation == BodyAnimation::walk && !spec.mannequin) return "only the mannequin walks";
+    if ((spec.animation == BodyAnimation::walk || spec.animation == BodyAnimation::bend_and_sit) && !spec.mannequin)
+        return "only the mannequin walks, bends and sits";
     if (!spec.limb_capsules.empty()) {
         if (!spec.mannequin) return "only the mannequin has the bones limb capsules follow";
         if (std::string e = body::fit_limb_capsules(*static_cast<const body::Mannequin*>(out->mannequin.get()),
@@ -225,9 +226,11 @@ std::string animate_body(SceneWorld& w, float t_s) {
     if (!w.body || w.body->spec.animation == BodyAnimation::still) return {};
     SceneBody& b = *w.body;
     const size_t n = b.rest.size();
-    if (b.spec.animation == BodyAnimation::walk) {
+    const bool clip = b.spec.animation == BodyAnimation::walk || b.spec.animation == BodyAnimation::bend_and_sit;
+    const body::Clip which = b.spec.animation == BodyAnimation::walk ? body::Clip::walk : body::Clip::bend_and_sit;
+    if (clip) {
         const auto& m = *static_cast<const body::Mannequin*>(b.mannequin.get());
-        body::walk_pose(m, t_s, &b.pose);
+        body::clip_pose(m, which, t_s, &b.pose);
         const float k = walk_entry(b.spec, t_s);
         for (size_t v = 0; v < n; ++v)
             b.pose[v] = {b.rest[v].x + (b.pose[v].x - b.rest[v].x) * k, b.rest[v].y + (b.pose[v].y - b.rest[v].y) * k,
@@ -242,7 +245,7 @@ std::string animate_body(SceneWorld& w, float t_s) {
     if (Result r = set_body_vertices(w.world, b.id, b.pose.data(), uint32_t(n)); !r.ok()) return r.message;
     if (!b.limb_capsules.empty()) {
         const auto& m = *static_cast<const body::Mannequin*>(b.mannequin.get());
-        body::walk_capsules(m, b.limb_capsules, b.spec.animation == BodyAnimation::walk ? t_s : 0.0f, &b.posed_capsules);
+        body::clip_capsules(m, which, b.limb_capsules, clip ? t_s : 0.0f, &b.posed_capsules);
         const float k = walk_entry(b.spec, t_s);
         for (size_t i = 0; i < b.posed_capsules.size(); ++i) {
             body::LimbCapsule& c = b.posed_capsules[i];

@@ -64,16 +64,17 @@ struct ClothSpec {
 };
 
 // A body collider (weft/body.h) and how it moves: the project's mannequin or a mesh file, still,
-// walking (the mannequin's procedural walk, entered from its rest pose over ramp_s) or blended
-// back and forth between two poses of the same mesh (the shared A-pose and T-pose).
-enum class BodyAnimation : uint8_t { still, walk, blend };
+// walking or bending and sitting (the mannequin's procedural clips, lib/body/mannequin.h, entered
+// from its rest pose over ramp_s) or blended back and forth between two poses of the same mesh
+// (the shared A-pose and T-pose).
+enum class BodyAnimation : uint8_t { still, walk, blend, bend_and_sit };
 struct BodySpec {
     bool mannequin = false;     // the project's own (lib/body/mannequin.h, default measurements)
     std::string mesh_path;      // or an OBJ/glTF file, relative to the scene file's folder
     BodyAnimation animation = BodyAnimation::still;
     std::string blend_to_path;  // blend: the second pose (same faces)
     float period_s = 2.0f;      // blend: rest -> blend_to -> rest
-    float ramp_s = 1.0f;        // walk: seconds from the rest pose into the full walk
+    float ramp_s = 1.0f;        // walk, bend_and_sit: seconds from the rest pose into the full clip
     float thickness_m = 0.004f, margin_m = 0.002f, friction = 0.5f;  // BodyDesc
     // BodyDesc::collision. A scene names the cheapest model that keeps its garment within 2 mm of
     // the hull (docs/garments.md); without a name, cached_planes, within it on every body measured.

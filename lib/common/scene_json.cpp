@@ -229,9 +229,11 @@ BodySpec parse_body(const json& j, const std::string& where) {
         if (a == "still") b.animation = BodyAnimation::still;
         else if (a == "walk") b.animation = BodyAnimation::walk;
         else if (a == "blend") b.animation = BodyAnimation::blend;
-        else fail(where + ".animation", "must be still, walk or blend");
+        else if (a == "bend_and_sit") b.animation = BodyAnimation::bend_and_sit;
+        else fail(where + ".animation", "must be still, walk, bend_and_sit or blend");
     }
-    if (b.animation == BodyAnimation::walk && !b.mannequin) fail(where + ".animation", "only the mannequin walks");
+    if ((b.animation == BodyAnimation::walk || b.animation == BodyAnimation::bend_and_sit) && !b.mannequin)
+        fail(where + ".animation", "only the mannequin walks, bends and sits");
     if (b.animation == BodyAnimation::blend) {
         if (!j.contains("blend_to")) fail(where, "a blend needs 'blend_to'");
         b.blend_to_path = text(j["blend_to"], where + ".blend_to");

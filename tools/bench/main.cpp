@@ -595,7 +595,7 @@ int main(int argc, char** argv) {
     garment->add_option("--simd", garment_simd, "the SIMD path every scene runs on")
         ->check(CLI::IsMember({"automatic", "scalar", "avx2"}))->capture_default_str();
     bench::SelfBenchOptions self_o;
-    CLI::App* self = app.add_subcommand("self", "self-collision off and on: the drape, a heap on the ground, the walking skirt");
+    CLI::App* self = app.add_subcommand("self", "self-collision off and on: the drape, a heap on the ground, the skirt walking and bending and sitting");
     self->add_option("--frames", self_o.frames, "frames measured per scene (the skirt's after the walk's 1 s ramp)")
         ->check(CLI::Range(1u, 100000u))->capture_default_str();
     self->add_flag("--json", self_o.json, "one JSON object per scene and setting");

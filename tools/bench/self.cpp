@@ -74,6 +74,13 @@ int run_self(const SelfBenchOptions& o) {
             !e.empty())
             return std::fprintf(stderr, "weft-bench self: %s\n", e.c_str()), 1;
         cases.push_back({skirt, uint32_t(skirt.body->ramp_s / skirt.dt_s + 0.5f)});
+        // The same skirt while the mannequin bends forward and sits (its clip starts at rest).
+        scenes::Scene sit;
+        if (std::string e = dress_scene(source + "/samples/scenes/skirt-sit.json", source + "/samples/patterns/skirt.json",
+                                        mannequin, dir, &sit, &baked);
+            !e.empty())
+            return std::fprintf(stderr, "weft-bench self: %s\n", e.c_str()), 1;
+        cases.push_back({sit, 0});
     }
     if (!o.json)
         std::printf("weft-bench self: %u frames per scene, one thread; worlds without and with self-collision stepped "
