@@ -2,6 +2,8 @@
 // malformed scene is refused with the path of the offending key.
 #include <doctest/doctest.h>
 
+#include <algorithm>
+#include <cmath>
 #include <cstring>
 #include <string>
 
@@ -147,6 +149,37 @@ TEST_CASE("a scene's limb capsules are colliders that follow the walking mannequ
     REQUIRE(scenes::parse_scene(head + R"("body": {"mannequin": {}, "limb_capsules": ["tail"]}})", ".", &bad).empty());
     scenes::SceneWorld none;
     CHECK(scenes::build_scene(bad, &none).find("no bone named 'tail'") != std::string::npos);
+}
+
+// body.animation "bend_and_sit": the mannequin's clip (lib/body/mannequin.h) poses the body and its
+// capsules; a mesh body cannot take it (it has no bones).
+TEST_CASE("a scene's mannequin bends and sits: the body and its capsules take the clip's pose") {
+    const std::string head = R"({"format": "weft-scene", "version": 1, "cloths": [{"grid": {"n": 4}}], )";
+    scenes::Scene scene;
+    REQUIRE(scenes::parse_scene(head + R"("body": {"mannequin": {}, "animation": "bend_and_sit", "ramp_s": 0,
+        "limb_capsules": ["thigh.L"]}})", ".", &scene).empty());
+    REQUIRE(scene.body->animation == scenes::BodyAnimation::bend_and_sit);
+    scenes::SceneWorld w;
+    REQUIRE(scenes::build_scene(scene, &w).empty());
+    const float seated_s = 5.2f;
+    REQUIRE(scenes::animate_body(w, seated_s).empty());
+    const auto& m = *static_cast<const body::Mannequin*>(w.body->mannequin.get());
+    std::vector<Vec3> pose;
+    body::clip_pose(m, body::Clip::bend_and_sit, seated_s, &pose);
+    REQUIRE(w.body->pose.size() == pose.size());
+    // (entered from the rest pose with ramp_s 0: rest + (pose - rest), equal to rounding)
+    CHECK(std::equal(pose.begin(), pose.end(), w.body->pose.begin(), [](Vec3 a, Vec3 b) {
+        return std::abs(a.x - b.x) < 1e-6f && std::abs(a.y - b.y) < 1e-6f && std::abs(a.z - b.z) < 1e-6f;
+    }));
+    std::vector<body::LimbCapsule> expect;
+    body::clip_capsules(m, body::Clip::bend_and_sit, w.body->limb_capsules, seated_s, &expect);
+    CHECK(std::abs(w.body->posed_capsules[0].p1.z - expect[0].p1.z) < 1e-6f);
+    CHECK(expect[0].p1.z - w.body->limb_capsules[0].p1.z > 0.1f);  // seated: mid-thigh well forward
+    REQUIRE(step(w.world, w.dt_s).ok());
+
+    scenes::Scene bad;
+    CHECK(scenes::parse_scene(head + R"("body": {"mesh": "body.obj", "animation": "bend_and_sit"}})", ".", &bad)
+              .find("only the mannequin") != std::string::npos);
 }
 
 // body.ground: the floor weft-bake dresses garments on, a plane under the body's soles.
