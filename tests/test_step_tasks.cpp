@@ -603,6 +603,12 @@ TEST_CASE("character motion: bad roots and inertia are refused, a still root cha
     d.linear_inertia = 0.5f;
     d.max_inertial_speed_m_s = -1.0f;
     CHECK(set_cloth_settings(crowd.world, skirt, d).code == ErrorCode::out_of_range);
+    d.max_inertial_speed_m_s = 1000.0f;
+    d.jump_turn_rad_s = NAN;
+    CHECK(set_cloth_settings(crowd.world, skirt, d).code == ErrorCode::out_of_range);
+    d.jump_turn_rad_s = 30.0f;
+    d.max_step_s = 2.0f;
+    CHECK(set_cloth_settings(crowd.world, skirt, d).code == ErrorCode::out_of_range);
 }
 
 namespace {
@@ -650,8 +656,9 @@ GarmentState stand(scenes::Crowd& crowd, uint32_t frames) {
 // 1: the worst case); after each abuse the character stands: every particle stays finite and within
 // reach of the body throughout, the garments end no more stretched than they started (within 10% +
 // 1 percentage point) and at rest (mean speed under 5 mm/s) after `settle_s` seconds at most: 2 s
-// after refused vertices and a 100 m teleport, `violent_settle_s` after the spin and the hitch.
-void abuse_a_dressed_character(float violent_settle_s) {
+// after refused vertices, a 100 m teleport and the spin (a root turning past ClothDesc::jump_turn_rad_s
+// carries the garments whole), `hitch_settle_s` after the hitch.
+void abuse_a_dressed_character(float hitch_settle_s) {
     scenes::Crowd crowd;
     REQUIRE(scenes::build_crowd(crowd_options(1), &crowd).empty());
     scenes::CrowdCharacter& who = crowd.characters[0];
@@ -705,14 +712,14 @@ void abuse_a_dressed_character(float violent_settle_s) {
             bounded = bounded && garment_state(crowd).finite_and_bounded;
         }
         CHECK(bounded);
-        check_recovered("after spinning at 10 revolutions a second", violent_settle_s);
+        check_recovered("after spinning at 10 revolutions a second", 2.0f);
     }
 
     // 4. One frame of 0.25 s (a hitch).
     REQUIRE(scenes::animate_crowd(crowd, 0.0f).empty());
     REQUIRE(step(crowd.world, 0.25f).ok());
     CHECK(garment_state(crowd).finite_and_bounded);
-    check_recovered("after a 0.25 s frame", violent_settle_s);
+    check_recovered("after a 0.25 s frame", hitch_settle_s);
 
     // 5. A cloth removed while the frame's tasks run: refused until the step ends, then removed;
     // the other garment steps on.
@@ -733,15 +740,16 @@ void abuse_a_dressed_character(float violent_settle_s) {
 
 }  // namespace
 
-TEST_CASE("stress: a dressed character abused as a game does (bad vertices, a 100 m teleport, 10 revolutions a second, a 0.25 s frame, a removal mid-frame) stays finite and bounded and comes back to rest") {
+TEST_CASE("stress: a dressed character abused as a game does (bad vertices, a 100 m teleport, 10 revolutions a second, a 0.25 s frame, a removal mid-frame) stays finite and bounded and comes back to rest, within 2 s of the spin") {
     abuse_a_dressed_character(5.0f);
 }
 
-// Known to fail (2026-11-28; issue 23, point 6): 2 s after the spin and after the hitch the
-// garments, at rest, unstretched and in place, still sway at a mean 2.6 and 2.0 cm/s (9.8 and 4.5
-// m/s when the abuse ends; the fabric's damping of 1/s sets the decay; under 5 mm/s after 5 s).
-// should_fail: it reports when it holds.
-TEST_CASE("stress: a dressed character is back at rest within 2 s of a 10 revolutions a second spin and of a 0.25 s frame (known to fail)" *
+// Known to fail (issue 23, point 6): 2 s after the hitch the garments, unstretched and in place,
+// still move at a mean 1.1 cm/s. The hitch is stepped as 1/30 s (ClothDesc::max_step_s), but any
+// longer step kicks a hanging garment: its sag at the game's sweeps grows with the step, so a step
+// 10% longer than the last one sets the standing skirt and tee moving at 3 cm/s
+// (docs/decisions/2026-12-07-jumps-and-hitches.md). should_fail: it reports when it holds.
+TEST_CASE("stress: a dressed character is back at rest within 2 s of a 0.25 s frame (known to fail)" *
           doctest::should_fail()) {
     abuse_a_dressed_character(2.0f);
 }

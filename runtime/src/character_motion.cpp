@@ -104,6 +104,21 @@ void follow_root(ClothInstance& cloth, float dt_s, uint32_t substep, uint32_t su
           {(delta.x - felt.x) / n, (delta.y - felt.y) / n, (delta.z - felt.z) / n});
 }
 
+bool root_jumps(const ClothInstance& cloth, float dt_s) {
+    if (!cloth.has_root) return false;
+    const Transform &from = cloth.previous_root, &to = cloth.root;
+    const ClothDesc& s = cloth.settings;
+    const Vec3 d{to.translation_m.x - from.translation_m.x, to.translation_m.y - from.translation_m.y,
+                 to.translation_m.z - from.translation_m.z};
+    if (s.jump_speed_m_s > 0.0f && d.x * d.x + d.y * d.y + d.z * d.z > (s.jump_speed_m_s * dt_s) * (s.jump_speed_m_s * dt_s))
+        return true;
+    if (!(s.jump_turn_rad_s > 0.0f)) return false;
+    Quat q = multiply(to.rotation, conjugate(from.rotation));
+    if (q.w < 0.0f) q = {-q.x, -q.y, -q.z, -q.w};  // the shorter way round
+    const float turn_rad = 2.0f * std::atan2(std::sqrt(q.x * q.x + q.y * q.y + q.z * q.z), q.w);
+    return turn_rad > s.jump_turn_rad_s * dt_s;
+}
+
 void jump_to_root(ClothInstance& cloth, const Transform& root, bool drop_velocity) {
     if (cloth.has_root) {
         const Transform& from = cloth.previous_root;

@@ -151,7 +151,8 @@ void collide(World& world, ClothInstance& cloth, uint32_t substep, uint32_t subs
     const float share = 1.0f / float(substeps);
     // A moved collider stands where it was this far into the step, as the body's hull and the
     // carry do: the share of its motion still to come is taken off (none in the last substep).
-    const float to_come = 1.0f - float(substep + 1) / float(substeps);
+    // A cloth whose root jumped was carried whole: its colliders stand at their end pose, still.
+    const float to_come = cloth.root_jumped ? 0.0f : 1.0f - float(substep + 1) / float(substeps);
     // A collider whose box misses the cloth's is skipped (a skirt's thigh capsules cost its
     // character's tee nothing).
     ParticleBounds& box = cloth.bounds;  // kept: a moved collider wakes the sleeping cloths it meets
@@ -178,6 +179,7 @@ void collide(World& world, ClothInstance& cloth, uint32_t substep, uint32_t subs
         const Vec3 carried = carried_motion(cloth, centre);
         args.motion = {c.motion_m.x * share - carried.x, c.motion_m.y * share - carried.y,
                        c.motion_m.z * share - carried.z};
+        if (cloth.root_jumped) args.motion = {};
         if (!collider_may_touch(box, args)) {
             cloth.counts.colliders_skipped += 1;
             continue;
@@ -462,6 +464,12 @@ uint64_t count_projections(const World& world, BatchLayout layout) {
     return lanes;
 }
 
+// The time a cloth is stepped by: the game's dt, at most its ClothDesc::max_step_s.
+float cloth_step_s(const ClothInstance& cloth, float dt_s) {
+    const float most = cloth.settings.max_step_s;
+    return most > 0.0f && dt_s > most ? most : dt_s;
+}
+
 // The layer a cloth stage steps (StepStage: cloths, second_layer, third_layer).
 uint32_t cloth_layer(StepStage stage) { return uint32_t(stage) - uint32_t(StepStage::cloths); }
 
@@ -471,7 +479,7 @@ void run_items(World& world, StepStage stage, uint32_t begin, uint32_t end) {
         if (stage == StepStage::bodies) {
             if (world.bodies[i].slot.live) move_body(world, i);
         } else if (world.cloths[i].slot.live && world.cloths[i].layer == cloth_layer(stage)) {
-            step_cloth(world, world.cloths[i], world.step_dt_s);
+            step_cloth(world, world.cloths[i], cloth_step_s(world.cloths[i], world.step_dt_s));
         }
     }
 }
@@ -520,6 +528,35 @@ Result refuse_while_stepping(const World* world) {
     return {};
 }
 
+// A body whose motion this step counts as done (a jumped root's, below): no motion, and the
+// previous hull is this one, as teleport_body leaves it.
+void jump_body(World& world, uint32_t index) {
+    BodyState& body = world.bodies[index];
+    for (uint32_t v = 0; v < body.vertex_count; ++v) body.hull[4 * v + 3] = 0.0f;
+    std::memcpy(body.previous_hull, body.hull, sizeof(float) * 4 * size_t(body.vertex_count));
+    for (uint32_t i = 0; i < world.cloth_slots; ++i)
+        if (world.cloths[i].slot.live && world.cloths[i].skin_body == index) world.cloths[i].skin_points_current = false;
+}
+
+// Roots that moved faster than their cloth's jump speeds (ClothDesc::jump_speed_m_s,
+// jump_turn_rad_s: a spin, a respawn the game did not announce) are taken as teleport_cloth: the
+// cloth is carried whole to the new root now, and the bodies it is bound to or collides with alone
+// stand at this step's pose from its start. Carried along the turn's arc while the hull went
+// between poses along the chord, the cloth would be swept by its own body.
+void jump_fast_roots(World& world, float dt_s) {
+    for (uint32_t i = 0; i < world.cloth_slots; ++i) {
+        ClothInstance& cloth = world.cloths[i];
+        cloth.root_jumped = false;
+        if (!cloth.slot.live || !root_jumps(cloth, dt_s)) continue;  // the root moved over the whole frame
+        cloth.root_jumped = true;
+        wake(cloth);
+        forget_last_good(cloth);
+        jump_to_root(cloth, cloth.root, false);
+        for (uint32_t b : {cloth.skin_body, cloth.attached_body, cloth.own_body})
+            if (b < world.body_slots && world.bodies[b].slot.live) jump_body(world, b);
+    }
+}
+
 Result begin_step(World* world, float dt_s) {
     if (world == nullptr) return make_error(ErrorCode::invalid_argument, "world is null");
     if (Result r = refuse_while_stepping(world); !r.ok()) return r;
@@ -534,6 +571,7 @@ Result begin_step(World* world, float dt_s) {
         // The plain reference pass (a diagnostic) commits Embree scenes: here, on this thread.
         if (body.reference_queries && body.refit_pending) refit_embree(*world, body);
     }
+    jump_fast_roots(*world, dt_s);
     spend_frame_budget(*world);  // this step's splits: every cloth its own, or cut to fit the budget
     world->step_dt_s = dt_s;
     world->step_open = true;

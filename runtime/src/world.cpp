@@ -312,6 +312,12 @@ Result check_cloth_settings(const ClothDesc& desc) {
     if (!(desc.max_inertial_speed_m_s >= 0.0f && desc.max_inertial_speed_m_s <= 1e6f))
         return make_error(ErrorCode::out_of_range, "max_inertial_speed_m_s %g outside 0..1e6",
                           double(desc.max_inertial_speed_m_s));
+    if (!(desc.max_step_s >= 0.0f && desc.max_step_s <= 1.0f))
+        return make_error(ErrorCode::out_of_range, "max_step_s %g outside 0..1", double(desc.max_step_s));
+    if (!(desc.jump_speed_m_s >= 0.0f && desc.jump_speed_m_s <= 1e6f) ||
+        !(desc.jump_turn_rad_s >= 0.0f && desc.jump_turn_rad_s <= 1e6f))
+        return make_error(ErrorCode::out_of_range, "jump_speed_m_s %g or jump_turn_rad_s %g outside 0..1e6",
+                          double(desc.jump_speed_m_s), double(desc.jump_turn_rad_s));
     // Only what measured stable (docs/solver.md, "Splits the API refuses"; tests/test_stress.cpp):
     // over-relaxation jitters inside Verlet (1.3: 5-7 cm/s back and forth on the n = 16 drape and
     // sphere; 1.5: up to 16 m/s; 1.95 blew up with the coarse level), and below 0.5 the coarse level

@@ -104,6 +104,9 @@ struct alignas(64) ClothInstance {  // a cache line of its own: cloths step on d
     // This substep's carry: x -> carry_rotation (x - carry_pivot) + carry_pivot + carry_shift (carried
     // false: none). Friction subtracts it from the surfaces' motion: the particles already moved so.
     bool carried = false;
+    // This step's root moved faster than ClothDesc's jump speeds: begin_step carried the cloth
+    // whole, and its colliders stand at their end pose with no motion to drag it by.
+    bool root_jumped = false;
     float carry_rotation[9] = {1, 0, 0, 0, 1, 0, 0, 0, 1};
     Vec3 carry_pivot{}, carry_shift{};
 };
@@ -117,6 +120,8 @@ Vec3 carried_motion(const ClothInstance& cloth, Vec3 p);
 void follow_root(ClothInstance& cloth, float dt_s, uint32_t substep, uint32_t substeps);
 // teleport_cloth: carries the cloth rigidly to `root`; with drop_velocity, at rest there.
 void jump_to_root(ClothInstance& cloth, const Transform& root, bool drop_velocity);
+// Whether the root moved or turned faster than the cloth's jump speeds since the last step.
+bool root_jumps(const ClothInstance& cloth, float dt_s);
 
 struct ColliderState {
     InstanceSlot slot;

@@ -38,6 +38,7 @@ struct FrameReport {
     uint32_t frame = 0;
     double us_step = 0.0;
     double max_strain = 0.0, mean_strain = 0.0;
+    Vec3 max_strain_at{};  // the midpoint of the most strained spring
     double max_penetration_m = 0.0;
     double mean_speed_m_s = 0.0;
     bool finite = true;
@@ -58,6 +59,7 @@ FrameReport measure(const scenes::Scene& scene, const scenes::SceneWorld& sw, ui
         ClothView view;
         view_cloth(sw.world, c.id, &view);
         const metrics::Strain s = metrics::stretch_strain(view);
+        if (s.max >= r.max_strain) r.max_strain_at = s.max_at;
         r.max_strain = std::max(r.max_strain, s.max);
         r.mean_strain += s.mean * c.asset->particle_count;
         particles += c.asset->particle_count;
@@ -208,6 +210,7 @@ int main(int argc, char** argv) {
             const nlohmann::json j = {{"frame", f},
                                       {"us_step", last.us_step},
                                       {"max_strain", last.max_strain},
+                                      {"max_strain_at_m", {last.max_strain_at.x, last.max_strain_at.y, last.max_strain_at.z}},
                                       {"mean_strain", last.mean_strain},
                                       {"max_penetration_m", last.max_penetration_m},
                                       {"mean_speed_m_s", last.mean_speed_m_s},

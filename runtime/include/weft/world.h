@@ -185,6 +185,14 @@ struct ClothDesc {
     float linear_inertia = 1.0f;              // share of the root's motion felt, 0..1 (0: carried rigidly)
     float angular_inertia = 1.0f;             // the same for its rotation
     float max_inertial_speed_m_s = 1000.0f;   // root motion beyond this speed carries the cloth rigidly
+    // A root faster than either in one step is a jump, as teleport_cloth (Chaos's teleport
+    // thresholds): the cloth is carried rigidly by the whole step's root motion, its velocity turned
+    // with it, and its bodies' motion that step counts as done. 0: never.
+    float jump_speed_m_s = 100.0f;
+    float jump_turn_rad_s = 30.0f;            // about 5 revolutions a second
+    // A longer step (a hitch, a loading frame) simulates the cloth this long, s (Chaos's
+    // MaxPhysicsDelta): a 0.25 s frame in one substep would let gravity move it 0.6 m. 0: no limit.
+    float max_step_s = 1.0f / 30.0f;
 
     float sleep_speed_m_s = 0.0f;  // at rest below this, m/s, it skips its steps until woken; 0: never
 
