@@ -173,8 +173,9 @@ struct Kernels {
     void (*solve_coarse_level)(const Particles&, const IntegrateArgs&, const ClothAsset&, const CoarseState&,
                                float relaxation, uint32_t sweeps);
     // [0]: exact, [1]: sqrt_free (SpringProjection)
-    void (*project_run[2])(const PointSet&, const ConstraintLanes&, const ConstraintBatch&, const DistanceArgs&);
-    void (*project_indexed[2])(const PointSet&, const ConstraintLanes&, const ConstraintBatch&, const DistanceArgs&);
+    // One sweep of the springs (constraints/distance.h: project_springs), args by ConstraintKind.
+    void (*project_springs[2])(const PointSet&, const ConstraintLanes&, const ConstraintBatch*, uint32_t batch_count,
+                               const DistanceArgs*);
     void (*project_tethers)(const Particles&, const ClothAsset&, const TetherBatch&, float slack);
     void (*collide)(const Particles&, const ColliderKernelArgs&);
     void (*apply_wind)(const Particles&, const ClothAsset&, const WindArgs&);

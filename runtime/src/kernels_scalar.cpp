@@ -17,8 +17,7 @@ namespace weft {
 const Kernels& scalar_kernels() {
     using F = simd::Float1;
     static constexpr Kernels kernels{SimdPath::scalar, integrate_verlet<F>, solve_coarse_level<F>,
-                                     {project_run<F, true>, project_run<F, false>},
-                                     {project_indexed<F, true>, project_indexed<F, false>},
+                                     {project_springs<F, true>, project_springs<F, false>},
                                      project_tethers<F>, collide<F>, apply_wind<F>, particle_bounds<F>, health_sums<F>, skin_frames<F>, project_skin<F>,
                                      vertex_normals<F, false>, vertex_normals<F, true>, render_mesh<F>};
     return kernels;

@@ -121,19 +121,8 @@ void correct_springs(World& world, ClothInstance& cloth, float h) {
     for (uint32_t kind = 0; kind < kConstraintKindCount; ++kind)
         args[kind] = {cloth.settings.compliance_m_per_n[kind] / (h * h), cloth.split.relaxation};
     const uint32_t mode = static_cast<uint32_t>(cloth.settings.projection);
-    const auto project_run = world.kernels->project_run[mode];
-    const auto project_indexed = world.kernels->project_indexed[mode];
-    const PointSet points = points_of(cloth.particles);
-    const ConstraintLanes springs = spring_lanes(asset);
-    for (uint32_t b = 0; b < asset.batch_count; ++b) {
-        const ConstraintBatch& batch = asset.batches[b];
-        const DistanceArgs& a = args[static_cast<uint32_t>(batch.kind)];
-        if (batch.layout == BatchLayout::run) {
-            project_run(points, springs, batch, a);
-        } else {
-            project_indexed(points, springs, batch, a);
-        }
-    }
+    world.kernels->project_springs[mode](points_of(cloth.particles), spring_lanes(asset), asset.batches, asset.batch_count,
+                                         args);
 }
 
 void apply_tethers(World& world, ClothInstance& cloth) {

@@ -101,7 +101,54 @@ std::string read_text(const std::string& path, bool* ok) {
     return s.str();
 }
 
+void print_row(const std::string& name, SimdPath simd, const std::string& variant, const ClothAsset& a, const Timing& t,
+               double vs_mesh) {
+    const LanePadding padding = lane_padding(a);
+    const double cf = double(a.constraints_on_runs) / double(a.total_constraints());
+    if (g_options.json) {
+        nlohmann::json j = {{"pattern", name},
+                            {"variant", variant},
+                            {"path", simd_path_name(simd)},
+                            {"particles", a.particle_count},
+                            {"constraints", a.total_constraints()},
+                            {"contiguous_fraction", cf},
+                            {"padding_ratio", padding.ratio()},
+                            {"projections_per_step", t.projections},
+                            {"constraint_ns_per_projection", t.constraint_ns_per_projection},
+                            {"step_ns_per_projection", t.step_ns_per_projection}};
+        std::printf("%s\n", j.dump().c_str());
+    } else {
+        std::printf("%-34s %-6s %-13s %6u %6u   %5.3f   %5.3f   %8.3f   %8.3f   %5.2fx\n", name.c_str(), simd_path_name(simd),
+                    variant.c_str(), a.particle_count, a.total_constraints(), cf, padding.ratio(), t.constraint_ns_per_projection,
+                    t.step_ns_per_projection, vs_mesh);
+    }
+}
+
+// A .weft asset (a garment sewn with --body, whose pattern alone would not give the same mesh):
+// timed as stored, hanging from its pins with no body; no in-memory variants to compare.
+int run_asset(const std::string& path, const std::vector<SimdPath>& paths) {
+    bool ok = false;
+    const std::string bytes = read_text(path, &ok);
+    if (!ok || bytes.empty()) return std::fprintf(stderr, "weft-bench baked: cannot read '%s'\n", path.c_str()), 1;
+    assets::LoadedAsset loaded;
+    if (Result r = assets::load_asset_copy(bytes.data(), bytes.size(), &loaded); !r.ok())
+        return std::fprintf(stderr, "weft-bench baked: %s: %s\n", path.c_str(), r.message), 1;
+    const std::string name = path.substr(path.rfind('/') + 1);
+    for (SimdPath simd : paths) {
+        Timing best;
+        for (uint32_t rep = 0; rep < g_options.repeat; ++rep) {
+            Timing t;
+            if (std::string err = time_asset(loaded.asset, simd, &t); !err.empty())
+                return std::fprintf(stderr, "weft-bench baked: %s\n", err.c_str()), 1;
+            if (rep == 0 || t.constraint_ns_per_projection < best.constraint_ns_per_projection) best = t;
+        }
+        print_row(name, simd, "asset", loaded.asset, best, 0.0);
+    }
+    return 0;
+}
+
 int run_pattern(const std::string& spec, const std::vector<SimdPath>& paths) {
+    if (spec.size() > 5 && spec.compare(spec.size() - 5, 5, ".weft") == 0) return run_asset(spec, paths);
     std::string path = spec;
     bake::BakeOptions options;
     if (const size_t at = spec.rfind('@'); at != std::string::npos) {
@@ -141,29 +188,9 @@ int run_pattern(const std::string& spec, const std::vector<SimdPath>& paths) {
                     return std::fprintf(stderr, "weft-bench baked: %s\n", err.c_str()), 1;
                 if (rep == 0 || t.constraint_ns_per_projection < best[v].constraint_ns_per_projection) best[v] = t;
             }
-        for (int v = 0; v < 3; ++v) {
-            const ClothAsset& a = *variants[v].asset;
-            const LanePadding padding = lane_padding(a);
-            const double cf = double(a.constraints_on_runs) / double(a.total_constraints());
-            if (g_options.json) {
-                nlohmann::json j = {{"pattern", name},
-                                    {"variant", variants[v].name},
-                                    {"path", simd_path_name(simd)},
-                                    {"particles", a.particle_count},
-                                    {"constraints", a.total_constraints()},
-                                    {"contiguous_fraction", cf},
-                                    {"padding_ratio", padding.ratio()},
-                                    {"projections_per_step", best[v].projections},
-                                    {"constraint_ns_per_projection", best[v].constraint_ns_per_projection},
-                                    {"step_ns_per_projection", best[v].step_ns_per_projection}};
-                std::printf("%s\n", j.dump().c_str());
-            } else {
-                std::printf("%-34s %-6s %-13s %6u %6u   %5.3f   %5.3f   %8.3f   %8.3f   %5.2fx\n", name.c_str(),
-                            simd_path_name(simd), variants[v].name.c_str(), a.particle_count, a.total_constraints(), cf,
-                            padding.ratio(), best[v].constraint_ns_per_projection, best[v].step_ns_per_projection,
-                            best[2].constraint_ns_per_projection / best[v].constraint_ns_per_projection);
-            }
-        }
+        for (int v = 0; v < 3; ++v)
+            print_row(name, simd, variants[v].name, *variants[v].asset, best[v],
+                      best[2].constraint_ns_per_projection / best[v].constraint_ns_per_projection);
     }
     return 0;
 }
@@ -174,7 +201,8 @@ CLI::App* add_baked_subcommand(CLI::App& app) {
     CLI::App* cmd = app.add_subcommand(
         "baked", "ns per constraint projection: a baked garment vs its mesh cooked in memory (with / without lattice)");
     GarmentOptions& o = g_options;
-    cmd->add_option("patterns", o.patterns, "sewing patterns; PATTERN@Y adds Y metres to every placement (GarmentCode v1)")
+    cmd->add_option("patterns", o.patterns,
+                    "sewing patterns (PATTERN@Y adds Y metres to every placement: GarmentCode v1), or .weft assets timed as stored")
         ->required();
     cmd->add_option("--iterations", o.iterations, "constraint sweeps per step (one substep)")
         ->check(CLI::Range(1u, 1000u))
