@@ -547,6 +547,35 @@ TEST_CASE("character motion: a 10 m teleport leaves no stretch and no penetratio
     CHECK(respawned.deepest_m <= 0.002);
 }
 
+// A root that turns faster than ClothDesc::jump_turn_rad_s between two frames is a jump: the step
+// carries the garments and takes the body's motion as teleport_character (teleport_cloth,
+// teleport_body, teleport_collider) would, to the bit.
+TEST_CASE("character motion: a root turned past the jump speed in one frame is stepped as a teleport of the character") {
+    scenes::Crowd announced, unannounced;
+    for (scenes::Crowd* c : {&announced, &unannounced}) REQUIRE(scenes::build_crowd(crowd_options(1), c).empty());
+    const float dt = announced.dt_s;
+    const ClothDesc& settings = announced.skirt.cloths[0].desc;
+    REQUIRE(1.0f > settings.jump_turn_rad_s * dt);  // 1 rad in a frame is past it
+    uint32_t frame = 1;
+    for (; frame <= 40; ++frame)
+        for (scenes::Crowd* c : {&announced, &unannounced}) {
+            REQUIRE(scenes::animate_crowd(*c, float(frame) * dt).empty());
+            REQUIRE(step(c->world, dt).ok());
+        }
+    const Transform turned{{0.0f, 0.0f, 0.0f}, turn_about_y(1.0f)};
+    REQUIRE(scenes::teleport_character(announced, 0, turned, float(frame) * dt).empty());
+    unannounced.characters[0].root = turned;
+    REQUIRE(scenes::animate_crowd(unannounced, float(frame) * dt).empty());
+    for (scenes::Crowd* c : {&announced, &unannounced}) REQUIRE(step(c->world, dt).ok());
+    CHECK(hash_crowd(announced) == hash_crowd(unannounced));
+    for (++frame; frame <= 60; ++frame)
+        for (scenes::Crowd* c : {&announced, &unannounced}) {
+            REQUIRE(scenes::animate_crowd(*c, float(frame) * dt).empty());
+            REQUIRE(step(c->world, dt).ok());
+        }
+    CHECK(hash_crowd(announced) == hash_crowd(unannounced));
+}
+
 TEST_CASE("character motion: reset_to_pose puts a walking character's garments back on its body as it is now, at rest") {
     // Two copies of the same walk. Before frame 91 one character's garments are thrown 3 m off its
     // body (teleport_cloth alone) and then reset_to_pose: at rest on the body as posed for frame
