@@ -453,10 +453,12 @@ uint64_t count_projections(const World& world, BatchLayout layout) {
     return lanes;
 }
 
-// The time a cloth is stepped by: the game's dt, at most its ClothDesc::max_step_s.
-float cloth_step_s(const ClothInstance& cloth, float dt_s) {
-    const float most = cloth.settings.max_step_s;
-    return most > 0.0f && dt_s > most ? most : dt_s;
+// The time a cloth is stepped by: the game's dt; a hitch (more than ClothDesc::max_step_growth
+// times the last step's dt) as long as the last step; at most ClothDesc::max_step_s.
+float cloth_step_s(const ClothInstance& cloth, float dt_s, float last_dt_s) {
+    const ClothDesc& s = cloth.settings;
+    if (s.max_step_growth > 0.0f && last_dt_s > 0.0f && dt_s > s.max_step_growth * last_dt_s) dt_s = last_dt_s;
+    return s.max_step_s > 0.0f && dt_s > s.max_step_s ? s.max_step_s : dt_s;
 }
 
 // The layer a cloth stage steps (StepStage: cloths, second_layer, third_layer).
@@ -468,7 +470,7 @@ void run_items(World& world, StepStage stage, uint32_t begin, uint32_t end) {
         if (stage == StepStage::bodies) {
             if (world.bodies[i].slot.live) move_body(world, i);
         } else if (world.cloths[i].slot.live && world.cloths[i].layer == cloth_layer(stage)) {
-            step_cloth(world, world.cloths[i], cloth_step_s(world.cloths[i], world.step_dt_s));
+            step_cloth(world, world.cloths[i], cloth_step_s(world.cloths[i], world.step_dt_s, world.last_dt_s));
         }
     }
 }
@@ -562,6 +564,7 @@ Result begin_step(World* world, float dt_s) {
     }
     jump_fast_roots(*world, dt_s);
     spend_frame_budget(*world);  // this step's splits: every cloth its own, or cut to fit the budget
+    world->last_dt_s = world->step_dt_s;
     world->step_dt_s = dt_s;
     world->step_open = true;
     return {};

@@ -312,8 +312,9 @@ Result check_cloth_settings(const ClothDesc& desc) {
     if (!(desc.max_inertial_speed_m_s >= 0.0f && desc.max_inertial_speed_m_s <= 1e6f))
         return make_error(ErrorCode::out_of_range, "max_inertial_speed_m_s %g outside 0..1e6",
                           double(desc.max_inertial_speed_m_s));
-    if (!(desc.max_step_s >= 0.0f && desc.max_step_s <= 1.0f))
-        return make_error(ErrorCode::out_of_range, "max_step_s %g outside 0..1", double(desc.max_step_s));
+    if (!(desc.max_step_s >= 0.0f && desc.max_step_s <= 1.0f) || !(desc.max_step_growth == 0.0f || (desc.max_step_growth >= 1.0f && desc.max_step_growth <= 1e6f)))
+        return make_error(ErrorCode::out_of_range, "max_step_s %g outside 0..1, or max_step_growth %g neither 0 nor 1..1e6",
+                          double(desc.max_step_s), double(desc.max_step_growth));
     if (!(desc.jump_speed_m_s >= 0.0f && desc.jump_speed_m_s <= 1e6f) ||
         !(desc.jump_turn_rad_s >= 0.0f && desc.jump_turn_rad_s <= 1e6f))
         return make_error(ErrorCode::out_of_range, "jump_speed_m_s %g or jump_turn_rad_s %g outside 0..1e6",

@@ -177,6 +177,7 @@ struct World {
     WorldStats stats;
     bool step_open = false;  // between begin_step and end_step
     float step_dt_s = 0.0f;  // the open step's dt
+    float last_dt_s = 0.0f;  // the dt of the step before it (0: none yet): what a hitch is measured against
 };
 
 // The cloth exists (its id is not stale) and no step is open.

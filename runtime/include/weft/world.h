@@ -190,8 +190,11 @@ struct ClothDesc {
     // with it, and its bodies' motion that step counts as done. 0: never.
     float jump_speed_m_s = 100.0f;
     float jump_turn_rad_s = 30.0f;            // about 5 revolutions a second
-    // A longer step (a hitch, a loading frame) simulates the cloth this long, s (Chaos's
-    // MaxPhysicsDelta): a 0.25 s frame in one substep would let gravity move it 0.6 m. 0: no limit.
+    // A step more than max_step_growth times the last one (a hitch, a loading frame) simulates the
+    // cloth as long as the last one: the solver's rest sag grows with the step, so a longer step
+    // sets a hanging garment swinging. Any step simulates it at most max_step_s (Chaos's
+    // MaxPhysicsDelta): in one substep of 0.25 s gravity alone moves a particle 0.6 m. 0: off.
+    float max_step_growth = 1.5f;
     float max_step_s = 1.0f / 30.0f;
 
     float sleep_speed_m_s = 0.0f;  // at rest below this, m/s, it skips its steps until woken; 0: never
