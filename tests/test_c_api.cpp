@@ -650,3 +650,170 @@ TEST_CASE("C API: a cloth worn over another steps to the same bits as through wo
     CHECK(contacts > 0);
     weft_destroy_world(world);
 }
+
+#ifdef WEFT_SAMPLE_ASSETS_DIR
+#include "common/crowd.h"
+
+namespace {
+
+Quat turn_about_y(float radians) { return {0.0f, std::sin(0.5f * radians), 0.0f, std::cos(0.5f * radians)}; }
+WeftTransform to_c(const Transform& t) {
+    return {{t.translation_m.x, t.translation_m.y, t.translation_m.z}, {t.rotation.x, t.rotation.y, t.rotation.z, t.rotation.w}};
+}
+
+}  // namespace
+
+// A game binding Weft from C dresses a character as world.h does: the baked skirt bound to the
+// walking mannequin by its attachments and skin constraints (WEFT_BODY_SKIN_CONSTRAINTS), carried
+// by a moving, turning root at inertia 0.5, teleported, turned past the jump speed and reset to its
+// dressed pose. Every frame's calls are the same through both; the positions are the same bits.
+TEST_CASE("C API: a dressed skirt on a walking, moving, teleported character steps to the same bits as through world.h") {
+    scenes::CrowdOptions o;  // the sample skirt, its scene and the mannequin's walk, as the crowd builds them
+    o.characters = 1;
+    o.skirt_scene = std::string(WEFT_SOURCE_DIR) + "/samples/scenes/skirt-walk.json";
+    o.tee_scene = std::string(WEFT_SOURCE_DIR) + "/samples/scenes/tee-walk.json";
+    o.asset_dirs = {WEFT_SAMPLE_ASSETS_DIR};
+    scenes::Crowd crowd;
+    REQUIRE(scenes::build_crowd(o, &crowd).empty());
+    const scenes::SceneBody& mannequin = *crowd.skirt.body;
+    const ClothAsset& asset = *crowd.skirt.cloths[0].asset;
+    REQUIRE(asset.skin.count > 0);
+    const uint32_t vertices = uint32_t(mannequin.rest.size()), triangles = uint32_t(mannequin.triangles.size() / 3);
+
+    // Through world.h.
+    WorldDesc wd;
+    reserve_cloth(wd, asset);
+    wd.max_bodies = 1;
+    wd.max_body_vertices = vertices;
+    wd.max_body_triangles = triangles;
+    const MemoryRequirements need = world_memory_requirements(wd);
+    Block cpp_block = alloc_block({need.bytes, need.alignment});
+    World* cpp = nullptr;
+    REQUIRE(create_world(wd, cpp_block.get(), (need.bytes + need.alignment - 1) / need.alignment * need.alignment, &cpp).ok());
+    BodyDesc bd;
+    bd.positions = mannequin.rest.data();
+    bd.vertex_count = vertices;
+    bd.triangles = mannequin.triangles.data();
+    bd.triangle_count = triangles;
+    bd.thickness_m = mannequin.spec.thickness_m;
+    bd.margin_m = mannequin.spec.margin_m;
+    bd.friction = mannequin.spec.friction;
+    bd.collision = BodyCollision::skin_constraints;
+    BodyId body;
+    REQUIRE(add_body(cpp, bd, &body).ok());
+    ClothDesc cd;
+    cd.asset = &asset;
+    cd.sweeps = crowd.skirt.cloths[0].desc.sweeps;
+    cd.linear_inertia = cd.angular_inertia = 0.5f;
+    ClothId cloth;
+    REQUIRE(add_cloth(cpp, cd, &cloth).ok());
+    REQUIRE(attach_cloth_to_body(cpp, cloth, body).ok());
+    REQUIRE(bind_asset_skin_constraints(cpp, cloth, body).ok());
+
+    // Through weft_c.h.
+    CWorld c;
+    c.file = file_of(asset);
+    WeftMemoryRequirements c_need{};
+    REQUIRE_WEFT_OK(weft_asset_memory_requirements(c.file.data(), c.file.size(), &c_need));
+    c.asset_block = alloc_block(c_need);
+    REQUIRE_WEFT_OK(weft_load_asset(c.file.data(), c.file.size(), c.asset_block.get(), c_need.bytes, &c.asset));
+    REQUIRE_WEFT_OK(weft_asset_info(c.asset, &c.info));
+    WeftWorldDesc cwd = weft_default_world_desc();
+    REQUIRE_WEFT_OK(weft_reserve_cloth(&cwd, c.asset));
+    CHECK(cwd.max_skin_constraints == wd.max_skin_constraints);
+    cwd.max_bodies = 1;
+    cwd.max_body_vertices = vertices;
+    cwd.max_body_triangles = triangles;
+    REQUIRE_WEFT_OK(weft_world_memory_requirements(&cwd, &c_need));
+    c.world_block = alloc_block(c_need);
+    REQUIRE_WEFT_OK(weft_create_world(&cwd, c.world_block.get(), c_need.bytes, &c.world));
+    WeftBodyDesc cbd = weft_default_body_desc();
+    CHECK(cbd.collision == WEFT_BODY_EXACT);
+    cbd.positions = reinterpret_cast<const WeftVec3*>(mannequin.rest.data());
+    cbd.vertex_count = vertices;
+    cbd.triangles = mannequin.triangles.data();
+    cbd.triangle_count = triangles;
+    cbd.thickness_m = bd.thickness_m;
+    cbd.margin_m = bd.margin_m;
+    cbd.friction = bd.friction;
+    cbd.collision = WeftBodyCollision(7);
+    WeftBodyId c_body = 0;
+    CHECK_WEFT_ERROR(weft_add_body(c.world, &cbd, &c_body), WEFT_INVALID_ARGUMENT);  // no such model
+    cbd.collision = WEFT_BODY_SKIN_CONSTRAINTS;
+    REQUIRE_WEFT_OK(weft_add_body(c.world, &cbd, &c_body));
+    WeftClothDesc ccd = weft_default_cloth_desc(c.asset);
+    CHECK(ccd.jump_turn_rad_s == cd.jump_turn_rad_s);
+    CHECK(ccd.max_step_growth == cd.max_step_growth);
+    ccd.sweeps = cd.sweeps;
+    ccd.linear_inertia = ccd.angular_inertia = 0.5f;
+    REQUIRE_WEFT_OK(weft_add_cloth(c.world, &ccd, &c.cloth));
+    REQUIRE_WEFT_OK(weft_attach_cloth_to_body(c.world, c.cloth, c_body));
+    REQUIRE_WEFT_OK(weft_bind_asset_skin_constraints(c.world, c.cloth, c_body));
+
+    // The root walks forward and turns; frame 20 is a 2 m teleport (announced), frame 35 a 1 rad
+    // turn in one frame (unannounced: a jump), frame 50 a reset to the dressed pose.
+    scenes::CrowdCharacter& who = crowd.characters[0];
+    const float dt = crowd.dt_s;
+    float extra_x = 0.0f, extra_turn = 0.0f;
+    for (uint32_t frame = 1; frame <= 60; ++frame) {
+        const float t = float(frame) * dt;
+        if (frame == 20) extra_x = 2.0f;
+        if (frame == 35) extra_turn = 1.0f;
+        who.root = {{0.8f * t + extra_x, 0.0f, 0.0f}, turn_about_y(0.4f * t + extra_turn)};
+        REQUIRE(scenes::animate_crowd(crowd, t).empty());  // poses crowd.pose at who's root
+        const Transform root{{who.root.translation_m.x + who.offset_m.x, who.offset_m.y, who.offset_m.z}, who.root.rotation};
+        const WeftTransform c_root = to_c(root);
+        const WeftVec3* c_pose = reinterpret_cast<const WeftVec3*>(crowd.pose.data());
+        if (frame == 20) {
+            REQUIRE(teleport_body(cpp, body, crowd.pose.data(), vertices).ok());
+            REQUIRE(teleport_cloth(cpp, cloth, root, true).ok());
+            REQUIRE_WEFT_OK(weft_teleport_body(c.world, c_body, c_pose, vertices));
+            REQUIRE_WEFT_OK(weft_teleport_cloth(c.world, c.cloth, &c_root, 1));
+        } else {
+            REQUIRE(set_body_vertices(cpp, body, crowd.pose.data(), vertices).ok());
+            REQUIRE(set_cloth_root(cpp, cloth, root).ok());
+            REQUIRE_WEFT_OK(weft_set_body_vertices(c.world, c_body, c_pose, vertices));
+            REQUIRE_WEFT_OK(weft_set_cloth_root(c.world, c.cloth, &c_root));
+        }
+        if (frame == 50) {
+            REQUIRE(reset_to_pose(cpp, cloth).ok());
+            REQUIRE_WEFT_OK(weft_reset_to_pose(c.world, c.cloth));
+        }
+        REQUIRE(step(cpp, dt).ok());
+        REQUIRE_WEFT_OK(weft_step(c.world, dt));
+        if (frame % 10 == 0) {
+            CAPTURE(frame);
+            std::vector<Vec3> a(asset.particle_count);
+            REQUIRE(read_positions(cpp, cloth, a.data(), asset.particle_count).ok());
+            const std::vector<Vec3> b = read_c(c);
+            REQUIRE(same_bits(a, b));
+            CHECK(all_finite(b));
+        }
+    }
+    // It went with the root: 2 m and more along x.
+    const std::vector<Vec3> p = read_c(c);
+    float lowest_x = p[0].x;
+    for (const Vec3& q : p) lowest_x = std::min(lowest_x, q.x);
+    CHECK(lowest_x > who.offset_m.x + 2.0f);
+
+    // Refused, nothing changed: a root or a pose that is not finite, null roots, a stale cloth.
+    WeftTransform bad{{0.0f, 0.0f, 0.0f}, {0.0f, 0.0f, 0.0f, 1.0f}};
+    bad.translation_m.x = NAN;
+    CHECK_WEFT_ERROR(weft_set_cloth_root(c.world, c.cloth, &bad), WEFT_NON_FINITE);
+    CHECK_WEFT_ERROR(weft_teleport_cloth(c.world, c.cloth, &bad, 0), WEFT_NON_FINITE);
+    CHECK_WEFT_ERROR(weft_set_cloth_root(c.world, c.cloth, nullptr), WEFT_INVALID_ARGUMENT);
+    CHECK_WEFT_ERROR(weft_teleport_cloth(c.world, c.cloth, nullptr, 1), WEFT_INVALID_ARGUMENT);
+    CHECK_WEFT_ERROR(weft_teleport_collider(c.world, 0, nullptr), WEFT_INVALID_ARGUMENT);
+    std::vector<Vec3> poisoned = crowd.pose;
+    poisoned[7].y = NAN;
+    CHECK_WEFT_ERROR(weft_teleport_body(c.world, c_body, reinterpret_cast<const WeftVec3*>(poisoned.data()), vertices),
+                     WEFT_NON_FINITE);
+    CHECK(same_bits(read_c(c), p));
+    REQUIRE_WEFT_OK(weft_remove_cloth(c.world, c.cloth));
+    const WeftTransform c_identity{{0.0f, 0.0f, 0.0f}, {0.0f, 0.0f, 0.0f, 1.0f}};
+    CHECK_WEFT_ERROR(weft_set_cloth_root(c.world, c.cloth, &c_identity), WEFT_STALE_ID);
+    CHECK_WEFT_ERROR(weft_reset_to_pose(c.world, c.cloth), WEFT_STALE_ID);
+    CHECK_WEFT_ERROR(weft_bind_asset_skin_constraints(c.world, c.cloth, c_body), WEFT_STALE_ID);
+    destroy_world(cpp);
+}
+#endif

@@ -85,8 +85,8 @@ WorldDesc to_cpp(const WeftWorldDesc& d) {
     w.max_bodies = d.max_bodies;
     w.max_body_vertices = d.max_body_vertices;
     w.max_body_triangles = d.max_body_triangles;
-    w.max_cached_plane_bodies = 0;  // bodies use the exact collision model
-    w.max_skin_constraints = 0;     // the C API binds no skin constraints
+    w.max_cached_plane_bodies = d.max_cached_plane_bodies;
+    w.max_skin_constraints = d.max_skin_constraints;
     w.wind = d.wind != 0;
     w.normals = d.normals != 0;
     w.tangents = d.tangents != 0;
@@ -104,6 +104,10 @@ WorldDesc to_cpp(const WeftWorldDesc& d) {
     w.air_density_kg_m3 = d.air_density_kg_m3;
     w.simd = d.simd <= WEFT_SIMD_AVX2 ? SimdPath(d.simd) : SimdPath(0xFF);  // refused by create_world
     return w;
+}
+
+Transform to_cpp(const WeftTransform& t) {
+    return {to_cpp(t.translation_m), {t.rotation.x, t.rotation.y, t.rotation.z, t.rotation.w}};
 }
 
 ColliderDesc to_cpp(const WeftColliderDesc& d) {
@@ -241,6 +245,7 @@ WeftResult weft_reserve_cloth(WeftWorldDesc* desc, const WeftAsset* asset) {
     desc->max_coarse_nodes = w.max_coarse_nodes;
     desc->max_triangle_lanes = w.max_triangle_lanes;
     desc->max_render_vertices = w.max_render_vertices;
+    desc->max_skin_constraints = w.max_skin_constraints;
     return {};
 }
 
@@ -323,6 +328,13 @@ WeftClothDesc weft_default_cloth_desc(const WeftAsset* asset) {
     c.worn_over_count = 0;
     c.layer_thickness_m = d.layer_thickness_m;
     c.layer_friction = d.layer_friction;
+    c.linear_inertia = d.linear_inertia;
+    c.angular_inertia = d.angular_inertia;
+    c.max_inertial_speed_m_s = d.max_inertial_speed_m_s;
+    c.jump_speed_m_s = d.jump_speed_m_s;
+    c.jump_turn_rad_s = d.jump_turn_rad_s;
+    c.max_step_growth = d.max_step_growth;
+    c.max_step_s = d.max_step_s;
     if (live_asset(asset).ok() && asset->asset.has_fabric) {  // the fabric the pattern named (as weft-sim)
         const Fabric& f = asset->asset.fabric;
         for (uint32_t k = 0; k < 3; ++k) c.compliance_m_per_n[k] = f.compliance_m_per_n[k];
@@ -353,6 +365,13 @@ WeftResult weft_add_cloth(WeftWorld* world, const WeftClothDesc* desc, WeftCloth
     for (uint32_t k = 0; k < kMaxWornOver && k < desc->worn_over_count; ++k) c.worn_over[k] = cloth_id(desc->worn_over[k]);
     c.layer_thickness_m = desc->layer_thickness_m;
     c.layer_friction = desc->layer_friction;
+    c.linear_inertia = desc->linear_inertia;
+    c.angular_inertia = desc->angular_inertia;
+    c.max_inertial_speed_m_s = desc->max_inertial_speed_m_s;
+    c.jump_speed_m_s = desc->jump_speed_m_s;
+    c.jump_turn_rad_s = desc->jump_turn_rad_s;
+    c.max_step_growth = desc->max_step_growth;
+    c.max_step_s = desc->max_step_s;
     ClothId id;
     if (Result r = add_cloth(world->world, c, &id); !r.ok()) return to_c(r);
     *out_cloth = to_c_id(id.index, id.generation);
@@ -367,6 +386,7 @@ WeftBodyDesc weft_default_body_desc(void) {
     b.thickness_m = d.thickness_m;
     b.margin_m = d.margin_m;
     b.friction = d.friction;
+    b.collision = WeftBodyCollision(d.collision);
     return b;
 }
 
@@ -381,10 +401,22 @@ WeftResult weft_add_body(WeftWorld* world, const WeftBodyDesc* desc, WeftBodyId*
     b.thickness_m = desc->thickness_m;
     b.margin_m = desc->margin_m;
     b.friction = desc->friction;
+    b.collision = uint32_t(desc->collision) <= WEFT_BODY_SKIN_CONSTRAINTS ? BodyCollision(desc->collision)
+                                                                        : BodyCollision(0xFF);  // refused by add_body
     BodyId id;
     if (Result r = add_body(world->world, b, &id); !r.ok()) return to_c(r);
     *out_body = to_c_id(id.index, id.generation);
     return {};
+}
+
+WeftResult weft_teleport_body(WeftWorld* world, WeftBodyId body, const WeftVec3* positions, uint32_t count) {
+    if (Result r = live_world(world); !r.ok()) return to_c(r);
+    return to_c(teleport_body(world->world, body_id(body), to_cpp(positions), count));
+}
+
+WeftResult weft_bind_asset_skin_constraints(WeftWorld* world, WeftClothId cloth, WeftBodyId body) {
+    if (Result r = live_world(world); !r.ok()) return to_c(r);
+    return to_c(bind_asset_skin_constraints(world->world, cloth_id(cloth), body_id(body)));
 }
 
 WeftResult weft_set_body_vertices(WeftWorld* world, WeftBodyId body, const WeftVec3* positions, uint32_t count) {
@@ -417,6 +449,31 @@ WeftResult weft_add_collider(WeftWorld* world, const WeftColliderDesc* desc, Wef
     if (Result r = add_collider(world->world, to_cpp(*desc), &id); !r.ok()) return to_c(r);
     *out_collider = to_c_id(id.index, id.generation);
     return {};
+}
+
+WeftResult weft_teleport_collider(WeftWorld* world, WeftColliderId collider, const WeftColliderDesc* desc) {
+    if (Result r = live_world(world); !r.ok()) return to_c(r);
+    if (desc == nullptr) return to_c(make_error(ErrorCode::invalid_argument, "desc is null"));
+    return to_c(teleport_collider(world->world, collider_id(collider), to_cpp(*desc)));
+}
+
+// --- character motion -----------------------------------------------------------------------------------
+
+WeftResult weft_set_cloth_root(WeftWorld* world, WeftClothId cloth, const WeftTransform* root) {
+    if (Result r = live_world(world); !r.ok()) return to_c(r);
+    if (root == nullptr) return to_c(make_error(ErrorCode::invalid_argument, "root is null"));
+    return to_c(set_cloth_root(world->world, cloth_id(cloth), to_cpp(*root)));
+}
+
+WeftResult weft_teleport_cloth(WeftWorld* world, WeftClothId cloth, const WeftTransform* root, int drop_velocity) {
+    if (Result r = live_world(world); !r.ok()) return to_c(r);
+    if (root == nullptr) return to_c(make_error(ErrorCode::invalid_argument, "root is null"));
+    return to_c(teleport_cloth(world->world, cloth_id(cloth), to_cpp(*root), drop_velocity != 0));
+}
+
+WeftResult weft_reset_to_pose(WeftWorld* world, WeftClothId cloth) {
+    if (Result r = live_world(world); !r.ok()) return to_c(r);
+    return to_c(reset_to_pose(world->world, cloth_id(cloth)));
 }
 
 WeftResult weft_set_collider(WeftWorld* world, WeftColliderId collider, const WeftColliderDesc* desc) {

@@ -7,8 +7,8 @@
  *   weft_world_memory_requirements(&desc, &need);
  *   WeftWorld* world;  weft_create_world(&desc, world_block, need.bytes, &world);
  *   WeftClothDesc cloth = weft_default_cloth_desc(asset);  weft_add_cloth(world, &cloth, &cloth_id);
- *   every frame: weft_set_body_vertices(...), weft_set_collider(...), weft_step(world, dt),
- *                weft_read_positions(...), weft_read_normals(...)
+ *   every frame: weft_set_body_vertices(...), weft_set_collider(...), weft_set_cloth_root(...),
+ *                weft_step(world, dt), weft_read_positions(...), weft_read_normals(...)
  *   weft_destroy_world(world); then free the blocks and the file bytes: they are the caller's.
  *
  * Every fallible call returns a WeftResult: a code (WEFT_OK is 0) and a message; a refused call
@@ -147,6 +147,8 @@ typedef struct WeftWorldDesc {
     uint32_t max_self_collision_triangles;
     uint32_t max_layer_particles; /* weft_reserve_layer adds what a cloth worn over others needs */
     uint32_t max_layer_triangles;
+    uint32_t max_skin_constraints;    /* weft_reserve_cloth adds the asset's (a garment dressed by weft-bake --body) */
+    uint32_t max_cached_plane_bodies; /* bodies that may use WEFT_BODY_CACHED_PLANES */
 } WeftWorldDesc;
 
 /* No capacity, gravity (0, -9.81, 0) m/s^2, air 1.2 kg/m^3, no wind, the widest SIMD path, the
@@ -192,6 +194,14 @@ typedef struct WeftClothDesc {
     uint32_t worn_over_count;      /* 0..4; they win: it stays layer_thickness_m outside their faces */
     float layer_thickness_m;       /* m */
     float layer_friction;          /* Coulomb coefficient between the layers */
+    /* Character motion (weft_set_cloth_root; weft/world.h, ClothDesc): */
+    float linear_inertia;          /* share of the root's motion the cloth feels, 0..1 (0: carried rigidly) */
+    float angular_inertia;         /* the same for its rotation */
+    float max_inertial_speed_m_s;  /* root motion beyond this speed carries the cloth rigidly */
+    float jump_speed_m_s;          /* a root faster than this, or turning faster than */
+    float jump_turn_rad_s;         /*   this, is a jump: carried whole, as weft_teleport_cloth; 0: never */
+    float max_step_growth;         /* a dt more than this times the last one is stepped as the last; 0: off */
+    float max_step_s;              /* no step is longer than this for the cloth, s; 0: no limit */
 } WeftClothDesc;
 
 /* world.h's ClothDesc defaults, with the compliance and damping of the asset's fabric if it has one. */
@@ -208,6 +218,13 @@ WeftResult weft_add_cloth(WeftWorld* world, const WeftClothDesc* desc, WeftCloth
 
 /* --- bodies and colliders -------------------------------------------------------------------------- */
 
+/* How cloths collide with a body (weft/body.h, BodyCollision). */
+typedef WEFT_ENUM(WeftBodyCollision) {
+    WEFT_BODY_EXACT = 0,            /* every substep, every particle: the closest hull point */
+    WEFT_BODY_CACHED_PLANES = 1,    /* exact at the first substep, then its contact plane (max_cached_plane_bodies) */
+    WEFT_BODY_SKIN_CONSTRAINTS = 2  /* cloths bound by skin constraints (weft_bind_asset_skin_constraints) only */
+} WeftBodyCollision;
+
 typedef struct WeftBodyDesc {
     const WeftVec3* positions;  /* rest pose, metres; copied */
     uint32_t vertex_count;
@@ -216,12 +233,13 @@ typedef struct WeftBodyDesc {
     float thickness_m;          /* the collision hull's offset from the skin */
     float margin_m;             /* query reach beyond the thickness */
     float friction;             /* Coulomb coefficient against the moving surface */
+    WeftBodyCollision collision;
 } WeftBodyDesc;
 
-/* body.h's defaults: thickness 5 mm, margin 2 mm, friction 0.5; no mesh. */
+/* body.h's defaults: thickness 5 mm, margin 2 mm, friction 0.5, the exact model; no mesh. */
 WeftBodyDesc weft_default_body_desc(void);
 
-/* A triangle-mesh body the cloth collides with (the exact collision model, weft/body.h). */
+/* A triangle-mesh body the cloth collides with (weft/body.h). */
 WeftResult weft_add_body(WeftWorld* world, const WeftBodyDesc* desc, WeftBodyId* out_body);
 
 /* The body's new pose (vertex_count positions, metres); the next step moves the hull there. */
@@ -229,7 +247,9 @@ WeftResult weft_set_body_vertices(WeftWorld* world, WeftBodyId body, const WeftV
 
 /* Binds the asset's body attachments (a dressed garment's waistband) to the body it was dressed on. */
 WeftResult weft_attach_cloth_to_body(WeftWorld* world, WeftClothId cloth, WeftBodyId body);
-
+/* Binds the skin constraints weft-bake --body baked into the asset (weft/attachments.h) to that body:
+   the game-cost collision of a dressed garment, with WEFT_BODY_SKIN_CONSTRAINTS. */
+WeftResult weft_bind_asset_skin_constraints(WeftWorld* world, WeftClothId cloth, WeftBodyId body);
 typedef WEFT_ENUM(WeftColliderShape) {
     WEFT_COLLIDER_SPHERE = 0,  /* centre p0 */
     WEFT_COLLIDER_CAPSULE = 1, /* axis p0 to p1 */
@@ -252,6 +272,29 @@ WeftResult weft_add_collider(WeftWorld* world, const WeftColliderDesc* desc, Wef
 
 /* Moves or reshapes a collider; the next step sees it (its motion drives friction). */
 WeftResult weft_set_collider(WeftWorld* world, WeftColliderId collider, const WeftColliderDesc* desc);
+
+/* --- character motion (weft/world.h: set_cloth_root, teleport_cloth) ----------------------------------- */
+
+typedef struct WeftQuat {
+    float x, y, z, w; /* unit */
+} WeftQuat;
+typedef struct WeftTransform {
+    WeftVec3 translation_m;
+    WeftQuat rotation;
+} WeftTransform;
+
+/* The character's root this frame: the next step carries the cloth by the share of the root's
+   motion its inertia leaves out (WeftClothDesc). */
+WeftResult weft_set_cloth_root(WeftWorld* world, WeftClothId cloth, const WeftTransform* root);
+/* A jump (a camera cut, a respawn): the cloth carried rigidly to `root` now; with drop_velocity
+   non-zero it starts from rest. Teleport its body and colliders too. */
+WeftResult weft_teleport_cloth(WeftWorld* world, WeftClothId cloth, const WeftTransform* root, int drop_velocity);
+/* The body's new pose with no motion (the hull does not sweep from the old pose). */
+WeftResult weft_teleport_body(WeftWorld* world, WeftBodyId body, const WeftVec3* positions, uint32_t count);
+/* A collider moved with no motion (friction carries nothing). */
+WeftResult weft_teleport_collider(WeftWorld* world, WeftColliderId collider, const WeftColliderDesc* desc);
+/* The dressed cloth back at its dressed pose on its body as the body is now, at rest. */
+WeftResult weft_reset_to_pose(WeftWorld* world, WeftClothId cloth);
 
 /* --- every frame ------------------------------------------------------------------------------------ */
 
