@@ -309,14 +309,19 @@ Result set_body_vertices(World* world, BodyId id, const Vec3* positions, uint32_
 Result teleport_body(World* world, BodyId id, const Vec3* positions, uint32_t count) {
     if (Result r = check_pose(world, id, positions, count); !r.ok()) return r;
     BodyState& body = world->bodies[id.index];
-    compute_offset_hull(body, positions);  // no motion
-    std::memcpy(body.previous_hull, body.hull, sizeof(float) * 4 * size_t(count));
+    compute_offset_hull(body, positions);
+    hold_body_still(*world, id.index);
     body.refit_pending = true;
     wake_cloths_of_body(*world, id.index);
-    // Skin constraints bound to it take their previous points from the new hull, not the old one.
-    for (uint32_t i = 0; i < world->cloth_slots; ++i)
-        if (world->cloths[i].slot.live && world->cloths[i].skin_body == id.index) world->cloths[i].skin_points_current = false;
     return {};
+}
+
+void hold_body_still(World& world, uint32_t index) {
+    BodyState& body = world.bodies[index];
+    for (uint32_t v = 0; v < body.vertex_count; ++v) body.hull[4 * v + 3] = 0.0f;
+    std::memcpy(body.previous_hull, body.hull, sizeof(float) * 4 * size_t(body.vertex_count));
+    for (uint32_t i = 0; i < world.cloth_slots; ++i)
+        if (world.cloths[i].slot.live && world.cloths[i].skin_body == index) world.cloths[i].skin_points_current = false;
 }
 
 Result set_cloth_body(World* world, ClothId cloth, BodyId body) {

@@ -519,16 +519,6 @@ Result refuse_while_stepping(const World* world) {
     return {};
 }
 
-// A body whose motion this step counts as done (a jumped root's, below): no motion, and the
-// previous hull is this one, as teleport_body leaves it.
-void jump_body(World& world, uint32_t index) {
-    BodyState& body = world.bodies[index];
-    for (uint32_t v = 0; v < body.vertex_count; ++v) body.hull[4 * v + 3] = 0.0f;
-    std::memcpy(body.previous_hull, body.hull, sizeof(float) * 4 * size_t(body.vertex_count));
-    for (uint32_t i = 0; i < world.cloth_slots; ++i)
-        if (world.cloths[i].slot.live && world.cloths[i].skin_body == index) world.cloths[i].skin_points_current = false;
-}
-
 // Roots that moved faster than their cloth's jump speeds (ClothDesc::jump_speed_m_s,
 // jump_turn_rad_s: a spin, a respawn the game did not announce) are taken as teleport_cloth: the
 // cloth is carried whole to the new root now, and the bodies it is bound to or collides with alone
@@ -544,7 +534,7 @@ void jump_fast_roots(World& world, float dt_s) {
         forget_last_good(cloth);
         jump_to_root(cloth, cloth.root, false);
         for (uint32_t b : {cloth.skin_body, cloth.attached_body, cloth.own_body})
-            if (b < world.body_slots && world.bodies[b].slot.live) jump_body(world, b);
+            if (b < world.body_slots && world.bodies[b].slot.live) hold_body_still(world, b);
     }
 }
 

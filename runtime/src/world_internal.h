@@ -245,6 +245,10 @@ void wake(ClothInstance& cloth);
 void wake_every_cloth(World& world);
 void wake_cloths_near(World& world, const ColliderDesc& collider);
 void wake_cloths_of_body(World& world, uint32_t body);
+// A body whose motion this step counts as done (teleport_body, a jumped root in begin_step): no
+// vertex motion, the previous hull is this one, and skin constraints bound to it take their previous
+// points from it.
+void hold_body_still(World& world, uint32_t body);
 bool same_vec3(Vec3 a, Vec3 b);
 bool same_transform(const Transform& a, const Transform& b);
 bool same_collider(const ColliderDesc& a, const ColliderDesc& b);
