@@ -139,8 +139,8 @@ Result cook_skin_binding(const BodyView& body, const SkinBindingDesc& desc, Skin
         return make_error(ErrorCode::invalid_argument, "skin binding without positions or inverse masses");
     const SkinBindingOptions& o = desc.options;
     if (!std::isfinite(o.max_distance_m) || o.max_distance_m < 0.0f || !std::isfinite(o.loose_offset_m) ||
-        !std::isfinite(o.backstop_m))
-        return make_error(ErrorCode::invalid_argument, "skin binding options must be finite, the max distance >= 0");
+        !std::isfinite(o.backstop_m) || !(o.max_sink_m > 0.0f) || !std::isfinite(o.max_sink_m))
+        return make_error(ErrorCode::invalid_argument, "skin binding options must be finite, the max distance >= 0, the max sink > 0");
     for (uint32_t p = 0; p < desc.particle_count; ++p) {
         const Vec3& x = desc.positions[p];
         if (!std::isfinite(x.x) || !std::isfinite(x.y) || !std::isfinite(x.z))
@@ -164,6 +164,74 @@ Result cook_skin_binding(const BodyView& body, const SkinBindingDesc& desc, Skin
     }
     const TriangleGrid grid(centre, radius);
     std::vector<uint32_t> seen(body.triangle_count, 0);  // particle + 1 that last considered the triangle
+    // The largest max distance (at most `reach`) that keeps a particle bound at hull point q with
+    // unit normal n and rest offset o from sinking more than max_sink_m into the hull. It may sit
+    // anywhere in the ball of that radius around q + n o in front of its backstop plane, at height
+    // b = -backstop_m over the tangent plane; where the hull stands higher than b + max_sink_m it
+    // sinks in. Of each nearby hull triangle that part (clipped at that height) is seen from q
+    // across the tangent plane: at distance t_min, at most h_max high, it is reached once the
+    // radius passes sqrt(t_min^2 + max(o - h_max + max_sink_m, 0)^2) (a lower bound on where the
+    // ball first meets it, so the cut errs on the safe side).
+    const double b_height = -double(o.backstop_m), sink = double(o.max_sink_m);
+    std::vector<uint32_t> reached(body.triangle_count, 0);  // the reach search that last clipped the triangle
+    uint32_t search = 0;
+    const auto sink_free_reach = [&](V3 q, V3 n, double o_m, double reach) {
+        const V3 c = q + o_m * n;
+        const double within = reach + std::fabs(o_m);
+        // Two directions across n.
+        const V3 helper = std::fabs(n.x) < 0.9 ? V3{1, 0, 0} : V3{0, 1, 0};
+        V3 u{n.y * helper.z - n.z * helper.y, n.z * helper.x - n.x * helper.z, n.x * helper.y - n.y * helper.x};
+        u = (1.0 / std::sqrt(dot(u, u))) * u;
+        const V3 v{n.y * u.z - n.z * u.y, n.z * u.x - n.x * u.z, n.x * u.y - n.y * u.x};
+        const double level = b_height + sink;
+        double best = reach;
+        ++search;
+        const auto consider = [&](uint32_t t) {
+            if (reached[t] == search) return;
+            reached[t] = search;
+            if (std::sqrt(dot(c - centre[t], c - centre[t])) - radius[t] > within) return;
+            // The triangle in (across u, across v, height) about q, clipped to height >= level.
+            double in[3][3], out[4][3];
+            for (int k = 0; k < 3; ++k) {
+                const V3 d = hull(body.triangles[3 * t + uint32_t(k)]) - q;
+                in[k][0] = dot(d, u), in[k][1] = dot(d, v), in[k][2] = dot(d, n);
+            }
+            int m = 0;
+            for (int k = 0; k < 3; ++k) {
+                const double* a = in[k];
+                const double* e = in[(k + 1) % 3];
+                if (a[2] >= level) out[m][0] = a[0], out[m][1] = a[1], out[m][2] = a[2], ++m;
+                if ((a[2] >= level) != (e[2] >= level)) {
+                    const double f = (level - a[2]) / (e[2] - a[2]);
+                    out[m][0] = a[0] + f * (e[0] - a[0]), out[m][1] = a[1] + f * (e[1] - a[1]), out[m][2] = level, ++m;
+                }
+            }
+            if (m == 0) return;
+            // Distance across the plane from q to the clipped polygon (0 when q lies under it).
+            double t_min2 = HUGE_VAL, h_max = -HUGE_VAL;
+            int positive = 0, negative = 0;
+            for (int k = 0; k < m; ++k) {
+                const double* a = out[k];
+                const double* e = out[(k + 1) % m];
+                h_max = std::max(h_max, a[2]);
+                const double ex = e[0] - a[0], ey = e[1] - a[1], len2 = ex * ex + ey * ey;
+                const double f = len2 > 0.0 ? std::clamp(-(a[0] * ex + a[1] * ey) / len2, 0.0, 1.0) : 0.0;
+                const double px = a[0] + f * ex, py = a[1] + f * ey;
+                t_min2 = std::min(t_min2, px * px + py * py);
+                const double side = a[0] * ey - a[1] * ex;  // which side of the edge q's foot lies on
+                positive += side > 0.0, negative += side < 0.0;
+            }
+            if (m >= 3 && (positive == 0 || negative == 0)) t_min2 = 0.0;
+            const double below = std::max(o_m - h_max + sink, 0.0);
+            best = std::min(best, std::sqrt(t_min2 + below * below));
+        };
+        for (int shell = 0;; ++shell) {
+            const double inside = grid.visit_shell(c, shell, consider);
+            if (inside < 0.0 || inside > within) break;
+        }
+        return best;
+    };
+
     SkinBinding b;
     for (uint32_t particle = 0; particle < desc.particle_count; ++particle) {
         if (desc.inverse_masses[particle] == 0.0f) continue;  // pinned: attachments, not skin constraints
@@ -205,7 +273,9 @@ Result cook_skin_binding(const BodyView& body, const SkinBindingDesc& desc, Skin
         b.rest_offset_m.push_back(offset);
         const float scale = desc.max_distance_scale != nullptr ? desc.max_distance_scale[particle] : 1.0f;
         const bool free = std::fabs(offset) > o.loose_offset_m || scale == 0.0f;
-        b.max_distance_m.push_back(free ? kSkinNoMaxDistance_m : std::min(scale * o.max_distance_m, kSkinNoMaxDistance_m));
+        float max_distance = std::min(scale * o.max_distance_m, kSkinNoMaxDistance_m);
+        if (!free) max_distance = std::min(max_distance, float(sink_free_reach(q, n, double(offset), double(max_distance))));
+        b.max_distance_m.push_back(free ? kSkinNoMaxDistance_m : max_distance);
         b.backstop_m.push_back(o.backstop_m);
     }
     *out = std::move(b);

@@ -219,6 +219,11 @@ struct SkinBindingOptions {
     // backstop plane is tangent at the bound point only, and a particle sliding along it sinks into
     // a concave hull, so it stands 1.5 mm in front.
     float backstop_m = -0.0015f;
+    // How far inside the hull a particle may end up by sliding within its max distance along its
+    // backstop plane, where the hull curves up in front of that plane (a shoulder's edge, the neck's
+    // foot): each particle's max distance is cut so that no point of the hull it can reach stands
+    // more than this above the plane's height it may sink to. Metres, > 0.
+    float max_sink_m = 0.001f;
 };
 
 // The garment in its dressed pose on the body's rest pose, caller particle order.
