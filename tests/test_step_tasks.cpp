@@ -477,9 +477,10 @@ TEST_CASE("character motion: carried fully (inertia 0), sprinting to 10 m/s and 
     check_sprint_within_still_walk(0.0f, 1.05, 1.1);
 }
 
-// Known to fail (issue 23, point 3): at inertia 0.5 the sample skirt and tee reach 936% max strain
-// (the skirt's hem in the turn) and 35 mm below the hull (the skirt's hem behind the right calf,
-// which the fast model does not collide with; the still walk: 291%, 1.6 mm). Traced in
+// Known to fail (issue 23, point 3): at inertia 0.5 the sample skirt and tee reach 949% max strain
+// (the skirt's hem in the turn) and 34 mm below the hull (the skirt's hem behind the right calf,
+// which the scene's model does not collide with; the still walk: 294%, 1.8 mm). Capsules around
+// the shins take the depth to 3.3 mm: docs/decisions/2026-12-07-skin-sink-and-calves.md; traced in
 // docs/decisions/2026-12-07-jumps-and-hitches.md, "The sprint".
 // should_fail: it reports when it holds.
 TEST_CASE("character motion: sprinting to 10 m/s and turning 180 degrees in 0.2 s at inertia 0.5 stays within the still walk's strain and penetration (known to fail)" *

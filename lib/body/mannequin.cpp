@@ -103,8 +103,9 @@ struct Figure {
                  {"head", 1, v(chest), v(crown)},            {"upper_arm.L", 1, v(left[0]), v(left[1])},
                  {"forearm.L", 3, v(left[1]), v(left[2])},   {"upper_arm.R", 1, v(right[0]), v(right[1])},
                  {"forearm.R", 5, v(right[1]), v(right[2])}, {"thigh.L", 0, v(left[3]), v(left[4])},
-                 {"shin.L", 7, v(left[4]), v(left[6])},      {"thigh.R", 0, v(right[3]), v(right[4])},
-                 {"shin.R", 9, v(right[4]), v(right[6])}};
+                 {"shin.L", 7, v(left[4]), v(left[5])},      {"thigh.R", 0, v(right[3]), v(right[4])},
+                 {"shin.R", 9, v(right[4]), v(right[5])},    {"foot.L", 8, v(left[5]), v(left[6])},
+                 {"foot.R", 10, v(right[5]), v(right[6])}};
     }
 
     double torso_distance(P p) const {
