@@ -6,6 +6,7 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
+#include <queue>
 
 #include "error.h"
 #include "weft/closest_point.h"
@@ -131,6 +132,38 @@ ColliderDesc ground_under_body(const Vec3* positions, uint32_t vertex_count, flo
     return ground;
 }
 
+std::vector<float> default_max_distance_scales(const SkinBindingDesc& desc) {
+    const uint32_t n = desc.particle_count;
+    // Distance from the nearest pin along the edges (Dijkstra; ties popped by particle index, so
+    // the same input gives the same answer). Infinite without pins: the body holds it up.
+    std::vector<double> from_pin(n, HUGE_VAL);
+    using Entry = std::pair<double, uint32_t>;
+    std::priority_queue<Entry, std::vector<Entry>, std::greater<Entry>> front;
+    for (uint32_t p = 0; p < n; ++p)
+        if (desc.inverse_masses[p] == 0.0f) from_pin[p] = 0.0, front.push({0.0, p});
+    if (front.empty()) return std::vector<float>(n, 1.0f);
+    std::vector<std::vector<uint32_t>> neighbours(n);
+    for (uint32_t t = 0; desc.triangles != nullptr && t < desc.triangle_count; ++t)
+        for (uint32_t k = 0; k < 3; ++k) {
+            const uint32_t a = desc.triangles[3 * t + k], b = desc.triangles[3 * t + (k + 1) % 3];
+            neighbours[a].push_back(b), neighbours[b].push_back(a);
+        }
+    while (!front.empty()) {
+        const auto [d, p] = front.top();
+        front.pop();
+        if (d > from_pin[p]) continue;
+        for (const uint32_t q : neighbours[p]) {
+            const Vec3 &u = desc.positions[p], &v = desc.positions[q];
+            const double dx = double(v.x) - u.x, dy = double(v.y) - u.y, dz = double(v.z) - u.z;
+            const double e = d + std::sqrt(dx * dx + dy * dy + dz * dz);
+            if (e < from_pin[q]) from_pin[q] = e, front.push({e, q});
+        }
+    }
+    std::vector<float> scale(n);
+    for (uint32_t p = 0; p < n; ++p) scale[p] = from_pin[p] <= double(desc.options.hung_reach_m) ? 1.0f : 0.0f;
+    return scale;
+}
+
 Result cook_skin_binding(const BodyView& body, const SkinBindingDesc& desc, SkinBinding* out) {
     if (out == nullptr) return make_error(ErrorCode::invalid_argument, "out is null");
     if (body.triangle_count == 0 || body.hull == nullptr || body.normals == nullptr || body.triangles == nullptr)
@@ -233,6 +266,7 @@ Result cook_skin_binding(const BodyView& body, const SkinBindingDesc& desc, Skin
     };
 
     SkinBinding b;
+    const std::vector<float> default_scale = desc.max_distance_scale == nullptr ? default_max_distance_scales(desc) : std::vector<float>();
     for (uint32_t particle = 0; particle < desc.particle_count; ++particle) {
         if (desc.inverse_masses[particle] == 0.0f) continue;  // pinned: attachments, not skin constraints
         const Vec3& p = desc.positions[particle];
@@ -271,7 +305,7 @@ Result cook_skin_binding(const BodyView& body, const SkinBindingDesc& desc, Skin
         for (double w : best_w) b.weight.push_back(float(w));
         const float offset = float(dot(x - q, n));
         b.rest_offset_m.push_back(offset);
-        const float scale = desc.max_distance_scale != nullptr ? desc.max_distance_scale[particle] : 1.0f;
+        const float scale = desc.max_distance_scale != nullptr ? desc.max_distance_scale[particle] : default_scale[particle];
         const bool free = std::fabs(offset) > o.loose_offset_m || scale == 0.0f;
         float max_distance = std::min(scale * o.max_distance_m, kSkinNoMaxDistance_m);
         if (!free) max_distance = std::min(max_distance, float(sink_free_reach(q, n, double(offset), double(max_distance))));

@@ -162,7 +162,7 @@ TEST_CASE("bake: a panel's skin max_distance_scale is read, and a bad one is ref
     };
     Pattern pattern;
     REQUIRE(parse_pattern(with_skin(R"({"max_distance_scale": 0})"), ParseOptions{}, &pattern).ok());
-    CHECK(pattern.panels[0].skin_max_distance_scale == 1.0);  // the default
+    CHECK(!pattern.panels[0].skin_max_distance_scale);  // absent: the baker's default
     CHECK(pattern.panels[1].skin_max_distance_scale == 0.0);
     for (const char* bad : {R"({"max_distance_scale": -0.5})", R"({"max_distance_scale": 1e9})",
                             R"({"max_distance_scale": "far"})", R"({"max_distance": 0.03})"}) {

@@ -495,7 +495,7 @@ double deepest_in_scene(const scenes::Scene& scene, const std::vector<std::byte>
 
 // samples/scenes/skirt-walk.json and tee-walk.json at the default budget: the walk's 1 s ramp and
 // two seconds of the walk, no free particle deeper below the moving hull than the model's bound:
-// 2 mm for the scene's own (skin constraints, the skirt's thigh capsules; issue 22), 1 mm for the
+// 2 mm for the scene's own (skin constraints, the skirt's thigh and shin capsules; issue 22), 1 mm for the
 // searching models (issue 13, point 8: the skirt's hem is pushed into the crease between the
 // thighs, and one projection out of one thigh's hull landed up to 1.65 mm inside the other's
 // before the pass searched pushed particles again).
@@ -515,7 +515,7 @@ void check_walk(const std::string& pattern, const std::string& scene_name, std::
 
 }  // namespace
 
-TEST_CASE("walk: the dressed skirt stays within 2 mm of the walking mannequin's hull under its scene's skin constraints and thigh capsules") {
+TEST_CASE("walk: the dressed skirt stays within 2 mm of the walking mannequin's hull under its scene's skin constraints and limb capsules") {
     check_walk("skirt.json", "skirt-walk.json", std::nullopt, 0.002);
 }
 
@@ -694,7 +694,7 @@ TEST_CASE("skin constraints: the baked skirt, bound in a skin_constraints scene,
     scenes::Scene scene;
     REQUIRE(scenes::load_scene_file(std::string(WEFT_SAMPLES_DIR) + "/../scenes/skirt-walk.json", &scene).empty());
     scene.body->collision = BodyCollision::skin_constraints;
-    // The skin constraints alone: the scene's thigh capsules collide after them and may push a
+    // The skin constraints alone: the scene's limb capsules collide after them and may push a
     // particle bound at the hip past its ball (the thigh swings forward under it).
     scene.body->limb_capsules.clear();
     scenes::SceneWorld sw;
@@ -743,8 +743,9 @@ TEST_CASE("skin constraints: the baked skirt, bound in a skin_constraints scene,
 }
 
 TEST_CASE("skin constraints: a panel's skin max_distance_scale scales its particles' max distance, and 0 leaves them none") {
-    // The sample skirt with its first panel free of max distances and its second at twice the
-    // baker's: the same sewing and drape (the same start pose), only the max distances differ.
+    // The sample skirt with both panels at the baker's max distance, and with its first panel free
+    // of max distances and its second at twice the baker's: the same sewing and drape (the same
+    // start pose), only the max distances differ.
     std::string text = read_text(std::string(WEFT_SAMPLES_DIR) + "/skirt.json");
     bake::Pattern pattern;
     REQUIRE(bake::parse_pattern(text, {}, &pattern).ok());
@@ -753,16 +754,22 @@ TEST_CASE("skin constraints: a panel's skin max_distance_scale scales its partic
     const std::string second = "\"name\": \"" + pattern.panels[1].name + "\"";
     REQUIRE(text.find(first) != std::string::npos);
     REQUIRE(text.find(second) != std::string::npos);
-    text.replace(text.find(first), first.size(), first + ", \"skin\": {\"max_distance_scale\": 0}");
-    text.replace(text.find(second), second.size(), second + ", \"skin\": {\"max_distance_scale\": 2}");
+    const auto with_scales = [&](const char* a, const char* b) {
+        std::string t = text;
+        t.replace(t.find(first), first.size(), first + ", \"skin\": {\"max_distance_scale\": " + a + "}");
+        t.replace(t.find(second), second.size(), second + ", \"skin\": {\"max_distance_scale\": " + b + "}");
+        return t;
+    };
     bake::BakeOptions options;
     options.body = &mannequin();
-    bake::Baked scaled;
-    const bake::Status s = bake::bake_pattern(text, options, &scaled);
-    INFO(s.error);
-    REQUIRE(s.ok());
+    bake::Baked scaled, ones;
+    for (auto [baked, t] : {std::pair{&scaled, with_scales("0", "2")}, std::pair{&ones, with_scales("1", "1")}}) {
+        const bake::Status s = bake::bake_pattern(t, options, baked);
+        INFO(s.error);
+        REQUIRE(s.ok());
+    }
     const ClothAsset& a = scaled.cooked.asset();
-    const ClothAsset& plain = dressed("skirt.json").loaded.asset;
+    const ClothAsset& plain = ones.cooked.asset();
     REQUIRE(a.skin.count == plain.skin.count);
     CHECK(std::equal(a.start_y, a.start_y + a.slot_count, plain.start_y));
     const float base = SkinBindingOptions{}.max_distance_m;
@@ -788,6 +795,60 @@ TEST_CASE("skin constraints: a panel's skin max_distance_scale scales its partic
     }
     CHECK(unlimited > 0);  // the first panel had limited particles, and lost their limit
     CHECK(doubled > 0);
+}
+
+// Without a pattern's scale, a garment hung from attachments (the skirt's waistband) keeps its max
+// distances only near its pins (the hips) and hangs on its backstops further down; one the body
+// holds up (the tee) keeps them everywhere. With a ball around where the body carries it, the
+// skirt's hem followed the shin it touched at rest while its free neighbours hung: one spring 2.8
+// times its rest length on the walk.
+TEST_CASE("skin constraints: a garment hung from attachments keeps max distances only near its pins, one the body holds up everywhere") {
+    const ClothAsset& skirt = dressed("skirt.json").loaded.asset;
+    const ClothAsset& tee = dressed("tee.json").loaded.asset;
+    REQUIRE(skirt.skin.count > 0);
+    REQUIRE(tee.skin.count > 0);
+    const auto start = [](const ClothAsset& a, uint32_t particle) {
+        const uint32_t s = a.slot_of_particle[particle];
+        return Vec3{a.start_x[s], a.start_y[s], a.start_z[s]};
+    };
+    std::vector<Vec3> pins;
+    for (uint32_t p = 0; p < skirt.particle_count; ++p)
+        if (skirt.inverse_mass[skirt.slot_of_particle[p]] == 0.0f) pins.push_back(start(skirt, p));
+    REQUIRE(!pins.empty());
+    const float reach = SkinBindingOptions{}.hung_reach_m, loose = SkinBindingOptions{}.loose_offset_m;
+    uint32_t limited = 0, freed = 0;
+    for (uint32_t c = 0; c < skirt.skin.count; ++c) {
+        const Vec3 x = start(skirt, skirt.skin.particle[c]);
+        double nearest_pin = 1e9;  // a straight line: never longer than the path along the cloth
+        for (const Vec3& q : pins) nearest_pin = std::min(nearest_pin, double(std::hypot(x.x - q.x, x.y - q.y, x.z - q.z)));
+        if (skirt.skin.max_distance_m[c] != kSkinNoMaxDistance_m) {
+            ++limited;
+            CHECK(nearest_pin <= reach);
+        } else {
+            freed += std::fabs(skirt.skin.rest_offset_m[c]) <= loose;  // close to the body, yet free
+        }
+    }
+    CHECK(limited > 0);
+    CHECK(freed > 0);
+    uint32_t tee_limited = 0;
+    for (uint32_t c = 0; c < tee.skin.count; ++c) tee_limited += tee.skin.max_distance_m[c] != kSkinNoMaxDistance_m;
+    CHECK(tee_limited > tee.skin.count / 2);
+    // The rule on a strip of four particles 10 cm apart: none pinned, all 1; the first pinned, those
+    // within hung_reach_m (20 cm) of it along the edges 1, the one beyond 0; without the triangles, 0.
+    const Vec3 positions[4] = {{0.0f, 0.0f, 0.0f}, {0.0f, -0.1f, 0.0f}, {0.0f, -0.19f, 0.0f}, {0.0f, -0.3f, 0.0f}};
+    const uint32_t triangles[6] = {0, 1, 2, 1, 3, 2};
+    float inverse_masses[4] = {1.0f, 1.0f, 1.0f, 1.0f};
+    SkinBindingDesc desc;
+    desc.particle_count = 4;
+    desc.positions = positions;
+    desc.inverse_masses = inverse_masses;
+    desc.triangles = triangles;
+    desc.triangle_count = 2;
+    CHECK(default_max_distance_scales(desc) == std::vector<float>{1.0f, 1.0f, 1.0f, 1.0f});
+    inverse_masses[0] = 0.0f;
+    CHECK(default_max_distance_scales(desc) == std::vector<float>{1.0f, 1.0f, 1.0f, 0.0f});
+    desc.triangles = nullptr;
+    CHECK(default_max_distance_scales(desc) == std::vector<float>{1.0f, 0.0f, 0.0f, 0.0f});
 }
 
 // A bound particle may sit anywhere in its ball that is in front of its backstop plane. Where the

@@ -18,10 +18,15 @@ std::string bind_skin(World* world, ClothId cloth, BodyId body, const SkinBindin
         positions[p] = {c.x[s], c.y[s], c.z[s]};
         inverse_masses[p] = c.inverse_mass[s];
     }
+    std::vector<uint32_t> triangles(3 * size_t(asset.triangle_count));
+    if (!triangles.empty())
+        if (Result r = read_triangles(asset, triangles.data(), uint32_t(triangles.size())); !r.ok()) return r.message;
     SkinBindingDesc desc;
     desc.particle_count = asset.particle_count;
     desc.positions = positions.data();
     desc.inverse_masses = inverse_masses.data();
+    desc.triangles = triangles.empty() ? nullptr : triangles.data();
+    desc.triangle_count = asset.triangle_count;
     desc.options = options;
     if (Result r = cook_skin_binding(b, desc, out); !r.ok()) return r.message;
     if (Result r = bind_skin_constraints(world, cloth, body, out->constraints()); !r.ok()) return r.message;

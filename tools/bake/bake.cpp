@@ -181,7 +181,9 @@ Status bake_pattern(std::string_view text, const BakeOptions& options, Baked* ou
         }
         sew.ignore_arm_tips = sew.ignore_arm_tips || !out->pattern.sleeves;
         sew.skin_max_distance_scale.clear();  // each panel's factor on the skin constraints' max distance
-        for (const Panel& panel : out->pattern.panels) sew.skin_max_distance_scale.push_back(float(panel.skin_max_distance_scale));
+        for (const Panel& panel : out->pattern.panels)
+            sew.skin_max_distance_scale.push_back(panel.skin_max_distance_scale ? std::optional<float>(float(*panel.skin_max_distance_scale))
+                                                                               : std::nullopt);
         // The drape (once or twice) and the asset cook the same sewn mesh, only in other poses: the
         // run shape is chosen once (cook_score reads the lanes, which the pose does not change).
         const CookOptions sewn_cook = sewn_cook_options(options.cook);

@@ -662,8 +662,9 @@ void check_pattern(const Pattern& pattern) {
         const std::string where = "panel \"" + panel.name + "\"";
         if (!names.insert(panel.name).second) fail(where, "named twice");
         if (!(panel.areal_density_kg_m2 >= 0.0 && panel.areal_density_kg_m2 <= 100.0)) fail(where, "bad areal density");
-        if (!(panel.skin_max_distance_scale >= 0.0 && panel.skin_max_distance_scale <= kMaxSkinDistanceScale))
-            fail(where, "skin max_distance_scale " + std::to_string(panel.skin_max_distance_scale) + " must lie in [0, " +
+        if (const std::optional<double> scale = panel.skin_max_distance_scale;
+            scale && !(*scale >= 0.0 && *scale <= kMaxSkinDistanceScale))
+            fail(where, "skin max_distance_scale " + std::to_string(*scale) + " must lie in [0, " +
                             std::to_string(kMaxSkinDistanceScale) + "]");
         for (double v : panel.placement.rotation_deg) if (!(std::fabs(v) <= 1e6)) fail(where, "bad rotation");
         for (double v : panel.placement.translation_m) if (!(std::fabs(v) <= 1e6)) fail(where, "bad translation");

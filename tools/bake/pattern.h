@@ -7,6 +7,7 @@
 #pragma once
 
 #include <cstdint>
+#include <optional>
 #include <string>
 #include <string_view>
 #include <vector>
@@ -59,7 +60,9 @@ struct Panel {
     double areal_density_kg_m2 = 0.0;  // 0: the pattern's fabric
     // Factor on the max distance of this panel's skin constraints (weft-bake --body; weft/attachments.h,
     // SkinBindingOptions::max_distance_m): 1 the baker's 3 cm, 0 none (only the backstop holds them).
-    double skin_max_distance_scale = 1.0;
+    // Absent: the baker's default, 1 for a garment the body holds up, 0 for one hung from attachments
+    // (sew.cpp, "Skin constraints").
+    std::optional<double> skin_max_distance_scale;
 };
 
 // One panel edge of a seam. Its points are taken from start to end, or from end to start when

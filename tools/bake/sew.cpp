@@ -1040,25 +1040,31 @@ Status sew_garment(const ClothMeshDesc& unsewn, const std::vector<uint32_t>& att
     }
 
     // 4. Skin constraints: the dressed pose bound to the whole body (the one the game steps, its
-    // triangles as the attachments name them) at rest, with the hull the sewing used.
+    // triangles as the attachments name them) at rest, with the hull the sewing used; each panel's
+    // max distance as its pattern says, else the default (default_max_distance_scales: none for a
+    // garment hung from attachments, beyond the hips under its waistband).
     const auto binding_start = std::chrono::steady_clock::now();
     {
         BodyWorld w;
         if (Status s = open_world(nullptr, whole_body, o, 0.0f, 1.0f, &w, 0.002f); !s.ok()) return s;
         BodyView view;
         if (Result r = view_body(w.world, w.body, &view); !r.ok()) return {r.message};
-        std::vector<float> inverse_mass(m), scale;
+        std::vector<float> inverse_mass(m), scale(m);
         for (uint32_t q = 0; q < m; ++q) inverse_mass[q] = g.masses[q] > 0.0f ? 1.0f / g.masses[q] : 0.0f;
-        if (!o.skin_max_distance_scale.empty()) {
-            scale.resize(m);
-            for (uint32_t q = 0; q < m; ++q) scale[q] = g.panel.empty() ? 1.0f : o.skin_max_distance_scale.at(g.panel[q]);
-        }
         SkinBindingDesc skin;
         skin.particle_count = m;
         skin.positions = g.positions.data();
         skin.inverse_masses = inverse_mass.data();
-        skin.max_distance_scale = scale.empty() ? nullptr : scale.data();
+        skin.triangles = g.triangles.data();
+        skin.triangle_count = uint32_t(g.triangles.size() / 3);
         skin.options = o.skin;
+        const std::vector<float> default_scale = default_max_distance_scales(skin);
+        for (uint32_t q = 0; q < m; ++q) {
+            const std::optional<float> given =
+                g.panel.empty() || o.skin_max_distance_scale.empty() ? std::nullopt : o.skin_max_distance_scale.at(g.panel[q]);
+            scale[q] = given.value_or(default_scale[q]);
+        }
+        skin.max_distance_scale = scale.data();
         if (Result r = cook_skin_binding(view, skin, &g.skin); !r.ok()) return {std::string("skin constraints: ") + r.message};
         d.skin = g.skin.constraints();
     }

@@ -28,6 +28,7 @@
 #include <cstdlib>
 #include <functional>
 #include <memory>
+#include <optional>
 #include <vector>
 
 #include "bake/pattern.h"
@@ -99,9 +100,10 @@ struct SewOptions {
     std::function<Result(const ClothMeshDesc&, CookedCloth*)> cook_sewn;
     uint32_t frame_every = 10;
     // 4. skin constraints of the dressed garment (weft/attachments.h: cook_skin_binding), and each
-    // panel's factor on their max distance (the pattern's "skin" max_distance_scale; empty: 1).
+    // panel's factor on their max distance (the pattern's "skin" max_distance_scale; empty, or a
+    // panel's absent: the default, 1 for a garment the body holds up, 0 for one hung from attachments).
     SkinBindingOptions skin;
-    std::vector<float> skin_max_distance_scale;
+    std::vector<std::optional<float>> skin_max_distance_scale;
     // Layered garments (weft-bake --over): garments already dressed on this body, innermost first,
     // that this one is sewn and draped over (ClothDesc::worn_over, layer_thickness_m): its dressed pose
     // and its skin constraints lie outside them. They must outlive the sewing.

@@ -258,8 +258,8 @@ int run_garment(uint32_t steps, bool as_json, const std::vector<GarmentModel>& a
         view_body(runs[0].sw.world, runs[0].sw.body->id, &view);
         PlainPass plain;
         if (!plain.open(view)) return std::fprintf(stderr, "weft-bench garment: no Embree device\n"), 1;
-        SolverSplit split;
-        cloth_solver_split(runs[0].sw.world, runs[0].sw.cloths[0].id, &split);
+        SolverSplit first_split;  // the first model's, for the plain pass's substeps
+        cloth_solver_split(runs[0].sw.world, runs[0].sw.cloths[0].id, &first_split);
         const uint32_t warmup = uint32_t(std::lround((scene.body->ramp_s + 0.05f) / scene.dt_s));
         for (uint32_t f = 1; f <= warmup + steps; ++f) {
             for (Run& r : runs) {
@@ -274,7 +274,7 @@ int run_garment(uint32_t steps, bool as_json, const std::vector<GarmentModel>& a
                 view_cloth(sw.world, sw.cloths[0].id, &cloth);
                 view_body(sw.world, sw.body->id, &view);
                 // The plain pass once a frame, on the first model's cloth (the exact one by default).
-                const double baseline = &r == &runs[0] ? plain.run(view, cloth, split.substeps) : 0.0;
+                const double baseline = &r == &runs[0] ? plain.run(view, cloth, first_split.substeps) : 0.0;
                 if (f <= warmup) continue;
                 auto pass = [&](Pass p) { return double(after.pass_ns[int(p)] - before.pass_ns[int(p)]) / 1e3; };
                 const double integrate = pass(Pass::integrate) + pass(Pass::wind);
@@ -321,6 +321,8 @@ int run_garment(uint32_t steps, bool as_json, const std::vector<GarmentModel>& a
         for (const Run& r : runs) {
             const scenes::SceneWorld& sw = r.sw;
             const double body_us = median(r.body_us), step_us = median(r.step_us);
+            SolverSplit split;  // each model's own
+            cloth_solver_split(sw.world, sw.cloths[0].id, &split);
             nlohmann::json j = {{"scene", scene.name},
                                 {"collision", garment_model_name(r.model)},
                                 {"simd", simd_path_name(world_simd_path(sw.world))},

@@ -224,6 +224,10 @@ struct SkinBindingOptions {
     // foot): each particle's max distance is cut so that no point of the hull it can reach stands
     // more than this above the plane's height it may sink to. Metres, > 0.
     float max_sink_m = 0.001f;
+    // A garment hung from pinned particles (attachments: a skirt's waistband) keeps its max
+    // distances only this far from a pin along its edges (the hips under a waistband); further on it
+    // hangs on its backstops alone (default_max_distance_scales). Metres.
+    float hung_reach_m = 0.2f;
 };
 
 // The garment in its dressed pose on the body's rest pose, caller particle order.
@@ -232,8 +236,13 @@ struct SkinBindingDesc {
     const Vec3* positions = nullptr;        // [particle_count] the dressed pose, metres
     const float* inverse_masses = nullptr;  // [particle_count] 0: pinned, not bound
     // Optional [particle_count] factor on max_distance_m (the pattern's per-panel "skin"
-    // max_distance_scale); 0 gives that particle no max distance, only its backstop. Null: 1.
+    // max_distance_scale); 0 gives that particle no max distance, only its backstop. Null: the
+    // default, default_max_distance_scales.
     const float* max_distance_scale = nullptr;
+    // The garment's triangles (3 caller particle indices each): how far along the cloth a particle of
+    // a hung garment lies from its pins. Null: every particle of a hung garment hangs free.
+    const uint32_t* triangles = nullptr;
+    uint32_t triangle_count = 0;
     SkinBindingOptions options;
 };
 
@@ -243,6 +252,14 @@ struct SkinBindingDesc {
 // search over a uniform grid of the triangles, in double precision: offline work. Deterministic:
 // the same input gives the same arrays (of equally close triangles, the lowest index).
 Result cook_skin_binding(const BodyView& body, const SkinBindingDesc& desc, SkinBinding* out);
+
+// Each particle's factor on max_distance_m where nothing says otherwise ([desc.particle_count]):
+// 1 for a garment the body holds up (no pinned particle: a tee on the shoulders). A garment hung
+// from pinned particles (attachments: a skirt's waistband): 1 within options.hung_reach_m of a pin
+// along its edges (shortest paths in the dressed pose), 0 further on, where it keeps only its
+// backstops: its tethers hold it from its pins, and a ball around a point skinned to the leg its hem
+// touched at rest drags the hem with that leg (docs/decisions/2026-12-07-hung-garments-swing.md).
+std::vector<float> default_max_distance_scales(const SkinBindingDesc& desc);
 
 // The floor a garment is dressed on (weft-bake --body): a plane facing up through the body's
 // lowest vertex (its soles), inflated by the hull's thickness, with the body's friction. A game or
