@@ -423,6 +423,50 @@ TEST_CASE("body: a moving box carries a resting cloth along through friction, no
     CHECK(std::fabs(frictionless) < 0.6 * body_moved);
 }
 
+// The same under skin constraints: the backstop's friction (constraints/skin.h) carries a cloth
+// bound to a moving floor along with it; without friction the floor slides out from under it.
+// Balls of 1 m: only the backstop acts. A flat square of two triangles, so the backstop's normal is
+// straight up everywhere (a box's vertex normals tilt towards its edges and push the cloth along).
+TEST_CASE("body: skin constraints carry a cloth resting on a moving floor through the backstop's friction, not without it") {
+    BodyMesh box;
+    box.positions = {{-0.5f, 0.0f, -0.5f}, {0.5f, 0.0f, -0.5f}, {0.5f, 0.0f, 0.5f}, {-0.5f, 0.0f, 0.5f}};
+    box.triangles = {0, 2, 1, 0, 3, 2};  // facing +y
+    const scenes::GridMesh grid = scenes::make_grid(8, 0.2f, 0.2f, false, 0.006f);
+    const CookedCloth cooked = cook(grid.desc());
+    auto carried = [&](float friction) {
+        BodyDesc settings;
+        settings.friction = friction;
+        settings.collision = BodyCollision::skin_constraints;
+        BodyWorld w(cooked.asset(), box, settings);
+        SkinBindingOptions options;
+        options.max_distance_m = 1.0f;
+        options.loose_offset_m = 1.0f;  // every particle bound
+        options.backstop_m = 0.0f;
+        SkinBinding skin;
+        const std::string e = scenes::bind_skin(w.owned.world, w.cloth, w.body, options, &skin);
+        INFO(e);
+        REQUIRE(e.empty());
+        for (int i = 0; i < 30; ++i) w.step_once();
+        const std::vector<Vec3> before = w.positions();
+        std::vector<Vec3> moved = box.positions;
+        for (int i = 1; i <= 20; ++i) {  // 0.3 m/s along x
+            for (size_t v = 0; v < moved.size(); ++v) moved[v].x = box.positions[v].x + 0.3f * kDt * float(i);
+            REQUIRE(set_body_vertices(w.owned.world, w.body, moved.data(), uint32_t(moved.size())).ok());
+            w.step_once();
+        }
+        const std::vector<Vec3> after = w.positions();
+        double dx = 0.0;
+        for (size_t i = 0; i < after.size(); ++i) dx += after[i].x - before[i].x;
+        return dx / double(after.size());
+    };
+    const double body_moved = 0.3 * kDt * 20;
+    const double sticking = carried(1.0f), frictionless = carried(0.0f);
+    MESSAGE("floor moved ", body_moved, " m; bound cloth on it moved ", sticking, " m with friction 1, ", frictionless,
+            " m without");
+    CHECK(sticking == doctest::Approx(body_moved).epsilon(0.05));
+    CHECK(std::fabs(frictionless) < 0.05 * body_moved);
+}
+
 TEST_CASE("body: closest-point contacts match a brute-force search (icosphere, moving)") {
     BodyMesh sphere = body::make_icosphere({0, 0, 0}, 0.3f, 2);
     Points pts({{0.0f, 2.0f, 0.0f}});

@@ -110,6 +110,17 @@ struct SkinState {
     float* normal[3] = {};              // N: unit, from this step's vertex normals
 };
 
+// project_skin's substep (constraints/skin.h).
+struct SkinProjectArgs {
+    float t_start = 0.0f, t_end = 1.0f;  // the substep's span of the step: where the hull is interpolated
+    float friction = 0.0f;               // Coulomb coefficient against the backstop (the body's)
+    // The root's carry this substep (ClothInstance::carry_*): it moved the particles' previous
+    // positions already, so friction takes it off the skin's motion.
+    bool carried = false;
+    float carry_rotation[9] = {1, 0, 0, 0, 1, 0, 0, 0, 1};
+    Vec3 carry_pivot{}, carry_shift{};
+};
+
 // Verlet (seed section 1.1): x' = x + (x - x_prev) * (h / h_prev) * damping + (g + a_wind) * h2.
 struct IntegrateArgs {
     float h2_s2;           // h^2; h^2 / 2 on a cloth's first step (see integrate_args in step.cpp)
@@ -180,11 +191,11 @@ struct Kernels {
     void (*collide)(const Particles&, const ColliderKernelArgs&);
     void (*apply_wind)(const Particles&, const ClothAsset&, const WindArgs&);
     // Skin constraints (constraints/skin.h): their skinned frames once a step, then max distance
-    // and backstop every substep at `t` (0..1) into the step.
+    // and backstop (with friction) every substep.
     void (*particle_bounds)(const Particles&, ParticleBounds*);
     void (*health_sums)(const Particles&, HealthSums*);
     void (*skin_frames)(const SkinState&, const SkinFrameArgs&);
-    void (*project_skin)(const Particles&, const SkinState&, float t);
+    void (*project_skin)(const Particles&, const SkinState&, const SkinProjectArgs&);
     void (*vertex_normals)(const Particles&, const ClothAsset&);
     // The normals and, in the same triangle walk, the tangents (Particles::tangent_*).
     void (*vertex_normals_tangents)(const Particles&, const ClothAsset&);

@@ -283,7 +283,17 @@ void find_skin_frames(World& world, ClothInstance& cloth) {
 void project_skin_constraints(World& world, ClothInstance& cloth, uint32_t substep, uint32_t substeps) {
     if (cloth.skin_body == ~0u) return;
     PassTimer timer(world, cloth, Pass::body);
-    world.kernels->project_skin(cloth.particles, cloth.skin_state, float(substep + 1) / float(substeps));
+    SkinProjectArgs args;
+    args.t_start = float(substep) / float(substeps);
+    args.t_end = float(substep + 1) / float(substeps);
+    args.friction = world.bodies[cloth.skin_body].desc.friction;
+    args.carried = cloth.carried;
+    if (cloth.carried) {
+        std::copy(cloth.carry_rotation, cloth.carry_rotation + 9, args.carry_rotation);
+        args.carry_pivot = cloth.carry_pivot;
+        args.carry_shift = cloth.carry_shift;
+    }
+    world.kernels->project_skin(cloth.particles, cloth.skin_state, args);
 }
 
 void collide_bodies(World& world, ClothInstance& cloth, uint32_t substep, uint32_t substeps) {
