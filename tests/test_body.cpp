@@ -391,6 +391,29 @@ TEST_CASE("body: a fast particle that grazes into one part's hull and then enter
     }
 }
 
+namespace {
+
+constexpr double kCarryMoved_m = 0.3 * kDt * 20;  // what carried_along moves the body
+
+// A resting cloth's mean move along x while its body moves at 0.3 m/s along x for 20 steps (after
+// 30 steps to settle): the surface's velocity drives friction.
+double carried_along(BodyWorld& w, const BodyMesh& body) {
+    for (int i = 0; i < 30; ++i) w.step_once();
+    const std::vector<Vec3> before = w.positions();
+    std::vector<Vec3> moved = body.positions;
+    for (int i = 1; i <= 20; ++i) {
+        for (size_t v = 0; v < moved.size(); ++v) moved[v].x = body.positions[v].x + 0.3f * kDt * float(i);
+        REQUIRE(set_body_vertices(w.owned.world, w.body, moved.data(), uint32_t(moved.size())).ok());
+        w.step_once();
+    }
+    const std::vector<Vec3> after = w.positions();
+    double dx = 0.0;
+    for (size_t i = 0; i < after.size(); ++i) dx += after[i].x - before[i].x;
+    return dx / double(after.size());
+}
+
+}  // namespace
+
 TEST_CASE("body: a moving box carries a resting cloth along through friction, not without it") {
     const BodyMesh box = body::make_box({-0.5f, -0.1f, -0.5f}, {0.5f, 0.0f, 0.5f});
     const scenes::GridMesh grid = scenes::make_grid(8, 0.2f, 0.2f, false, 0.006f);
@@ -399,21 +422,11 @@ TEST_CASE("body: a moving box carries a resting cloth along through friction, no
         BodyDesc settings;
         settings.friction = friction;
         BodyWorld w(cooked.asset(), box, settings);
-        for (int i = 0; i < 30; ++i) w.step_once();
-        const std::vector<Vec3> before = w.positions();
-        std::vector<Vec3> moved = box.positions;
-        for (int i = 1; i <= 20; ++i) {  // 0.3 m/s along x: the surface velocity drives friction
-            for (size_t v = 0; v < moved.size(); ++v) moved[v].x = box.positions[v].x + 0.3f * kDt * float(i);
-            REQUIRE(set_body_vertices(w.owned.world, w.body, moved.data(), uint32_t(moved.size())).ok());
-            w.step_once();
-        }
+        const double moved = carried_along(w, box);
         CHECK(w.max_penetration() <= 1e-3);
-        const std::vector<Vec3> after = w.positions();
-        double dx = 0.0;
-        for (size_t i = 0; i < after.size(); ++i) dx += after[i].x - before[i].x;
-        return dx / double(after.size());
+        return moved;
     };
-    const double body_moved = 0.3 * kDt * 20;
+    const double body_moved = kCarryMoved_m;
     const double sticking = carried(1.0f), frictionless = carried(0.0f);
     MESSAGE("box moved ", body_moved, " m; cloth on top moved ", sticking, " m with friction 1, ", frictionless,
             " m without");
@@ -428,16 +441,16 @@ TEST_CASE("body: a moving box carries a resting cloth along through friction, no
 // Balls of 1 m: only the backstop acts. A flat square of two triangles, so the backstop's normal is
 // straight up everywhere (a box's vertex normals tilt towards its edges and push the cloth along).
 TEST_CASE("body: skin constraints carry a cloth resting on a moving floor through the backstop's friction, not without it") {
-    BodyMesh box;
-    box.positions = {{-0.5f, 0.0f, -0.5f}, {0.5f, 0.0f, -0.5f}, {0.5f, 0.0f, 0.5f}, {-0.5f, 0.0f, 0.5f}};
-    box.triangles = {0, 2, 1, 0, 3, 2};  // facing +y
+    BodyMesh floor;
+    floor.positions = {{-0.5f, 0.0f, -0.5f}, {0.5f, 0.0f, -0.5f}, {0.5f, 0.0f, 0.5f}, {-0.5f, 0.0f, 0.5f}};
+    floor.triangles = {0, 2, 1, 0, 3, 2};  // facing +y
     const scenes::GridMesh grid = scenes::make_grid(8, 0.2f, 0.2f, false, 0.006f);
     const CookedCloth cooked = cook(grid.desc());
     auto carried = [&](float friction) {
         BodyDesc settings;
         settings.friction = friction;
         settings.collision = BodyCollision::skin_constraints;
-        BodyWorld w(cooked.asset(), box, settings);
+        BodyWorld w(cooked.asset(), floor, settings);
         SkinBindingOptions options;
         options.max_distance_m = 1.0f;
         options.loose_offset_m = 1.0f;  // every particle bound
@@ -446,20 +459,9 @@ TEST_CASE("body: skin constraints carry a cloth resting on a moving floor throug
         const std::string e = scenes::bind_skin(w.owned.world, w.cloth, w.body, options, &skin);
         INFO(e);
         REQUIRE(e.empty());
-        for (int i = 0; i < 30; ++i) w.step_once();
-        const std::vector<Vec3> before = w.positions();
-        std::vector<Vec3> moved = box.positions;
-        for (int i = 1; i <= 20; ++i) {  // 0.3 m/s along x
-            for (size_t v = 0; v < moved.size(); ++v) moved[v].x = box.positions[v].x + 0.3f * kDt * float(i);
-            REQUIRE(set_body_vertices(w.owned.world, w.body, moved.data(), uint32_t(moved.size())).ok());
-            w.step_once();
-        }
-        const std::vector<Vec3> after = w.positions();
-        double dx = 0.0;
-        for (size_t i = 0; i < after.size(); ++i) dx += after[i].x - before[i].x;
-        return dx / double(after.size());
+        return carried_along(w, floor);
     };
-    const double body_moved = 0.3 * kDt * 20;
+    const double body_moved = kCarryMoved_m;
     const double sticking = carried(1.0f), frictionless = carried(0.0f);
     MESSAGE("floor moved ", body_moved, " m; bound cloth on it moved ", sticking, " m with friction 1, ", frictionless,
             " m without");
