@@ -477,10 +477,10 @@ TEST_CASE("character motion: carried fully (inertia 0), sprinting to 10 m/s and 
     check_sprint_within_still_walk(0.0f, 1.05, 1.1);
 }
 
-// Known to fail (issue 23, point 3): at inertia 0.5 the sample skirt and tee reach 463% max strain
-// (the skirt's hem flung out after the turn) and 4.0 mm below the hull (the skirt at the back of
-// the knee, between the thigh and shin capsules, while it accelerates; the still walk: 92%,
-// 1.5 mm): docs/decisions/2026-12-07-hung-garments-swing.md; traced before in
+// Known to fail (issue 23, point 3): at inertia 0.5 the sample skirt and tee reach 465% max strain
+// (the skirt's hem flung out after the turn) and 4.2 mm below the hull (the skirt at the back of
+// the knee, between the thigh and shin capsules, while it accelerates; the still walk: 75%,
+// 1.3 mm): docs/decisions/2026-12-07-hung-garments-swing.md; traced before in
 // docs/decisions/2026-12-07-jumps-and-hitches.md, "The sprint".
 // should_fail: it reports when it holds.
 TEST_CASE("character motion: sprinting to 10 m/s and turning 180 degrees in 0.2 s at inertia 0.5 stays within the still walk's strain and penetration (known to fail)" *
