@@ -5,6 +5,7 @@
 #include <doctest/doctest.h>
 
 #include <algorithm>
+#include <cmath>
 #include <cstring>
 #include <string>
 #include <vector>
@@ -67,6 +68,27 @@ TEST_CASE("layers: the overshirt baked and worn over the tee never passes throug
             CHECK(contacts == 0);
         }
     }
+}
+
+// weft-bake --over reports the crossings of a layered garment's dressed pose with those under it
+// (SewReport::layer_crossings, this count on the two assets' start poses): none for the sample
+// overshirt, and the tee pushed 4 cm out from the body's axis shows through it.
+TEST_CASE("layers: the dressed overshirt's crossings with the tee are counted on the assets, none in layer order") {
+    scenes::Scene scene;
+    scenes::SceneWorld w;
+    build_layers(true, &w, &scene);
+    const ClothAsset &tee = *w.cloths[0].asset, &overshirt = *w.cloths[1].asset;
+    CHECK(metrics::layer_crossings(overshirt, tee) == 0);
+    CHECK(metrics::layer_crossings(overshirt, tee) == metrics::layer_crossings(view(w, 1), view(w, 0)));
+    std::vector<float> x(tee.start_x, tee.start_x + tee.slot_count), z(tee.start_z, tee.start_z + tee.slot_count);
+    for (uint32_t s = 0; s < tee.slot_count; ++s) {
+        const float r = std::sqrt(x[s] * x[s] + z[s] * z[s]);
+        if (r > 0.0f) x[s] *= (r + 0.04f) / r, z[s] *= (r + 0.04f) / r;
+    }
+    ClothAsset pushed = tee;
+    pushed.start_x = x.data();
+    pushed.start_z = z.data();
+    CHECK(metrics::layer_crossings(overshirt, pushed) > 0);
 }
 
 // The inner cloth steps before the outer one and is never written by it: the tee moves the same

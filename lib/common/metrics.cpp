@@ -129,24 +129,42 @@ uint64_t self_crossings(const uint32_t* triangles, uint32_t triangle_count, cons
     return crossings;
 }
 
-uint64_t self_crossings(const ClothView& c) {
-    const ClothAsset& a = *c.asset;
-    std::vector<Vec3> by_slot(a.slot_count);
-    for (uint32_t s = 0; s < a.slot_count; ++s) by_slot[s] = {c.x[s], c.y[s], c.z[s]};
-    return self_crossings(a.triangles, a.triangle_count, by_slot);
-}
 
-uint64_t layer_crossings(const ClothView& a, const ClothView& b) {
-    // Both meshes as one (b's slots after a's): no triangle shares a particle with the other
-    // cloth's edges, so the crossings between them are the union's less each cloth's own.
-    const ClothAsset &aa = *a.asset, &ab = *b.asset;
-    std::vector<Vec3> x(size_t(aa.slot_count) + ab.slot_count);
-    for (uint32_t s = 0; s < aa.slot_count; ++s) x[s] = {a.x[s], a.y[s], a.z[s]};
-    for (uint32_t s = 0; s < ab.slot_count; ++s) x[aa.slot_count + s] = {b.x[s], b.y[s], b.z[s]};
+namespace {
+
+// Both meshes as one (b's slots after a's): no triangle shares a particle with the other cloth's
+// edges, so the crossings between them are the union's less each cloth's own.
+uint64_t layer_crossings(const ClothAsset& aa, const std::vector<Vec3>& xa, const ClothAsset& ab, const std::vector<Vec3>& xb) {
+    std::vector<Vec3> x = xa;
+    x.insert(x.end(), xb.begin(), xb.end());
     std::vector<uint32_t> triangles(aa.triangles, aa.triangles + 3 * size_t(aa.triangle_count));
     for (uint32_t k = 0; k < 3 * ab.triangle_count; ++k) triangles.push_back(aa.slot_count + ab.triangles[k]);
     const uint64_t both = self_crossings(triangles.data(), uint32_t(triangles.size() / 3), x);
-    return both - self_crossings(a) - self_crossings(b);
+    return both - self_crossings(aa.triangles, aa.triangle_count, xa) - self_crossings(ab.triangles, ab.triangle_count, xb);
+}
+
+std::vector<Vec3> by_slot(const ClothView& c) {
+    std::vector<Vec3> x(c.asset->slot_count);
+    for (uint32_t s = 0; s < c.asset->slot_count; ++s) x[s] = {c.x[s], c.y[s], c.z[s]};
+    return x;
+}
+
+std::vector<Vec3> start_by_slot(const ClothAsset& a) {
+    std::vector<Vec3> x(a.slot_count);
+    for (uint32_t s = 0; s < a.slot_count; ++s) x[s] = {a.start_x[s], a.start_y[s], a.start_z[s]};
+    return x;
+}
+
+}  // namespace
+
+uint64_t self_crossings(const ClothView& c) { return self_crossings(c.asset->triangles, c.asset->triangle_count, by_slot(c)); }
+
+uint64_t layer_crossings(const ClothView& a, const ClothView& b) {
+    return layer_crossings(*a.asset, by_slot(a), *b.asset, by_slot(b));
+}
+
+uint64_t layer_crossings(const ClothAsset& a, const ClothAsset& b) {
+    return layer_crossings(a, start_by_slot(a), b, start_by_slot(b));
 }
 
 Strain stretch_strain(const ClothView& c) {

@@ -62,6 +62,8 @@ uint64_t self_crossings(const ClothView& cloth);
 // Edge-triangle crossings between two cloths (issue 25's measure of layers swapping): the edges of
 // each through the triangles of the other, at their current positions.
 uint64_t layer_crossings(const ClothView& a, const ClothView& b);
+// The same between two assets' start poses (a garment dressed over another: weft-bake --over).
+uint64_t layer_crossings(const ClothAsset& a, const ClothAsset& b);
 
 // --- errors against a reference run (docs/accuracy.md) ------------------------------------------
 

@@ -8,6 +8,7 @@
 #include <optional>
 
 #include "common/asset_writer.h"
+#include "common/metrics.h"
 
 namespace weft::bake {
 namespace {
@@ -200,6 +201,8 @@ Status bake_pattern(std::string_view text, const BakeOptions& options, Baked* ou
             return {"sewing: " + s.error};
         if (Result r = cook_sewn(out->sewn.desc, &out->cooked); !r.ok()) return {r.message};
         out->cook_options = *sewn_runs;
+        for (const ClothAsset* inner : sew.worn_over)
+            out->sew_report.layer_crossings += metrics::layer_crossings(out->cooked.asset(), *inner);
     }
     if (options.render_mesh != nullptr || options.render_subdivide >= 0) {
         RenderMeshSource subdivided;

@@ -244,6 +244,7 @@ std::string bake_asset(const bake::BatchEntry& e, const bake::SewBody* body, con
         (*j)["max_skin_penetration_m"] = r.max_skin_penetration_m;
         (*j)["particles_inside_body"] = r.particles_inside_body;
         (*j)["untangled_particles"] = r.untangled_particles;
+        (*j)["layer_crossings"] = r.layer_crossings;
         (*j)["final_mean_speed_m_s"] = r.mean_speed_m_s;
         (*j)["top_drop_m"] = r.top_at_closed_m - r.top_at_rest_m;  // from closed seams to the dressed pose
         (*j)["lowest_m"] = r.lowest_at_rest_m;
@@ -464,6 +465,9 @@ int main(int argc, char** argv) {
     if (!frames_error.empty()) return fail("--sewing-frames: " + frames_error);
     if (runs) std::fprintf(stderr, "%s", run_text.c_str());
     for (const json& repair : j["repairs"]) std::fprintf(stderr, "weft-bake: %s: repaired: %s\n", pattern_path.c_str(), repair.get<std::string>().c_str());
+    if (j.value("layer_crossings", uint64_t(0)) > 0)  // a worn-over garment dressed through the ones under it
+        std::fprintf(stderr, "weft-bake: %s: warning: %s edges cross the garments it is worn over\n", pattern_path.c_str(),
+                     j["layer_crossings"].dump().c_str());
     if (!sewing_frames.empty()) j["sewing_frames_written"] = frames_written;
     if (as_json) {
         std::printf("%s\n", j.dump().c_str());

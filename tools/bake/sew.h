@@ -126,6 +126,9 @@ struct SewReport {
     double max_skin_penetration_m = 0.0;  // of those within the hull's reach: how deep below the skin
     double mean_speed_m_s = 0.0;     // over the last drape frame
     uint32_t body_triangles = 0;
+    // Edge-triangle crossings between the dressed garment and those it is worn over (SewOptions::
+    // worn_over), dressed poses against dressed poses: 0 when it lies outside them (bake.cpp).
+    uint64_t layer_crossings = 0;
     // Whether the garment stays where it was sewn: the height (m, +Y up) of its highest attachment
     // (or without any, of its highest opening: waist, neckline) when the seams have closed and the
     // attachments are on the body (before the drape) and in the dressed pose, its lowest particle's in the dressed pose, and the
