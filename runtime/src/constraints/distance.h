@@ -104,13 +104,13 @@ struct IndexedEnds {
     F xa, ya, za, wa, xb, yb, zb, wb;
 };
 template <class F>
-inline IndexedEnds<F> gather_ends(const PointSet& p, const uint32_t* a, const uint32_t* b) {
+[[gnu::always_inline]] inline IndexedEnds<F> gather_ends(const PointSet& p, const uint32_t* a, const uint32_t* b) {
     using namespace simd;
     return {gather_by_loads(p.x, a, F{}), gather_by_loads(p.y, a, F{}), gather_by_loads(p.z, a, F{}), gather_by_loads(p.inverse_mass, a, F{}),
             gather_by_loads(p.x, b, F{}), gather_by_loads(p.y, b, F{}), gather_by_loads(p.z, b, F{}), gather_by_loads(p.inverse_mass, b, F{})};
 }
 template <class F, bool kExact, bool kWeakCompression>
-inline void project_ends(IndexedEnds<F>& e, const ConstraintLanes& constraints, uint32_t lane, const DistanceArgs& args) {
+[[gnu::always_inline]] inline void project_ends(IndexedEnds<F>& e, const ConstraintLanes& constraints, uint32_t lane, const DistanceArgs& args) {
     using namespace simd;
     project_distance<F, kExact, kWeakCompression>(
         e.xa, e.ya, e.za, e.wa, e.xb, e.yb, e.zb, e.wb, load(constraints.rest_length + lane, F{}),
@@ -118,7 +118,7 @@ inline void project_ends(IndexedEnds<F>& e, const ConstraintLanes& constraints, 
         splat(args.compression_weight, F{}));
 }
 template <class F>
-inline void scatter_ends(const PointSet& p, const uint32_t* a, const uint32_t* b, const IndexedEnds<F>& e) {
+[[gnu::always_inline]] inline void scatter_ends(const PointSet& p, const uint32_t* a, const uint32_t* b, const IndexedEnds<F>& e) {
     using namespace simd;
     scatter_by_stores(p.x, a, e.xa);
     scatter_by_stores(p.y, a, e.ya);

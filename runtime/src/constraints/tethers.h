@@ -140,8 +140,8 @@ void project_tethers(const Particles& p, const ClothAsset& asset, const TetherBa
     const uint32_t* const anchor_a = asset.tether_anchor[0] + batch.first_lane;
     const uint32_t* const anchor_b = asset.tether_anchor[1] + batch.first_lane;
     for (uint32_t k = 0; k < lanes; k += F::width) {
-        an.ax = gather(p.x, anchor_a + k, F{}), an.ay = gather(p.y, anchor_a + k, F{}), an.az = gather(p.z, anchor_a + k, F{});
-        an.bx = gather(p.x, anchor_b + k, F{}), an.by = gather(p.y, anchor_b + k, F{}), an.bz = gather(p.z, anchor_b + k, F{});
+        an.ax = gather_by_loads(p.x, anchor_a + k, F{}), an.ay = gather_by_loads(p.y, anchor_a + k, F{}), an.az = gather_by_loads(p.z, anchor_a + k, F{});
+        an.bx = gather_by_loads(p.x, anchor_b + k, F{}), an.by = gather_by_loads(p.y, anchor_b + k, F{}), an.bz = gather_by_loads(p.z, anchor_b + k, F{});
         tether_axis(an);
         F ra, rb;
         rest(k, &ra, &rb);

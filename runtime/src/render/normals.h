@@ -75,7 +75,7 @@ inline void add_gathered_face_normals(const Particles& p, const uint32_t* triang
         for (int k = 0; k < 3; ++k) corner[k][l] = triangle[3 * l + uint32_t(k)];
     F x[3], y[3], z[3];
     for (int k = 0; k < 3; ++k)
-        x[k] = gather(p.x, corner[k], F{}), y[k] = gather(p.y, corner[k], F{}), z[k] = gather(p.z, corner[k], F{});
+        x[k] = gather_by_loads(p.x, corner[k], F{}), y[k] = gather_by_loads(p.y, corner[k], F{}), z[k] = gather_by_loads(p.z, corner[k], F{});
     const F e1x = x[1] - x[0], e1y = y[1] - y[0], e1z = z[1] - z[0];
     const F e2x = x[2] - x[0], e2y = y[2] - y[0], e2z = z[2] - z[0];
     float nx[W], ny[W], nz[W];
