@@ -95,6 +95,16 @@ json describe(const ClothAsset& a, uint64_t bytes) {
             {"bytes", bytes}};
 }
 
+// What an asset's report asks a person to look at, on stderr, for one pattern and in a batch alike:
+// the repairs made to its pattern, and a worn-over garment dressed through the ones under it.
+void warn_from_report(const std::string& name, const json& j) {
+    if (j.contains("repairs"))
+        for (const json& repair : j["repairs"]) std::fprintf(stderr, "weft-bake: %s: repaired: %s\n", name.c_str(), repair.get<std::string>().c_str());
+    if (j.value("layer_crossings", uint64_t(0)) > 0)
+        std::fprintf(stderr, "weft-bake: %s: warning: %s edges cross the garments it is worn over\n", name.c_str(),
+                     j["layer_crossings"].dump().c_str());
+}
+
 void print_human(const json& j) {
     for (const auto& [key, value] : j.items()) std::printf("  %-22s %s\n", key.c_str(), value.dump().c_str());
 }
@@ -295,6 +305,7 @@ int bake_batch(const std::vector<bake::BatchEntry>& entries, const std::string& 
     size_t printed = 0, finished = 0;
     progress::Bar bar("weft-bake " + std::to_string(entries.size()) + " assets", entries.size(), progress::wanted(as_json));
     const auto print = [&](const json& j) {
+        if (!j.contains("error")) warn_from_report(j["name"].get<std::string>(), j);
         if (as_json) {
             std::printf("%s\n", j.dump().c_str());
         } else if (j.contains("error")) {
@@ -464,10 +475,7 @@ int main(int argc, char** argv) {
         return fail(e);
     if (!frames_error.empty()) return fail("--sewing-frames: " + frames_error);
     if (runs) std::fprintf(stderr, "%s", run_text.c_str());
-    for (const json& repair : j["repairs"]) std::fprintf(stderr, "weft-bake: %s: repaired: %s\n", pattern_path.c_str(), repair.get<std::string>().c_str());
-    if (j.value("layer_crossings", uint64_t(0)) > 0)  // a worn-over garment dressed through the ones under it
-        std::fprintf(stderr, "weft-bake: %s: warning: %s edges cross the garments it is worn over\n", pattern_path.c_str(),
-                     j["layer_crossings"].dump().c_str());
+    warn_from_report(pattern_path, j);
     if (!sewing_frames.empty()) j["sewing_frames_written"] = frames_written;
     if (as_json) {
         std::printf("%s\n", j.dump().c_str());
