@@ -2,11 +2,13 @@
 #
 #   -DCHECK=jobs         a folder baked at --jobs 1 and at --jobs 2 writes the same bytes
 #   -DCHECK=broken       a folder with broken patterns: each fails alone, the others are baked, exit 1
+#   -DCHECK=warnings     a batch names on stderr what it repaired in a pattern, as one pattern's bake
+#                        does (a shared corpus garment whose curve overshoots its corner)
 #   -DCHECK=incremental  a project using weft_bake_all (FOLDER and MANIFEST): built, built again
 #                        (nothing to do), one pattern touched: only its assets are baked again
 #
-# Inputs: WEFT_BAKE (the executable), SOURCE_DIR (the repository), WORK_DIR (emptied first), and
-# for `incremental` MAKE_PROGRAM (ninja).
+# Inputs: WEFT_BAKE (the executable), SOURCE_DIR (the repository), WORK_DIR (emptied first), for
+# `incremental` MAKE_PROGRAM (ninja), for `warnings` SHARED_DATA_DIR (../shared/data).
 cmake_minimum_required(VERSION 3.20)
 
 file(REMOVE_RECURSE ${WORK_DIR})
@@ -42,6 +44,24 @@ if(CHECK STREQUAL "jobs")
       message(FATAL_ERROR "${name}.weft differs between --jobs 1 and --jobs 2")
     endif()
   endforeach()
+
+elseif(CHECK STREQUAL "warnings")
+  set(pattern ${SHARED_DATA_DIR}/patterns/garmentcode-sampled/gc_1001_0080_specification.json)
+  file(COPY ${pattern} DESTINATION ${WORK_DIR}/in)
+  execute_process(COMMAND ${WEFT_BAKE} ${pattern} -o ${WORK_DIR}/one.weft
+                  RESULT_VARIABLE result OUTPUT_VARIABLE output ERROR_VARIABLE one)
+  if(NOT result EQUAL 0 OR NOT one MATCHES "gc_1001_0080_specification.json: repaired: panel ")
+    message(FATAL_ERROR "one pattern: exit ${result}, no repair on stderr:\n${one}")
+  endif()
+  bake_folder(${WORK_DIR}/in ${WORK_DIR}/out 1 result error)
+  if(NOT result EQUAL 0 OR NOT error MATCHES "weft-bake: gc_1001_0080: repaired: panel ")
+    message(FATAL_ERROR "a batch: exit ${result}, no repair on stderr")
+  endif()
+  string(REGEX MATCHALL "repaired: [^\n]*" one_repairs "${one}")
+  string(REGEX MATCHALL "repaired: [^\n]*" batch_repairs "${error}")
+  if(NOT one_repairs STREQUAL batch_repairs)
+    message(FATAL_ERROR "a batch reports other repairs than one pattern's bake:\n${one_repairs}\n${batch_repairs}")
+  endif()
 
 elseif(CHECK STREQUAL "broken")
   # The pattern fuzzer's seeds: the broken_ patterns among good ones.
