@@ -129,7 +129,6 @@ uint64_t self_crossings(const uint32_t* triangles, uint32_t triangle_count, cons
     return crossings;
 }
 
-
 namespace {
 
 // Both meshes as one (b's slots after a's): no triangle shares a particle with the other cloth's
